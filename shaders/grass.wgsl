@@ -1,0 +1,138 @@
+// Grass draw: one instance per visible blade, geometry built in the vertex shader from the
+// blade buffer (Jahrmann & Wimmer Section 6.3): De Casteljau on the Bezier curve (Eq. 21),
+// the shape's interpolation parameter (Eq. 22), 3D displacement (Eq. 23) and width
+// correction (Eq. 24). The mesh has 3 columns (u = 0, 0.5, 1) and `segments + 1` rows.
+//!include common.wgsl
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> blades: array<Blade>;
+@group(0) @binding(2) var<storage, read> visible: array<u32>;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) @interpolate(flat) tint: vec4<f32>,
+}
+
+const SHAPE_QUAD: u32 = 0u;
+const SHAPE_TRIANGLE: u32 = 1u;
+const SHAPE_QUADRATIC: u32 = 2u;
+const SHAPE_TRIANGLE_TIP: u32 = 3u;
+const SHAPE_DANDELION: u32 = 4u;
+
+// Eq. 22: where between the two edge points c0 and c1 the vertex (u, v) lies.
+fn shape_t(shape: u32, u: f32, v: f32, tau: f32, segments: f32) -> f32 {
+    switch shape {
+        case SHAPE_TRIANGLE: {
+            return u + 0.5 * v - u * v;
+        }
+        case SHAPE_QUADRATIC: {
+            return u - u * v * v;
+        }
+        case SHAPE_TRIANGLE_TIP: {
+            return 0.5 + (u - 0.5) * (1.0 - max(v - tau, 0.0) / (1.0 - tau));
+        }
+        case SHAPE_DANDELION: {
+            // A toothed leaf: the width narrows to the tip and swings between teeth. The
+            // number of teeth follows the row count so that no tooth falls between rows.
+            let teeth = max(floor(segments * 0.5), 1.0);
+            let tooth = abs(fract(v * teeth) - 0.5) * 2.0;
+            let width = (1.0 - v) * (0.35 + 0.65 * tooth);
+            return 0.5 + (u - 0.5) * width;
+        }
+        default: {
+            return u;
+        }
+    }
+}
+
+fn to_screen(p: vec3<f32>) -> vec2<f32> {
+    let c = frame.view_proj * vec4<f32>(p, 1.0);
+    return (c.xy / max(c.w, 1e-4) * 0.5 + 0.5) * frame.viewport_time.xy;
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
+    let index = visible[inst];
+    let blade = blades[index];
+    let v0 = blade.v0_dir.xyz;
+    let v1 = blade.v1_height.xyz;
+    let v2 = blade.v2_width.xyz;
+    let half_width = 0.5 * blade.v2_width.w;
+    let up = blade.up_stiffness.xyz;
+    let segments = frame.shape.z;
+    let u = f32(vid % 3u) * 0.5;
+    let v = f32(vid / 3u) / segments;
+
+    // Eq. 21: De Casteljau gives the curve point c and the tangent t0.
+    let a = v0 + v * (v1 - v0);
+    let b = v1 + v * (v2 - v1);
+    let c = a + v * (b - a);
+    let t1 = blade_frame(up, blade.v0_dir.w)[0];
+    let c0 = c - half_width * t1;
+    let c1 = c + half_width * t1;
+    var t0 = b - a;
+    if length(t0) < 1e-6 {
+        t0 = up;
+    }
+    t0 = normalize(t0);
+    let n = normalize(cross(t0, t1));
+
+    var t = shape_t(u32(frame.shape.x), u, v, frame.shape.y, segments);
+    // Eq. 24: thin far blades become quads so their tips do not break into pixel noise.
+    // The paper prints t(1 - Phi) + u Phi^2; we blend linearly, which meets the same two
+    // limits (Phi = 0: the shape, Phi = 1: the quad) without the dip in between.
+    if frame.width_correction.y > 0.0 {
+        let wp = length(to_screen(c1) - to_screen(c0));
+        let phi = 1.0 - min(max((wp - frame.width_correction.x) / frame.width_correction.y, 0.0), 1.0);
+        t = t * (1.0 - phi) + u * phi;
+    }
+    var p = (1.0 - t) * c0 + t * c1;
+    // Eq. 23: the middle axis moves along the normal, a "v" cross-section that thins out
+    // towards the tip.
+    if frame.shape.w > 0.5 {
+        p += half_width * n * (0.5 - abs(u - 0.5) * (1.0 - v));
+    }
+
+    var out: VertexOut;
+    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
+    out.world = p;
+    // Bend the shading normal across the width so the blade reads as rounded.
+    out.normal = normalize(n + t1 * (u - 0.5) * 1.2);
+    out.uv = vec2<f32>(u, v);
+    out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let sun = frame.sun_dir.xyz;
+    let to_eye = normalize(frame.camera_pos.xyz - in.world);
+    // Two-sided: light the side that faces the viewer.
+    var n = normalize(in.normal);
+    if !front {
+        n = -n;
+    }
+    let v = in.uv.y;
+    // Per-blade colour between fresh and dry-ish green, lighter towards the tip.
+    let fresh = vec3<f32>(0.10, 0.34, 0.05);
+    let dry = vec3<f32>(0.32, 0.40, 0.09);
+    let deep = vec3<f32>(0.05, 0.22, 0.04);
+    var albedo = mix(mix(fresh, deep, in.tint.y * 0.7), dry, in.tint.x * in.tint.x * 0.8);
+    albedo = mix(albedo * 0.55, albedo * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
+    // Height-based self-shadow (CWD-Sim): the base sits in the shade of its neighbours.
+    let ao = mix(0.3, 1.0, pow(v, 0.7));
+    let diffuse = max(dot(n, sun), 0.0);
+    // Translucency: sunlight shining through the blade towards the viewer.
+    let through = max(dot(-n, sun), 0.0) * pow(max(dot(-to_eye, sun), 0.0), 2.0);
+    let trans = through * 0.9 + max(dot(-n, sun), 0.0) * 0.25;
+    let h = normalize(sun + to_eye);
+    let spec = pow(max(dot(n, h), 0.0), 40.0) * 0.12 * v;
+    var color = albedo * (AMBIENT_COLOR * 0.9 * ao + SUN_COLOR * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
+        + albedo * vec3<f32>(1.0, 1.1, 0.4) * SUN_COLOR * trans * 1.4 * ao
+        + SUN_COLOR * spec;
+    color = apply_fog(color, in.world, frame);
+    return vec4<f32>(tonemap(color), 1.0);
+}

@@ -1,0 +1,247 @@
+//! The command-line actions as library functions (so tests drive them without a process):
+//! `render` simulates and draws frames into a PNG, `simulate` dumps blade states as JSON.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::gpu::{AdapterChoice, Gpu};
+use crate::output::{check_writable, save_png, write_atomic};
+use crate::render::camera::CameraView;
+use crate::render::target::{Target, COLOR_FORMAT};
+use crate::render::timing::PASSES;
+use crate::render::Renderer;
+use crate::scene::{parse_scene, Scene};
+use crate::session::Session;
+use crate::sim::colliders::spheres_at;
+use crate::sim::layout::{Blade, BladeState};
+use crate::sim::params::sim_params;
+use crate::sim::reference;
+
+/// The default scene, built into the binary so `sward` runs from any directory.
+pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/meadow.ron");
+/// The name the built-in scene's errors and logs use.
+pub const DEFAULT_SCENE_PATH: &str = "assets/scenes/meadow.ron";
+
+/// Loads `path`, or the built-in meadow when `None`.
+pub fn load(path: Option<&Path>) -> Result<Scene> {
+    match path {
+        Some(p) => crate::scene::load_scene(p),
+        None => parse_scene(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_PATH)),
+    }
+}
+
+/// Options of `sward render`.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    pub scene: Option<PathBuf>,
+    pub size: (u32, u32),
+    pub frames: u32,
+    pub dt: f32,
+    pub out: PathBuf,
+    pub timings: bool,
+    pub adapter: AdapterChoice,
+}
+
+impl RenderOptions {
+    /// `sward` with no arguments: the default meadow to `meadow.png`.
+    pub fn default_meadow(adapter: AdapterChoice) -> Self {
+        Self {
+            scene: None,
+            size: (1280, 720),
+            frames: 90,
+            dt: 1.0 / 30.0,
+            out: PathBuf::from("meadow.png"),
+            timings: false,
+            adapter,
+        }
+    }
+}
+
+fn check_dt(dt: f32) -> Result<()> {
+    if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+        return Err(Error::Invalid(format!("--dt {dt} is out of range: allowed 0 < dt <= 1 s")));
+    }
+    Ok(())
+}
+
+fn open_gpu(choice: &AdapterChoice) -> Result<Gpu> {
+    let gpu = Gpu::new(choice)?;
+    eprintln!("adapter: {}", gpu.describe());
+    Ok(gpu)
+}
+
+/// Runs `sward render`.
+pub fn render(o: &RenderOptions) -> Result<()> {
+    check_dt(o.dt)?;
+    check_writable(&o.out)?;
+    let scene = load(o.scene.as_deref())?;
+    let gpu = open_gpu(&o.adapter)?;
+    let target = Target::new(&gpu, o.size.0, o.size.1)?;
+    let session = Session::new(scene, None, Some(&gpu))?;
+    eprintln!(
+        "field: {} blades in {} patches of {}",
+        session.field.blades.len(),
+        session.field.patches.len(),
+        session.field.patch_size
+    );
+    let camera = CameraView::from_scene(&session.scene.camera);
+    let mut renderer = Renderer::new(&gpu, session.scene, session.terrain, &session.field, COLOR_FORMAT)?;
+    let mut sums = [0.0f64; 3];
+    let mut timed = 0u32;
+    let mut last = None;
+    for _ in 0..o.frames.max(1) {
+        renderer.frame(&gpu, o.dt, &camera, &target.color_view, &target.depth_view, o.size);
+        if o.timings {
+            let stats = renderer.stats(&gpu)?;
+            if let Some(ms) = stats.pass_ms {
+                for (s, m) in sums.iter_mut().zip(ms) {
+                    *s += m;
+                }
+                timed += 1;
+            }
+            last = Some(stats);
+        }
+    }
+    let image = target.read_image(&gpu)?;
+    save_png(&o.out, &image)?;
+    eprintln!("wrote {} ({}x{}, {} frames)", o.out.display(), o.size.0, o.size.1, o.frames.max(1));
+    if o.timings {
+        let stats = match last {
+            Some(s) => s,
+            None => renderer.stats(&gpu)?,
+        };
+        let c = stats.counters;
+        println!("adapter: {}", gpu.describe());
+        println!(
+            "blades: {} total, {} drawn, culled: {} patch, {} orientation, {} frustum, {} distance",
+            renderer.buffers.count,
+            c.drawn(),
+            c.culled_patch,
+            c.culled_orientation,
+            c.culled_frustum,
+            c.culled_distance
+        );
+        if timed > 0 {
+            let total: f64 = sums.iter().sum::<f64>() / timed as f64;
+            for (name, s) in PASSES.iter().zip(sums) {
+                let ms = s / timed as f64;
+                println!("gpu {name:>6}: {ms:9.3} ms  ({:5.1} %)", 100.0 * ms / total.max(1e-12));
+            }
+            println!("gpu  total: {total:9.3} ms (mean of {timed} frames)");
+        } else {
+            println!("gpu timings: the adapter has no timestamp queries");
+        }
+    }
+    Ok(())
+}
+
+/// Options of `sward simulate`.
+#[derive(Clone, Debug)]
+pub struct SimulateOptions {
+    pub scene: Option<PathBuf>,
+    pub steps: u32,
+    pub dt: f32,
+    pub dump: PathBuf,
+    pub cpu: bool,
+    pub blades: Option<usize>,
+    pub adapter: AdapterChoice,
+}
+
+/// One blade as `sward simulate` writes it.
+#[derive(Serialize)]
+pub struct BladeJson {
+    pub v0: [f32; 3],
+    pub v1: [f32; 3],
+    pub v2: [f32; 3],
+    pub up: [f32; 3],
+    pub height: f32,
+    pub width: f32,
+    pub stiffness: f32,
+    pub eta: f32,
+}
+
+impl BladeJson {
+    pub fn new(b: &Blade, s: &BladeState) -> Self {
+        let xyz = |a: [f32; 4]| [a[0], a[1], a[2]];
+        Self {
+            v0: xyz(b.v0_dir),
+            v1: xyz(b.v1_height),
+            v2: xyz(b.v2_width),
+            up: xyz(b.up_stiffness),
+            height: b.v1_height[3],
+            width: b.v2_width[3],
+            stiffness: b.up_stiffness[3],
+            eta: s.rest_eta[3],
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct Dump {
+    initial: Vec<BladeJson>,
+    #[serde(rename = "final")]
+    last: Vec<BladeJson>,
+}
+
+fn to_json(blades: &[Blade], states: &[BladeState]) -> Vec<BladeJson> {
+    blades.iter().zip(states).map(|(b, s)| BladeJson::new(b, s)).collect()
+}
+
+/// Runs the CPU twin for `steps` steps of `dt` from time 0 (same clock and collider motion
+/// as the GPU path).
+pub fn simulate_cpu(session: &Session, steps: u32, dt: f32) -> (Vec<Blade>, Vec<BladeState>) {
+    let mut blades = session.field.blades.clone();
+    let mut states = session.field.states.clone();
+    let scene = &session.scene;
+    let dt = dt.clamp(0.0, scene.physics.max_dt);
+    let mut time = 0.0f32;
+    for _ in 0..steps {
+        time += dt;
+        let spheres = spheres_at(&scene.colliders, &session.terrain, time);
+        let params = sim_params(
+            &scene.physics,
+            &scene.wind,
+            dt,
+            time,
+            blades.len() as u32,
+            spheres.len() as u32,
+        );
+        reference::update_all(&mut blades, &mut states, &params, &spheres);
+    }
+    (blades, states)
+}
+
+/// Runs `sward simulate`.
+pub fn simulate(o: &SimulateOptions) -> Result<()> {
+    check_dt(o.dt)?;
+    check_writable(&o.dump)?;
+    let scene = load(o.scene.as_deref())?;
+    let (session, (blades, states)) = if o.cpu {
+        let session = Session::new(scene, o.blades, None)?;
+        let out = simulate_cpu(&session, o.steps, o.dt);
+        (session, out)
+    } else {
+        let gpu = open_gpu(&o.adapter)?;
+        let session = Session::new(scene, o.blades, Some(&gpu))?;
+        let mut renderer =
+            Renderer::new(&gpu, session.scene.clone(), session.terrain.clone(), &session.field, COLOR_FORMAT)?;
+        for _ in 0..o.steps {
+            renderer.step(&gpu, o.dt);
+        }
+        let out = renderer.buffers.read(&gpu)?;
+        (session, out)
+    };
+    let dump = Dump {
+        initial: to_json(&session.field.blades, &session.field.states),
+        last: to_json(&blades, &states),
+    };
+    let text = serde_json::to_vec(&dump).map_err(|e| Error::Write {
+        path: o.dump.clone(),
+        message: e.to_string(),
+    })?;
+    write_atomic(&o.dump, &text)?;
+    eprintln!("wrote {} ({} blades, {} steps)", o.dump.display(), blades.len(), o.steps);
+    Ok(())
+}

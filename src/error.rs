@@ -1,0 +1,45 @@
+//! The library's error type: every failure a user can cause ends here, with a message that
+//! names what to fix (the file, line and field; the allowed range; what to install).
+
+use std::path::PathBuf;
+
+/// Errors at the library boundary.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be read.
+    #[error("cannot read {path}: {source}")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A scene file is malformed or holds a value out of range.
+    #[error("{path}:{line}:{column}: {message}")]
+    Scene {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    /// An image named by a scene could not be decoded.
+    #[error("{path}: cannot decode image: {message}")]
+    Image { path: PathBuf, message: String },
+    /// No adapter matched the request.
+    #[error("{0}")]
+    NoAdapter(String),
+    /// The request does not fit the adapter's limits; nothing was allocated.
+    #[error("{0}")]
+    Limits(String),
+    /// The device refused a request (out of memory, validation).
+    #[error("GPU error: {0}")]
+    Gpu(String),
+    /// Writing an output file failed; no partial file was left behind.
+    #[error("cannot write {path}: {message}")]
+    Write { path: PathBuf, message: String },
+    /// A command-line value is out of range.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

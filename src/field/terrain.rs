@@ -1,0 +1,353 @@
+//! The ground as a square height field centred on the origin: built from the scene's
+//! height source (seeded fBm noise, a grey PNG, or flat), sampled bilinearly for blade
+//! roots and with central differences for the local up vector each blade grows along.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::grid::{bilinear, load_grey, resample, to_grid};
+use super::noise::fbm;
+use crate::error::{Error, Result};
+use crate::scene::types::{HeightSource, Terrain};
+
+/// Largest accepted `terrain.resolution`: 16385² vertices is already 1 GiB of heights.
+pub const MAX_RESOLUTION: u32 = 16385;
+
+/// A `resolution × resolution` grid of heights covering x, z in `[-size/2, size/2]`,
+/// row-major with x fastest: vertex `(i, j)` is at
+/// `x = -size/2 + i·spacing`, `z = -size/2 + j·spacing`, `spacing = size / (resolution − 1)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeightField {
+    pub size: f32,
+    pub resolution: u32,
+    pub heights: Vec<f32>,
+}
+
+impl HeightField {
+    /// A flat field at height 0.
+    pub fn flat(size: f32, resolution: u32) -> Self {
+        let resolution = resolution.max(2);
+        Self {
+            size,
+            resolution,
+            heights: vec![0.0; (resolution as usize).pow(2)],
+        }
+    }
+
+    /// Builds the field the scene describes.
+    ///
+    /// * `Noise`: fBm of value noise, rescaled so that the lowest and highest grid vertex
+    ///   are exactly `amplitude` apart, centred on 0 m.
+    /// * `Png`: the image (image row 0 at z = −size/2, column 0 at x = −size/2) resampled
+    ///   onto the grid, black = 0 m, white = `scale` m.
+    /// * `Flat`: 0 m everywhere.
+    pub fn from_scene(terrain: &Terrain) -> Result<Self> {
+        let size = terrain.size;
+        if !(size.is_finite() && size > 0.0) {
+            return Err(Error::Invalid(format!(
+                "terrain.size must be a positive number of metres, got {size}"
+            )));
+        }
+        let resolution = terrain.resolution;
+        if !(2..=MAX_RESOLUTION).contains(&resolution) {
+            return Err(Error::Invalid(format!(
+                "terrain.resolution must be in 2..={MAX_RESOLUTION}, got {resolution}"
+            )));
+        }
+        let heights = match &terrain.height {
+            HeightSource::Flat => vec![0.0; (resolution as usize).pow(2)],
+            &HeightSource::Noise {
+                seed,
+                amplitude,
+                wavelength,
+                octaves,
+            } => {
+                if !(wavelength.is_finite() && wavelength > 0.0) {
+                    return Err(Error::Invalid(format!(
+                        "terrain noise wavelength must be a positive number of metres, got {wavelength}"
+                    )));
+                }
+                if !amplitude.is_finite() {
+                    return Err(Error::Invalid(format!(
+                        "terrain noise amplitude must be finite, got {amplitude}"
+                    )));
+                }
+                noise_heights(size, resolution, seed, amplitude, wavelength, octaves)
+            }
+            HeightSource::Png { path, scale } => {
+                if !scale.is_finite() {
+                    return Err(Error::Invalid(format!(
+                        "terrain height map scale must be finite, got {scale}"
+                    )));
+                }
+                let image = load_grey(Path::new(path))?;
+                resample(&image, resolution)
+                    .into_iter()
+                    .map(|luma| luma * scale)
+                    .collect()
+            }
+        };
+        Ok(Self {
+            size,
+            resolution,
+            heights,
+        })
+    }
+
+    /// Distance between neighbouring grid vertices.
+    pub fn spacing(&self) -> f32 {
+        self.size / (self.resolution.max(2) - 1) as f32
+    }
+
+    /// The grid vertex `(i, j)` in world space.
+    pub fn vertex(&self, i: u32, j: u32) -> Vec3 {
+        let s = self.spacing();
+        let h = self.heights[(j * self.resolution + i) as usize];
+        Vec3::new(
+            -0.5 * self.size + i as f32 * s,
+            h,
+            -0.5 * self.size + j as f32 * s,
+        )
+    }
+
+    /// Height at `(x, z)`, bilinear between grid vertices; outside the square the edge
+    /// heights continue.
+    pub fn height(&self, x: f32, z: f32) -> f32 {
+        let u = to_grid(x, self.size, self.resolution);
+        let v = to_grid(z, self.size, self.resolution);
+        bilinear(&self.heights, self.resolution, self.resolution, u, v)
+    }
+
+    /// Unit surface normal at `(x, z)` from central differences one grid spacing apart
+    /// (one-sided at the edges, where the wider stencil would leave the square).
+    pub fn normal(&self, x: f32, z: f32) -> Vec3 {
+        let d = self.spacing();
+        let half = 0.5 * self.size;
+        let (x0, x1) = ((x - d).max(-half), (x + d).min(half));
+        let (z0, z1) = ((z - d).max(-half), (z + d).min(half));
+        // Outside the square the heights are clamped, so the surface is level there.
+        let dx = if x1 > x0 {
+            (self.height(x1, z) - self.height(x0, z)) / (x1 - x0)
+        } else {
+            0.0
+        };
+        let dz = if z1 > z0 {
+            (self.height(x, z1) - self.height(x, z0)) / (z1 - z0)
+        } else {
+            0.0
+        };
+        Vec3::new(-dx, 1.0, -dz).normalize()
+    }
+
+    /// Lowest and highest grid height.
+    pub fn min_max(&self) -> (f32, f32) {
+        self.heights
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &h| {
+                (lo.min(h), hi.max(h))
+            })
+    }
+}
+
+/// fBm heights on the grid, rescaled to `amplitude` peak to peak around 0 m. Rescaling to
+/// the sampled range (rather than the theoretical ±1 of the fBm) makes `amplitude` the
+/// height difference the user actually sees.
+fn noise_heights(
+    size: f32,
+    resolution: u32,
+    seed: u64,
+    amplitude: f32,
+    wavelength: f32,
+    octaves: u32,
+) -> Vec<f32> {
+    let spacing = f64::from(size) / f64::from(resolution - 1);
+    let half = 0.5 * f64::from(size);
+    let mut raw = Vec::with_capacity((resolution as usize).pow(2));
+    for j in 0..resolution {
+        for i in 0..resolution {
+            let x = -half + f64::from(i) * spacing;
+            let z = -half + f64::from(j) * spacing;
+            raw.push(fbm(seed, octaves, f64::from(wavelength), x, z));
+        }
+    }
+    let (lo, hi) = raw
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| {
+            (lo.min(h), hi.max(h))
+        });
+    let span = hi - lo;
+    if span <= 1e-12 {
+        return vec![0.0; raw.len()];
+    }
+    let mid = 0.5 * (lo + hi);
+    let scale = f64::from(amplitude) / span;
+    raw.into_iter()
+        .map(|h| ((h - mid) * scale) as f32)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn noise_terrain() -> Terrain {
+        Terrain {
+            size: 40.0,
+            resolution: 129,
+            height: HeightSource::Noise {
+                seed: 7,
+                amplitude: 2.0,
+                wavelength: 30.0,
+                octaves: 4,
+            },
+            density_map: None,
+        }
+    }
+
+    #[test]
+    fn noise_amplitude_is_peak_to_peak() {
+        let field = HeightField::from_scene(&noise_terrain()).unwrap();
+        assert_eq!(field.heights.len(), 129 * 129);
+        let (lo, hi) = field.min_max();
+        assert!((hi - lo - 2.0).abs() < 1e-4, "{lo} {hi}");
+        assert!((hi + lo).abs() < 1e-4, "{lo} {hi}");
+    }
+
+    #[test]
+    fn noise_is_seeded() {
+        let a = HeightField::from_scene(&noise_terrain()).unwrap();
+        let b = HeightField::from_scene(&noise_terrain()).unwrap();
+        assert_eq!(a, b);
+        let mut other = noise_terrain();
+        if let HeightSource::Noise { seed, .. } = &mut other.height {
+            *seed = 8;
+        }
+        assert_ne!(a, HeightField::from_scene(&other).unwrap());
+    }
+
+    #[test]
+    fn noise_hills_are_gentle() {
+        // 2 m over a 30 m wavelength: no slope anywhere near a cliff.
+        let field = HeightField::from_scene(&noise_terrain()).unwrap();
+        for k in 0..400 {
+            let x = -20.0 + (k % 20) as f32 * 2.0 + 0.3;
+            let z = -20.0 + (k / 20) as f32 * 2.0 + 0.7;
+            assert!(field.normal(x, z).y > 0.8, "steep at {x} {z}");
+        }
+    }
+
+    #[test]
+    fn height_is_bilinear_and_clamped() {
+        let mut field = HeightField::flat(2.0, 3);
+        // Vertices at -1, 0, 1 on both axes; a ramp in x.
+        for j in 0..3 {
+            for i in 0..3 {
+                field.heights[j * 3 + i] = i as f32;
+            }
+        }
+        assert_eq!(field.height(-1.0, 0.0), 0.0);
+        assert!((field.height(0.5, 0.3) - 1.5).abs() < 1e-6);
+        assert_eq!(field.height(5.0, 5.0), 2.0);
+        assert_eq!(field.height(-5.0, 0.0), 0.0);
+        assert_eq!(field.vertex(2, 1), Vec3::new(1.0, 2.0, 0.0));
+        // Slope 1 in +x: normal (-1, 1, 0)/√2, also at the clamped edges.
+        for x in [-1.0, -0.2, 0.0, 0.7, 1.0] {
+            let n = field.normal(x, 0.1);
+            assert!(
+                (n - Vec3::new(-1.0, 1.0, 0.0).normalize()).length() < 1e-5,
+                "{n}"
+            );
+        }
+    }
+
+    #[test]
+    fn flat_source_is_flat() {
+        let terrain = Terrain {
+            height: HeightSource::Flat,
+            ..noise_terrain()
+        };
+        let field = HeightField::from_scene(&terrain).unwrap();
+        assert_eq!(field.min_max(), (0.0, 0.0));
+        assert_eq!(field.normal(3.0, -4.0), Vec3::Y);
+    }
+
+    #[test]
+    fn bad_values_are_rejected() {
+        let mut terrain = noise_terrain();
+        terrain.resolution = 1;
+        assert!(matches!(
+            HeightField::from_scene(&terrain),
+            Err(Error::Invalid(_))
+        ));
+        let mut terrain = noise_terrain();
+        terrain.size = 0.0;
+        assert!(matches!(
+            HeightField::from_scene(&terrain),
+            Err(Error::Invalid(_))
+        ));
+    }
+
+    #[test]
+    fn png_heights_follow_luma_and_errors_name_the_path() {
+        let dir = std::env::temp_dir().join(format!("sward-field-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // 16-bit ramp: column 0 black, last column white.
+        let path = dir.join("ramp16.png");
+        let img = image::ImageBuffer::from_fn(5, 3, |x, _| image::Luma([(x * 65535 / 4) as u16]));
+        img.save(&path).unwrap();
+        let terrain = Terrain {
+            size: 10.0,
+            resolution: 9,
+            height: HeightSource::Png {
+                path: path.to_string_lossy().into_owned(),
+                scale: 3.0,
+            },
+            density_map: None,
+        };
+        let field = HeightField::from_scene(&terrain).unwrap();
+        assert!(field.height(-5.0, 0.0).abs() < 1e-5);
+        assert!((field.height(5.0, 2.0) - 3.0).abs() < 1e-4);
+        assert!((field.height(0.0, -5.0) - 1.5).abs() < 1e-3);
+
+        // 8-bit input is accepted too.
+        let path8 = dir.join("ramp8.png");
+        let img8 = image::ImageBuffer::from_fn(2, 2, |x, _| image::Luma([(x * 255) as u8]));
+        img8.save(&path8).unwrap();
+        let terrain8 = Terrain {
+            height: HeightSource::Png {
+                path: path8.to_string_lossy().into_owned(),
+                scale: 1.0,
+            },
+            ..terrain.clone()
+        };
+        let field8 = HeightField::from_scene(&terrain8).unwrap();
+        assert!((field8.height(5.0, 0.0) - 1.0).abs() < 1e-5);
+
+        let missing = dir.join("missing.png");
+        let terrain_missing = Terrain {
+            height: HeightSource::Png {
+                path: missing.to_string_lossy().into_owned(),
+                scale: 1.0,
+            },
+            ..terrain.clone()
+        };
+        let err = HeightField::from_scene(&terrain_missing).unwrap_err();
+        assert!(matches!(err, Error::Read { .. }));
+        assert!(err.to_string().contains("missing.png"));
+
+        let garbage = dir.join("garbage.png");
+        std::fs::write(&garbage, b"not a png").unwrap();
+        let terrain_garbage = Terrain {
+            height: HeightSource::Png {
+                path: garbage.to_string_lossy().into_owned(),
+                scale: 1.0,
+            },
+            ..terrain
+        };
+        let err = HeightField::from_scene(&terrain_garbage).unwrap_err();
+        assert!(matches!(err, Error::Image { .. }));
+        assert!(err.to_string().contains("garbage.png"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -1,0 +1,317 @@
+//! The draw pass: sky, terrain, colliders and the grass (one indexed indirect draw whose
+//! instance count the cull pass wrote), depth tested, into any colour view.
+
+use wgpu::util::DeviceExt;
+
+use super::mesh::{blade_indices, sphere_mesh, terrain_mesh, TerrainVertex};
+use crate::field::HeightField;
+use crate::gpu::Gpu;
+use crate::shaders;
+use crate::sim::layout::FrameUniforms;
+use crate::sim::update::{uniform_entry, BladeBuffers};
+
+/// Depth format of every pass.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+struct Mesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    count: u32,
+}
+
+/// Pipelines and buffers of the draw pass.
+pub struct DrawPass {
+    frame: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    grass_group: wgpu::BindGroup,
+    spheres_group: wgpu::BindGroup,
+    sky: wgpu::RenderPipeline,
+    terrain: wgpu::RenderPipeline,
+    spheres: wgpu::RenderPipeline,
+    grass: wgpu::RenderPipeline,
+    terrain_mesh: Mesh,
+    sphere_mesh: Mesh,
+    blade_indices: wgpu::Buffer,
+}
+
+fn read_storage(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+struct PipelineSpec<'a> {
+    label: &'a str,
+    shader: &'a str,
+    layout: &'a wgpu::BindGroupLayout,
+    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    depth_write: bool,
+    cull_back: bool,
+}
+
+fn pipeline(device: &wgpu::Device, format: wgpu::TextureFormat, spec: PipelineSpec) -> wgpu::RenderPipeline {
+    let module = shaders::module(device, spec.shader);
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("{}.layout", spec.label)),
+        bind_group_layouts: &[Some(spec.layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(spec.label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: spec.buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: if spec.cull_back { Some(wgpu::Face::Back) } else { None },
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(spec.depth_write),
+            depth_compare: Some(if spec.depth_write {
+                wgpu::CompareFunction::Less
+            } else {
+                wgpu::CompareFunction::Always
+            }),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl DrawPass {
+    pub fn new(
+        gpu: &Gpu,
+        buffers: &BladeBuffers,
+        terrain: &HeightField,
+        segments: u32,
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        let device = &gpu.device;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let frame = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.draw.frame"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.draw.frame_layout"),
+            entries: &[uniform_entry(0, vf)],
+        });
+        let grass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.draw.grass_layout"),
+            entries: &[
+                uniform_entry(0, vf),
+                read_storage(1, wgpu::ShaderStages::VERTEX),
+                read_storage(2, wgpu::ShaderStages::VERTEX),
+            ],
+        });
+        let spheres_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.draw.spheres_layout"),
+            entries: &[uniform_entry(0, vf), read_storage(1, wgpu::ShaderStages::VERTEX)],
+        });
+        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.draw.frame_group"),
+            layout: &frame_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() }],
+        });
+        let grass_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.draw.grass_group"),
+            layout: &grass_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: buffers.blades.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: buffers.visible.as_entire_binding() },
+            ],
+        });
+        let spheres_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.draw.spheres_group"),
+            layout: &spheres_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: buffers.spheres.as_entire_binding() },
+            ],
+        });
+
+        let terrain_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let terrain_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<TerrainVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &terrain_attrs,
+        })];
+        let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
+        let sphere_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &sphere_attrs,
+        })];
+        let sky = pipeline(device, format, PipelineSpec {
+            label: "sward.draw.sky",
+            shader: "sky.wgsl",
+            layout: &frame_layout,
+            buffers: &[],
+            depth_write: false,
+            cull_back: false,
+        });
+        let terrain_pipeline = pipeline(device, format, PipelineSpec {
+            label: "sward.draw.terrain",
+            shader: "terrain.wgsl",
+            layout: &frame_layout,
+            buffers: &terrain_buffers,
+            depth_write: true,
+            cull_back: false,
+        });
+        let spheres = pipeline(device, format, PipelineSpec {
+            label: "sward.draw.spheres",
+            shader: "spheres.wgsl",
+            layout: &spheres_layout,
+            buffers: &sphere_buffers,
+            depth_write: true,
+            cull_back: false,
+        });
+        // Blades have no back: both sides are drawn and lit (two-sided lighting).
+        let grass = pipeline(device, format, PipelineSpec {
+            label: "sward.draw.grass",
+            shader: "grass.wgsl",
+            layout: &grass_layout,
+            buffers: &[],
+            depth_write: true,
+            cull_back: false,
+        });
+
+        let (tv, ti) = terrain_mesh(terrain);
+        let terrain_mesh = Mesh {
+            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sward.terrain.vertices"),
+                contents: bytemuck::cast_slice(&tv),
+                usage: wgpu::BufferUsages::VERTEX,
+            }),
+            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sward.terrain.indices"),
+                contents: bytemuck::cast_slice(&ti),
+                usage: wgpu::BufferUsages::INDEX,
+            }),
+            count: ti.len() as u32,
+        };
+        let (sv, si) = sphere_mesh(16, 24);
+        let sphere_mesh = Mesh {
+            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sward.sphere.vertices"),
+                contents: bytemuck::cast_slice(&sv),
+                usage: wgpu::BufferUsages::VERTEX,
+            }),
+            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sward.sphere.indices"),
+                contents: bytemuck::cast_slice(&si),
+                usage: wgpu::BufferUsages::INDEX,
+            }),
+            count: si.len() as u32,
+        };
+        let blade_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward.blade.indices"),
+            contents: bytemuck::cast_slice(&blade_indices(segments)),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        Self {
+            frame,
+            frame_group,
+            grass_group,
+            spheres_group,
+            sky,
+            terrain: terrain_pipeline,
+            spheres,
+            grass,
+            terrain_mesh,
+            sphere_mesh,
+            blade_indices,
+        }
+    }
+
+    /// Writes this frame's uniforms.
+    pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms) {
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
+    }
+
+    /// Records the render pass into `color` with `depth`.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        indirect: &wgpu::Buffer,
+        sphere_count: u32,
+        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.draw"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.sky);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.draw(0..3, 0..1);
+
+        pass.set_pipeline(&self.terrain);
+        pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
+        pass.set_index_buffer(self.terrain_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
+
+        if sphere_count > 0 {
+            pass.set_pipeline(&self.spheres);
+            pass.set_bind_group(0, &self.spheres_group, &[]);
+            pass.set_vertex_buffer(0, self.sphere_mesh.vertices.slice(..));
+            pass.set_index_buffer(self.sphere_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..self.sphere_mesh.count, 0, 0..sphere_count);
+        }
+
+        pass.set_pipeline(&self.grass);
+        pass.set_bind_group(0, &self.grass_group, &[]);
+        pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed_indirect(indirect, 0);
+    }
+}

@@ -1,0 +1,105 @@
+//! CPU-built meshes: the terrain grid from the height field, a unit sphere for colliders and
+//! the index list of one grass blade (3 columns × `segments + 1` rows).
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::field::HeightField;
+
+/// Terrain vertex: position and normal.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct TerrainVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}
+
+/// Vertices and triangle indices of the terrain, one vertex per height sample.
+pub fn terrain_mesh(terrain: &HeightField) -> (Vec<TerrainVertex>, Vec<u32>) {
+    let n = terrain.resolution.max(2);
+    let step = terrain.size / (n - 1) as f32;
+    let half = terrain.size * 0.5;
+    let mut vertices = Vec::with_capacity((n * n) as usize);
+    for j in 0..n {
+        for i in 0..n {
+            let x = -half + i as f32 * step;
+            let z = -half + j as f32 * step;
+            let y = terrain.height(x, z);
+            vertices.push(TerrainVertex { position: [x, y, z], normal: terrain.normal(x, z).into() });
+        }
+    }
+    let mut indices = Vec::with_capacity(((n - 1) * (n - 1) * 6) as usize);
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = j * n + i;
+            let b = a + 1;
+            let c = a + n;
+            let d = c + 1;
+            indices.extend_from_slice(&[a, c, b, b, c, d]);
+        }
+    }
+    (vertices, indices)
+}
+
+/// A unit UV sphere: positions (which are also the normals) and triangle indices.
+pub fn sphere_mesh(rings: u32, sectors: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let mut vertices = Vec::new();
+    for r in 0..=rings {
+        let phi = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=sectors {
+            let theta = std::f32::consts::TAU * s as f32 / sectors as f32;
+            vertices.push([phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin()]);
+        }
+    }
+    let mut indices = Vec::new();
+    let row = sectors + 1;
+    for r in 0..rings {
+        for s in 0..sectors {
+            let a = r * row + s;
+            let b = a + 1;
+            let c = a + row;
+            let d = c + 1;
+            indices.extend_from_slice(&[a, b, c, b, d, c]);
+        }
+    }
+    (vertices, indices)
+}
+
+/// Triangle indices of one blade: vertex `row * 3 + column`, two quads per row band (left
+/// and right of the middle axis), so the 3D displacement can fold the blade along its axis.
+pub fn blade_indices(segments: u32) -> Vec<u32> {
+    let mut indices = Vec::with_capacity((segments * 12) as usize);
+    for row in 0..segments {
+        for col in 0..2 {
+            let a = row * 3 + col;
+            let b = a + 1;
+            let c = a + 3;
+            let d = c + 1;
+            indices.extend_from_slice(&[a, b, c, b, d, c]);
+        }
+    }
+    indices
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blade_indices_cover_every_vertex_of_the_grid() {
+        let segments = 5;
+        let idx = blade_indices(segments);
+        assert_eq!(idx.len(), (segments * 12) as usize);
+        let max = *idx.iter().max().unwrap();
+        assert_eq!(max, (segments + 1) * 3 - 1);
+        for v in 0..=max {
+            assert!(idx.contains(&v), "vertex {v} unused");
+        }
+    }
+
+    #[test]
+    fn sphere_vertices_are_on_the_unit_sphere() {
+        let (v, i) = sphere_mesh(8, 12);
+        assert!(v.iter().all(|p| (glam::Vec3::from(*p).length() - 1.0).abs() < 1e-5));
+        assert!(i.iter().all(|&k| (k as usize) < v.len()));
+    }
+}

@@ -1,0 +1,199 @@
+//! Rendering: one frame is update → cull → draw on one command encoder, into any colour
+//! view (an off-screen texture here, a window surface later), with per-pass GPU times.
+
+pub mod camera;
+pub mod cull;
+pub mod draw;
+pub mod mesh;
+pub mod target;
+pub mod timing;
+
+use glam::Vec3;
+
+use crate::error::Result;
+use crate::field::{GeneratedField, HeightField};
+use crate::gpu::Gpu;
+use crate::scene::Scene;
+use crate::sim::colliders::spheres_at;
+use crate::sim::layout::{CullCounters, FrameUniforms};
+use crate::sim::params::{cull_params, sim_params};
+use crate::sim::update::{BladeBuffers, UpdatePass};
+use camera::CameraView;
+use cull::CullPass;
+use draw::DrawPass;
+use timing::GpuTimer;
+
+/// What one frame did, read back from the GPU.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameStats {
+    pub counters: CullCounters,
+    /// GPU milliseconds of update, cull and draw (`timing::PASSES`), when timestamps exist.
+    pub pass_ms: Option<[f64; 3]>,
+}
+
+/// Everything on the GPU for one scene, and the clock of its simulation.
+pub struct Renderer {
+    pub buffers: BladeBuffers,
+    update: UpdatePass,
+    pub cull: CullPass,
+    draw: DrawPass,
+    timer: Option<GpuTimer>,
+    pub scene: Scene,
+    pub terrain: HeightField,
+    /// Simulated seconds since the start.
+    pub time: f32,
+    sphere_count: u32,
+    index_count: u32,
+}
+
+impl Renderer {
+    /// Uploads the field and builds every pass for colour targets of `format`.
+    pub fn new(
+        gpu: &Gpu,
+        scene: Scene,
+        terrain: HeightField,
+        field: &GeneratedField,
+        format: wgpu::TextureFormat,
+    ) -> Result<Self> {
+        let buffers = BladeBuffers::new(gpu, field)?;
+        let update = UpdatePass::new(gpu, &buffers);
+        let cull = CullPass::new(gpu, &buffers);
+        let segments = scene.field.segments.max(1);
+        let draw = DrawPass::new(gpu, &buffers, &terrain, segments, format);
+        let mut r = Self {
+            buffers,
+            update,
+            cull,
+            draw,
+            timer: GpuTimer::new(gpu),
+            scene,
+            terrain,
+            time: 0.0,
+            sphere_count: 0,
+            index_count: segments * 12,
+        };
+        r.upload_colliders(gpu);
+        Ok(r)
+    }
+
+    fn upload_colliders(&mut self, gpu: &Gpu) {
+        let spheres = spheres_at(&self.scene.colliders, &self.terrain, self.time);
+        self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
+    }
+
+    /// Advances the clock by `dt` (clamped to the scene's Δt limit), moves the colliders and
+    /// records the blade update.
+    fn encode_update(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, dt: f32) {
+        let dt = dt.clamp(0.0, self.scene.physics.max_dt);
+        self.time += dt;
+        self.upload_colliders(gpu);
+        let params = sim_params(
+            &self.scene.physics,
+            &self.scene.wind,
+            dt,
+            self.time,
+            self.buffers.count,
+            self.sphere_count,
+        );
+        self.update.prepare(&gpu.queue, &params);
+        self.update.encode(encoder, self.timer.as_ref().map(|t| t.compute(0)));
+    }
+
+    /// One simulation step without drawing (`sward simulate`).
+    pub fn step(&mut self, gpu: &Gpu, dt: f32) {
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.step"),
+        });
+        self.encode_update(gpu, &mut encoder, dt);
+        gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// Uniforms of the draw pass for a camera and viewport.
+    pub fn frame_uniforms(&self, camera: &CameraView, width: u32, height: u32) -> FrameUniforms {
+        let view_proj = camera.view_proj(width as f32 / height.max(1) as f32);
+        let sun = Vec3::from(self.scene.render.sun_direction).normalize_or(Vec3::Y);
+        let f = &self.scene.field;
+        FrameUniforms {
+            view_proj: view_proj.to_cols_array_2d(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            camera_pos: camera.eye.extend(1.0).into(),
+            sun_dir: sun.extend(0.0).into(),
+            viewport_time: [width as f32, height as f32, self.time, self.scene.terrain.size * 4.0],
+            shape: [
+                f.shape.id() as f32,
+                f.tip_threshold,
+                f.segments.max(1) as f32,
+                self.scene.render.displacement as u32 as f32,
+            ],
+            width_correction: [
+                self.scene.render.width_min_px,
+                self.scene.render.width_span_px,
+                self.scene.terrain.size,
+                0.0,
+            ],
+        }
+    }
+
+    /// Records cull + draw for a camera into `color` / `depth` (no update).
+    fn encode_view(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        let view_proj = camera.view_proj(size.0 as f32 / size.1.max(1) as f32);
+        let cp = cull_params(
+            &self.scene.culling,
+            view_proj,
+            camera.eye,
+            self.buffers.count,
+            self.buffers.patch_size,
+            self.index_count,
+        );
+        self.cull.prepare(&gpu.queue, &cp);
+        self.draw.prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
+        self.cull.encode(encoder, self.timer.as_ref().map(|t| t.compute(1)));
+        self.draw.encode(
+            encoder,
+            color,
+            depth,
+            &self.cull.args,
+            self.sphere_count,
+            self.timer.as_ref().map(|t| t.render(2)),
+        );
+    }
+
+    /// One whole frame: step by `dt`, cull, draw into `color`, submit.
+    pub fn frame(
+        &mut self,
+        gpu: &Gpu,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.frame"),
+        });
+        self.encode_update(gpu, &mut encoder, dt);
+        self.encode_view(gpu, &mut encoder, camera, color, depth, size);
+        if let Some(t) = &self.timer {
+            t.resolve(&mut encoder);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// Reads back the counters and pass times of the last frame (blocks until it is done).
+    pub fn stats(&self, gpu: &Gpu) -> Result<FrameStats> {
+        let counters = self.cull.read_counters(gpu)?;
+        let pass_ms = match &self.timer {
+            Some(t) => Some(t.read_ms(gpu)?),
+            None => None,
+        };
+        Ok(FrameStats { counters, pass_ms })
+    }
+}

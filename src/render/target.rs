@@ -1,0 +1,91 @@
+//! An off-screen colour + depth target and its read-back to an RGBA image: the headless path
+//! renders into this exactly what the window renders into its surface.
+
+use crate::error::Result;
+use crate::gpu::{map_and_read, Gpu};
+
+use super::draw::DEPTH_FORMAT;
+
+/// Colour format of headless renders (sRGB, like a typical surface).
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// Off-screen colour and depth textures.
+pub struct Target {
+    pub color: wgpu::Texture,
+    pub color_view: wgpu::TextureView,
+    pub depth_view: wgpu::TextureView,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Creates a depth texture view of the given size (shared with the window path).
+pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("sward.target.depth"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    depth.create_view(&Default::default())
+}
+
+impl Target {
+    /// Checks the size against the device, then allocates.
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self> {
+        gpu.check_texture("an image", width, height)?;
+        let color = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sward.target.color"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: COLOR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let color_view = color.create_view(&Default::default());
+        let depth_view = depth_view(&gpu.device, width, height);
+        Ok(Self { color, color_view, depth_view, width, height })
+    }
+
+    /// Copies the colour texture back into an RGBA image (blocking).
+    pub fn read_image(&self, gpu: &Gpu) -> Result<image::RgbaImage> {
+        let row = self.width * 4;
+        // Buffer rows must be 256-byte aligned for texture copies.
+        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.target.readback"),
+            size: padded as u64 * self.height as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.target.readback"),
+        });
+        encoder.copy_texture_to_buffer(
+            self.color.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &staging,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded),
+                    rows_per_image: Some(self.height),
+                },
+            },
+            wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
+        );
+        gpu.queue.submit([encoder.finish()]);
+        let data = map_and_read(gpu, &staging)?;
+        let mut pixels = Vec::with_capacity((row * self.height) as usize);
+        for y in 0..self.height as usize {
+            let start = y * padded as usize;
+            pixels.extend_from_slice(&data[start..start + row as usize]);
+        }
+        Ok(image::RgbaImage::from_raw(self.width, self.height, pixels)
+            .expect("buffer size matches the image size by construction"))
+    }
+}

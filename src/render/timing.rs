@@ -1,0 +1,82 @@
+//! Per-pass GPU times from timestamp queries: each pass writes a timestamp at its start and
+//! end; after the frame the pairs are resolved, read back and scaled by the queue's period.
+
+use crate::error::Result;
+use crate::gpu::{map_and_read, Gpu};
+
+/// The passes that are timed, in the order of their query pairs.
+pub const PASSES: [&str; 3] = ["update", "cull", "draw"];
+
+/// Timestamp query set and its read-back buffers.
+pub struct GpuTimer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    staging: wgpu::Buffer,
+    period_ns: f32,
+}
+
+impl GpuTimer {
+    /// `None` when the device has no timestamp queries.
+    pub fn new(gpu: &Gpu) -> Option<Self> {
+        if !gpu.timestamps {
+            return None;
+        }
+        let count = (PASSES.len() * 2) as u32;
+        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("sward.timestamps"),
+            ty: wgpu::QueryType::Timestamp,
+            count,
+        });
+        let size = count as u64 * 8;
+        let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.timestamps.resolve"),
+            size,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.timestamps.staging"),
+            size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        Some(Self { queries, resolve, staging, period_ns: gpu.queue.get_timestamp_period() })
+    }
+
+    /// Compute-pass timestamp writes for pass `index` of `PASSES`.
+    pub fn compute(&self, index: usize) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(index as u32 * 2),
+            end_of_pass_write_index: Some(index as u32 * 2 + 1),
+        }
+    }
+
+    /// Render-pass timestamp writes for pass `index` of `PASSES`.
+    pub fn render(&self, index: usize) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(index as u32 * 2),
+            end_of_pass_write_index: Some(index as u32 * 2 + 1),
+        }
+    }
+
+    /// Records the resolve and copy; call after the timed passes, before `finish`.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        let count = (PASSES.len() * 2) as u32;
+        encoder.resolve_query_set(&self.queries, 0..count, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, count as u64 * 8);
+    }
+
+    /// Milliseconds per pass of the last submitted frame (blocks until it is done).
+    pub fn read_ms(&self, gpu: &Gpu) -> Result<[f64; PASSES.len()]> {
+        let bytes = map_and_read(gpu, &self.staging)?;
+        let stamps: Vec<u64> = bytemuck::pod_collect_to_vec(&bytes);
+        let mut out = [0.0; PASSES.len()];
+        for (i, o) in out.iter_mut().enumerate() {
+            let ticks = stamps[2 * i + 1].saturating_sub(stamps[2 * i]);
+            *o = ticks as f64 * self.period_ns as f64 / 1e6;
+        }
+        Ok(out)
+    }
+}

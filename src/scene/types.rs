@@ -1,0 +1,377 @@
+//! The scene file's data model: plain serde structs, every field with a default so that a
+//! scene only states what it changes. Unknown fields are rejected (`deny_unknown_fields`)
+//! so that a typo is an error, not a silently ignored setting.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scene: what `sward render` / `sward simulate` load from a `.ron` file.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Scene {
+    pub terrain: Terrain,
+    pub field: Field,
+    pub colliders: Vec<Sphere>,
+    pub wind: Wind,
+    pub physics: Physics,
+    pub culling: Culling,
+    pub camera: Camera,
+    pub render: Render,
+}
+
+/// Where the height of the ground comes from.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub enum HeightSource {
+    /// Seeded fractal Brownian motion of value noise.
+    Noise {
+        seed: u64,
+        /// Peak-to-peak amplitude in metres.
+        amplitude: f32,
+        /// Size of the largest hills in metres.
+        wavelength: f32,
+        octaves: u32,
+    },
+    /// A grey PNG: black = 0 m, white = `scale` metres.
+    Png { path: String, scale: f32 },
+    /// A flat plane at height 0.
+    Flat,
+}
+
+/// The ground: a square height field centred on the origin, in the x/z plane.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Terrain {
+    /// Side length in metres (x and z).
+    pub size: f32,
+    /// Grid vertices per side of the height field and the terrain mesh.
+    pub resolution: u32,
+    pub height: HeightSource,
+    /// Optional grey PNG: white = full density, black = no grass.
+    pub density_map: Option<String>,
+}
+
+impl Default for Terrain {
+    fn default() -> Self {
+        Self {
+            size: 40.0,
+            resolution: 129,
+            height: HeightSource::Noise {
+                seed: 7,
+                amplitude: 2.0,
+                wavelength: 30.0,
+                octaves: 4,
+            },
+            density_map: None,
+        }
+    }
+}
+
+/// The five blade shapes of the paper (Section 6.3).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum Shape {
+    Quad,
+    Triangle,
+    Quadratic,
+    #[default]
+    TriangleTip,
+    Dandelion,
+}
+
+impl Shape {
+    /// The id the shaders switch on.
+    pub fn id(self) -> u32 {
+        match self {
+            Shape::Quad => 0,
+            Shape::Triangle => 1,
+            Shape::Quadratic => 2,
+            Shape::TriangleTip => 3,
+            Shape::Dandelion => 4,
+        }
+    }
+}
+
+/// A closed interval `[min, max]` for per-blade random attributes.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Range {
+    pub min: f32,
+    pub max: f32,
+}
+
+impl Range {
+    pub const fn new(min: f32, max: f32) -> Self {
+        Self { min, max }
+    }
+    /// The value at `t` in `[0, 1]`.
+    pub fn lerp(self, t: f32) -> f32 {
+        self.min + (self.max - self.min) * t
+    }
+}
+
+/// How blades are placed and what they look like.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Field {
+    /// Blades per square metre of ground.
+    pub density: f32,
+    /// Blade height in metres.
+    pub height: Range,
+    /// Blade width in metres (full width at the base).
+    pub width: Range,
+    /// Stiffness s of Eq. 3, in 1/s.
+    pub stiffness: Range,
+    /// Rest lean of the tip away from up, in degrees.
+    pub bend: Range,
+    /// Fraction of blades that grow in tufts (Poisson-disk tuft centres), the rest are single.
+    pub tuft_fraction: f32,
+    /// Radius of a tuft in metres.
+    pub tuft_radius: f32,
+    pub shape: Shape,
+    /// Threshold τ of the triangle-tip shape.
+    pub tip_threshold: f32,
+    /// Blades per patch (a multiple of 64, the workgroup size).
+    pub patch_size: u32,
+    /// Segments along the blade's height in the drawn mesh.
+    pub segments: u32,
+    pub seed: u64,
+}
+
+impl Default for Field {
+    fn default() -> Self {
+        Self {
+            density: 80.0,
+            height: Range::new(0.35, 0.75),
+            width: Range::new(0.025, 0.045),
+            stiffness: Range::new(6.0, 12.0),
+            bend: Range::new(0.0, 20.0),
+            tuft_fraction: 0.4,
+            tuft_radius: 0.12,
+            shape: Shape::TriangleTip,
+            tip_threshold: 0.5,
+            patch_size: 1024,
+            segments: 6,
+            seed: 1,
+        }
+    }
+}
+
+/// How a sphere collider moves.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub enum Motion {
+    /// Does not move.
+    Static,
+    /// Constant velocity in m/s.
+    Velocity((f32, f32, f32)),
+    /// Rolls over the terrain along a polyline of (x, z) points at `speed` m/s, resting on
+    /// the ground; `looped` closes the path.
+    Path {
+        points: Vec<(f32, f32)>,
+        speed: f32,
+        looped: bool,
+    },
+}
+
+/// A sphere collider (the paper represents every object as spheres).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Sphere {
+    /// Centre at t = 0 (for `Path`, y is an offset above the ground and x/z are ignored).
+    pub center: (f32, f32, f32),
+    pub radius: f32,
+    #[serde(default = "default_motion")]
+    pub motion: Motion,
+}
+
+fn default_motion() -> Motion {
+    Motion::Static
+}
+
+/// Directional wind waves (Section 5.1): a sum of travelling sine waves along `direction`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct DirectionalWind {
+    /// Direction in the x/z plane (normalised on load).
+    pub direction: (f32, f32),
+    /// Mean force in m/s².
+    pub strength: f32,
+    /// Gust amplitude relative to `strength`.
+    pub gust: f32,
+    /// Wave length of the gusts in metres.
+    pub wavelength: f32,
+    /// Speed of the wave fronts in m/s.
+    pub speed: f32,
+}
+
+impl Default for DirectionalWind {
+    fn default() -> Self {
+        Self {
+            direction: (1.0, 0.3),
+            strength: 2.0,
+            gust: 0.8,
+            wavelength: 9.0,
+            speed: 4.0,
+        }
+    }
+}
+
+/// A point wind source (a fan, a helicopter's downwash): radial outflow with pulsing rings.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct PointWind {
+    pub position: (f32, f32, f32),
+    /// Force at the source in m/s².
+    pub strength: f32,
+    /// Distance in metres beyond which the source has no effect.
+    pub radius: f32,
+    /// Pulses per second of the rings moving outwards.
+    pub frequency: f32,
+}
+
+impl Default for PointWind {
+    fn default() -> Self {
+        Self {
+            position: (0.0, 3.0, 0.0),
+            strength: 6.0,
+            radius: 8.0,
+            frequency: 1.5,
+        }
+    }
+}
+
+/// The analytic wind of the paper. Both parts add up; either may be absent.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Wind {
+    pub directional: Option<DirectionalWind>,
+    pub point: Option<PointWind>,
+}
+
+impl Default for Wind {
+    fn default() -> Self {
+        Self {
+            directional: Some(DirectionalWind::default()),
+            point: None,
+        }
+    }
+}
+
+/// Parameters of the physical model (Section 5).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Physics {
+    /// Gravity direction D.xyz (normalised on load).
+    pub gravity_direction: (f32, f32, f32),
+    /// Gravitational acceleration D.w in m/s².
+    pub gravity_acceleration: f32,
+    /// Gravity centre C.xyz.
+    pub gravity_center: (f32, f32, f32),
+    /// Acceleration towards the centre C.w in m/s².
+    pub gravity_center_acceleration: f32,
+    /// Blend t between direction (0) and centre (1), Eq. 4.
+    pub gravity_blend: f32,
+    /// Blade mass m of Eq. 4.
+    pub mass: f32,
+    /// Decrease a of the collision strength per second, Eq. 2.
+    pub collision_decay: f32,
+    /// Largest time step the update takes; longer frames are clamped to it.
+    pub max_dt: f32,
+    pub collisions: bool,
+}
+
+impl Default for Physics {
+    fn default() -> Self {
+        Self {
+            gravity_direction: (0.0, -1.0, 0.0),
+            gravity_acceleration: 9.81,
+            gravity_center: (0.0, -1000.0, 0.0),
+            gravity_center_acceleration: 9.81,
+            gravity_blend: 0.0,
+            mass: 0.08,
+            collision_decay: 0.25,
+            max_dt: 0.05,
+            collisions: true,
+        }
+    }
+}
+
+/// Parameters of the culling pass (Section 6.2). Each test can be switched off.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Culling {
+    pub patches: bool,
+    pub orientation: bool,
+    /// Cull when |dir_c · dir_b| exceeds this (the paper: 0.9).
+    pub orientation_threshold: f32,
+    pub frustum: bool,
+    /// Tolerance t of Eq. 18, in clip-space units of w.
+    pub frustum_tolerance: f32,
+    pub distance: bool,
+    /// Number of distance levels n of Eq. 20.
+    pub distance_levels: u32,
+    /// d_max of Eq. 20 in metres.
+    pub max_distance: f32,
+}
+
+impl Default for Culling {
+    fn default() -> Self {
+        Self {
+            patches: true,
+            orientation: true,
+            orientation_threshold: 0.9,
+            frustum: true,
+            frustum_tolerance: 0.05,
+            distance: true,
+            distance_levels: 8,
+            max_distance: 60.0,
+        }
+    }
+}
+
+/// A perspective camera looking from `eye` at `target`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Camera {
+    pub eye: (f32, f32, f32),
+    pub target: (f32, f32, f32),
+    /// Vertical field of view in degrees.
+    pub fov_y: f32,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self {
+            eye: (-9.0, 4.0, 13.0),
+            target: (2.0, 0.0, -2.0),
+            fov_y: 50.0,
+            near: 0.1,
+            far: 300.0,
+        }
+    }
+}
+
+/// Lighting and look.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Render {
+    /// Direction towards the sun (normalised on load).
+    pub sun_direction: (f32, f32, f32),
+    /// 3D displacement of the middle axis (Eq. 23).
+    pub displacement: bool,
+    /// Width correction (Eq. 24): w_min and w_span in pixels; w_span = 0 switches it off.
+    pub width_min_px: f32,
+    pub width_span_px: f32,
+}
+
+impl Default for Render {
+    fn default() -> Self {
+        Self {
+            sun_direction: (-0.45, 0.75, -0.5),
+            displacement: true,
+            width_min_px: 1.0,
+            width_span_px: 2.0,
+        }
+    }
+}

@@ -1,0 +1,63 @@
+//! Builds what a run needs from a scene: the terrain, the field of blades and (through
+//! `Renderer`) the GPU resources — checking the blade count against the adapter first, so
+//! that a request too large fails with a message before anything is allocated.
+
+use crate::error::{Error, Result};
+use crate::field::{flat_field, generate, DensityMap, GeneratedField, HeightField};
+use crate::gpu::Gpu;
+use crate::scene::Scene;
+use crate::sim::layout::Blade;
+
+/// Largest `--blades` value accepted on the command line.
+pub const MAX_BLADES: usize = 50_000_000;
+
+/// A scene with its terrain and generated field.
+pub struct Session {
+    pub scene: Scene,
+    pub terrain: HeightField,
+    pub field: GeneratedField,
+}
+
+/// The number of blades a scene asks for (before rounding to whole patches).
+pub fn requested_blades(scene: &Scene) -> f64 {
+    scene.field.density as f64 * (scene.terrain.size as f64).powi(2)
+}
+
+/// Checks that `count` blades fit the adapter's buffers.
+pub fn check_blade_count(gpu: &Gpu, count: f64) -> Result<()> {
+    let bytes = (count.max(0.0) * std::mem::size_of::<Blade>() as f64).ceil();
+    gpu.check_storage(&format!("a field of {count:.0} blades"), bytes.min(u64::MAX as f64) as u64)
+}
+
+impl Session {
+    /// Generates the field of `scene`, or with `blades = Some(n)` about `n` blades on a flat
+    /// square (tests and checks). `gpu`, when given, vets the count before generation.
+    pub fn new(scene: Scene, blades: Option<usize>, gpu: Option<&Gpu>) -> Result<Self> {
+        if let Some(n) = blades {
+            if n == 0 || n > MAX_BLADES {
+                return Err(Error::Invalid(format!(
+                    "--blades {n} is out of range: allowed 1..={MAX_BLADES}"
+                )));
+            }
+        }
+        let count = blades.map(|n| n as f64).unwrap_or_else(|| requested_blades(&scene));
+        if let Some(gpu) = gpu {
+            check_blade_count(gpu, count)?;
+        }
+        match blades {
+            Some(n) => {
+                let (terrain, field) = flat_field(n, &scene.field);
+                let mut scene = scene;
+                scene.terrain.size = terrain.size;
+                scene.terrain.height = crate::scene::HeightSource::Flat;
+                Ok(Self { scene, terrain, field })
+            }
+            None => {
+                let terrain = HeightField::from_scene(&scene.terrain)?;
+                let density = DensityMap::from_scene(&scene.terrain)?;
+                let field = generate(&scene.field, &terrain, density.as_ref());
+                Ok(Self { scene, terrain, field })
+            }
+        }
+    }
+}

@@ -1,0 +1,65 @@
+//! WGSL sources: one entry file per pass, with shared structs pulled in by a small include
+//! step (`//!include FILE` on a line of its own). Sources are embedded at build time so the
+//! binary runs from any directory.
+
+/// Every WGSL file, by name, as shipped in `shaders/`.
+const FILES: &[(&str, &str)] = &[
+    ("common.wgsl", include_str!("../shaders/common.wgsl")),
+    ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
+    ("update.wgsl", include_str!("../shaders/update.wgsl")),
+    ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
+    ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
+    ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
+    ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
+    ("spheres.wgsl", include_str!("../shaders/spheres.wgsl")),
+];
+
+/// The entry files, one per pass (the others are only included).
+pub const ENTRY_FILES: &[&str] = &[
+    "update.wgsl",
+    "cull.wgsl",
+    "grass.wgsl",
+    "terrain.wgsl",
+    "sky.wgsl",
+    "spheres.wgsl",
+];
+
+fn raw(name: &str) -> Option<&'static str> {
+    FILES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+}
+
+/// The full source of an entry file with its includes expanded (each file at most once).
+///
+/// # Panics
+/// If `name` or an included file is not in the embedded list: that is a build defect, not
+/// user input.
+pub fn source(name: &str) -> String {
+    let mut out = String::new();
+    let mut seen = Vec::new();
+    expand(name, &mut out, &mut seen);
+    out
+}
+
+fn expand(name: &str, out: &mut String, seen: &mut Vec<String>) {
+    if seen.iter().any(|s| s == name) {
+        return;
+    }
+    seen.push(name.to_string());
+    let text = raw(name).unwrap_or_else(|| panic!("shader {name} is not embedded"));
+    for line in text.lines() {
+        if let Some(inc) = line.trim().strip_prefix("//!include ") {
+            expand(inc.trim(), out, seen);
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+}
+
+/// Creates the shader module of an entry file.
+pub fn module(device: &wgpu::Device, name: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&format!("sward.shader.{name}")),
+        source: wgpu::ShaderSource::Wgsl(source(name).into()),
+    })
+}

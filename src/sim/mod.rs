@@ -1,0 +1,8 @@
+//! Simulation: the blade update on the GPU, its CPU twin, collider motion and the Pod
+//! layouts shared with the shaders.
+
+pub mod colliders;
+pub mod layout;
+pub mod params;
+pub mod reference;
+pub mod update;

@@ -1,0 +1,295 @@
+//! CPU twins of the GPU kernels: the blade update (`shaders/update.wgsl`) and the cull
+//! predicate (`shaders/cull.wgsl`). They follow the shaders line by line, in f32, so that
+//! tests can compare GPU read-back with them; `sward simulate --cpu` runs them too.
+//! Equation numbers refer to Jahrmann & Wimmer 2017.
+
+use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
+
+use super::layout::{
+    Blade, BladeState, CullParams, PatchBox, SimParams, TEST_DISTANCE, TEST_FRUSTUM,
+    TEST_ORIENTATION, TEST_PATCH,
+};
+
+/// The blade's width direction and front direction (perpendicular to width and up), from
+/// its up vector and direction angle. Same construction as `blade_frame` in WGSL.
+pub fn blade_frame(up: Vec3, angle: f32) -> (Vec3, Vec3) {
+    let reference = if up.z.abs() > 0.99 {
+        Vec3::X
+    } else {
+        Vec3::Z
+    };
+    let tx = up.cross(reference).normalize();
+    let tz = tx.cross(up);
+    let width_dir = tx * angle.cos() + tz * angle.sin();
+    let front = width_dir.cross(up);
+    (width_dir, front)
+}
+
+/// The analytic wind w_i(p) at time `time` (Section 5.1): travelling gust waves along a
+/// direction plus a pulsing radial point source.
+pub fn analytic_wind(p: Vec3, time: f32, params: &SimParams) -> Vec3 {
+    let mut w = Vec3::ZERO;
+    let dir = params.wind_dir;
+    if dir[2] != 0.0 {
+        let d = Vec2::new(dir[0], dir[1]);
+        let k = std::f32::consts::TAU / params.wind_wave[0];
+        let phase = (p.x * d.x + p.z * d.y - time * params.wind_wave[1]) * k;
+        // Two incommensurate harmonics plus a slow cross-wind term keep the gusts from
+        // looking like a single sine sweeping the field.
+        let along = 1.0
+            + dir[3] * (0.6 * phase.sin() + 0.4 * (2.7 * phase + 0.31 * p.x - 0.17 * p.z).sin());
+        let across = 0.25 * dir[3] * (0.5 * phase + 0.23 * (p.x + p.z)).cos();
+        let side = Vec2::new(-d.y, d.x);
+        let f = (d * along + side * across) * dir[2];
+        w += Vec3::new(f.x, 0.0, f.y);
+    }
+    let source = params.point_wind;
+    if source[3] != 0.0 {
+        let offset = Vec3::new(p.x - source[0], 0.0, p.z - source[2]);
+        let dist = offset.length();
+        let radius = params.point_wind_shape[0];
+        if dist > 1e-4 && dist < radius {
+            let falloff = (1.0 - dist / radius) * (1.0 - dist / radius);
+            let pulse = 0.6
+                + 0.4 * (std::f32::consts::TAU * params.point_wind_shape[1] * time - 1.5 * dist).sin();
+            w += offset / dist * (source[3] * falloff * pulse);
+        }
+    }
+    w
+}
+
+/// The three validation steps (Eq. 9–13): v2 above the local ground plane, v1 placed from
+/// v2, curve length corrected to the height. Returns the corrected (v1, v2).
+pub fn validate(v0: Vec3, v2: Vec3, up: Vec3, height: f32) -> (Vec3, Vec3) {
+    // Eq. 9
+    let v2 = v2 - up * (up.dot(v2 - v0)).min(0.0);
+    // Eq. 10
+    let rel = v2 - v0;
+    let l_proj = (rel - up * rel.dot(up)).length();
+    // Eq. 11
+    let v1 = v0 + up * height * (1.0 - l_proj / height).max(0.05 * (l_proj / height).max(1.0));
+    // Eq. 12 with n = 2
+    let l0 = (v2 - v0).length();
+    let l1 = (v1 - v0).length() + (v2 - v1).length();
+    let length = (2.0 * l0 + l1) / 3.0;
+    // Eq. 13
+    let r = height / length;
+    let v1c = v0 + r * (v1 - v0);
+    let v2c = v1c + r * (v2 - v1);
+    (v1c, v2c)
+}
+
+/// Approximate curve length of a quadratic Bézier (Eq. 12, n = 2).
+pub fn curve_length(v0: Vec3, v1: Vec3, v2: Vec3) -> f32 {
+    let l0 = (v2 - v0).length();
+    let l1 = (v1 - v0).length() + (v2 - v1).length();
+    (2.0 * l0 + l1) / 3.0
+}
+
+/// The rest pose of a blade leaning `bend` radians towards its front: the tip on that
+/// direction at the distance where the validated curve length equals the height, so that
+/// the rest pose is a fixed point of the validation (and of the update without forces).
+pub fn rest_pose(v0: Vec3, up: Vec3, front: Vec3, height: f32, bend: f32) -> (Vec3, Vec3) {
+    let dir = up * bend.cos() + front * bend.sin();
+    let length_at = |lambda: f32| {
+        let v2 = v0 + dir * lambda;
+        let rel = v2 - v0;
+        let l_proj = (rel - up * rel.dot(up)).length();
+        let v1 = v0 + up * height * (1.0 - l_proj / height).max(0.05 * (l_proj / height).max(1.0));
+        curve_length(v0, v1, v2)
+    };
+    // The curve length grows monotonically with the tip distance: bisect on [0, h].
+    let (mut lo, mut hi) = (0.0f32, height);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if length_at(mid) < height {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let v2 = v0 + dir * (0.5 * (lo + hi));
+    validate(v0, v2, up, height)
+}
+
+fn v4(a: [f32; 4]) -> Vec4 {
+    Vec4::from_array(a)
+}
+
+/// One update step of one blade (Eq. 1–16 and the validation), the twin of `update.wgsl`.
+pub fn update_blade(
+    blade: &mut Blade,
+    state: &mut BladeState,
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+) {
+    let v0 = v4(blade.v0_dir).xyz();
+    let angle = blade.v0_dir[3];
+    let mut v1 = v4(blade.v1_height).xyz();
+    let height = blade.v1_height[3];
+    let mut v2 = v4(blade.v2_width).xyz();
+    let up = v4(blade.up_stiffness).xyz();
+    let stiffness = blade.up_stiffness[3];
+    let rest = v4(state.rest_eta).xyz();
+    let mut eta = state.rest_eta[3];
+    let dt = params.dt;
+    let (_, front) = blade_frame(up, angle);
+
+    // Eq. 3: recovery, weakened by the collision strength.
+    let recovery = (rest - v2) * stiffness * (1.0 - eta).max(0.1);
+    // Eq. 4: environmental gravity, direction and centre blended by t.
+    let gd = v4(params.gravity_dir);
+    let gc = v4(params.gravity_center);
+    let to_center = gc.xyz() - v0;
+    let center_dir = if to_center.length() > 1e-6 {
+        to_center.normalize()
+    } else {
+        Vec3::ZERO
+    };
+    let g_env = params.mass
+        * (gd.xyz() * gd.w * (1.0 - params.gravity_blend)
+            + center_dir * gc.w * params.gravity_blend);
+    // Eq. 5–6: front gravity.
+    let gravity = g_env + 0.25 * g_env.length() * front;
+    // Eq. 7–8: wind with the alignment θ.
+    let wi = analytic_wind(v0, params.time, params);
+    let mut wind = Vec3::ZERO;
+    let wl = wi.length();
+    let tip = v2 - v0;
+    let tl = tip.length();
+    if wl > 1e-6 && tl > 1e-6 {
+        let fd = 1.0 - (wi / wl).dot(tip / tl).abs();
+        let fr = tip.dot(up) / height;
+        wind = wi * (fd * fr);
+    }
+    // Eq. 1 (the collision displacement d follows below).
+    v2 += (recovery + gravity + wind) * dt;
+    // Eq. 2: the collision strength fades.
+    eta = (eta - params.collision_decay * dt).max(0.0);
+
+    // Eq. 14–16: sphere collisions on v2 and on the curve midpoint m (× 4 for m).
+    if params.collisions != 0 {
+        for s in spheres.iter().take(params.sphere_count as usize) {
+            let c = Vec3::new(s[0], s[1], s[2]);
+            let r = s[3];
+            let to_c = c - v2;
+            let dist = to_c.length();
+            if dist < r && dist > 1e-6 {
+                let d = (dist - r) * to_c / dist;
+                v2 += d;
+                eta += d.dot(d);
+            }
+            let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
+            let to_c = c - m;
+            let dist = to_c.length();
+            if dist < r && dist > 1e-6 {
+                let d = (dist - r) * to_c / dist;
+                v2 += 4.0 * d;
+                eta += d.dot(d);
+            }
+        }
+    }
+
+    let (nv1, nv2) = validate(v0, v2, up, height);
+    v1 = nv1;
+    v2 = nv2;
+    blade.v1_height = [v1.x, v1.y, v1.z, height];
+    blade.v2_width = [v2.x, v2.y, v2.z, blade.v2_width[3]];
+    state.rest_eta[3] = eta;
+}
+
+/// Runs one update step over every blade.
+pub fn update_all(
+    blades: &mut [Blade],
+    states: &mut [BladeState],
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+) {
+    for (b, s) in blades.iter_mut().zip(states.iter_mut()) {
+        update_blade(b, s, params, spheres);
+    }
+}
+
+/// Why a blade was culled, or that it is drawn. The twin of the cull shader's outcome.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CullOutcome {
+    Drawn,
+    Patch,
+    Orientation,
+    Frustum,
+    Distance,
+}
+
+fn point_in_frustum(view_proj: Mat4, p: Vec3, tolerance: f32) -> bool {
+    // Eq. 18
+    let c = view_proj * p.extend(1.0);
+    let h = c.w + tolerance;
+    c.x >= -h && c.x <= h && c.y >= -h && c.y <= h && c.z >= -h && c.z <= h
+}
+
+/// Whether the box is at least partly inside the frustum (tested against the six planes
+/// of the view-projection matrix, Gribb–Hartmann).
+pub fn box_in_frustum(view_proj: Mat4, min: Vec3, max: Vec3) -> bool {
+    let m = view_proj.transpose();
+    let rows = [m.x_axis, m.y_axis, m.z_axis, m.w_axis];
+    let planes = [
+        rows[3] + rows[0],
+        rows[3] - rows[0],
+        rows[3] + rows[1],
+        rows[3] - rows[1],
+        rows[2],
+        rows[3] - rows[2],
+    ];
+    planes.iter().all(|p| {
+        let corner = Vec3::new(
+            if p.x >= 0.0 { max.x } else { min.x },
+            if p.y >= 0.0 { max.y } else { min.y },
+            if p.z >= 0.0 { max.z } else { min.z },
+        );
+        p.xyz().dot(corner) + p.w >= 0.0
+    })
+}
+
+/// The cull predicate for blade `index` (Eq. 17–20 after the patch test).
+pub fn cull_blade(index: u32, blade: &Blade, patch: &PatchBox, params: &CullParams) -> CullOutcome {
+    let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
+    if params.tests & TEST_PATCH != 0
+        && !box_in_frustum(view_proj, v4(patch.min).xyz(), v4(patch.max).xyz())
+    {
+        return CullOutcome::Patch;
+    }
+    let v0 = v4(blade.v0_dir).xyz();
+    let v1 = v4(blade.v1_height).xyz();
+    let v2 = v4(blade.v2_width).xyz();
+    let up = v4(blade.up_stiffness).xyz();
+    let camera = v4(params.camera_pos).xyz();
+    if params.tests & TEST_ORIENTATION != 0 {
+        // Eq. 17: the view direction against the blade's width direction.
+        let (width_dir, _) = blade_frame(up, blade.v0_dir[3]);
+        let view_dir = (v0 - camera).normalize_or_zero();
+        if view_dir.dot(width_dir).abs() > params.orientation_threshold {
+            return CullOutcome::Orientation;
+        }
+    }
+    if params.tests & TEST_FRUSTUM != 0 {
+        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
+        let t = params.frustum_tolerance;
+        if !point_in_frustum(view_proj, v0, t)
+            && !point_in_frustum(view_proj, m, t)
+            && !point_in_frustum(view_proj, v2, t)
+        {
+            return CullOutcome::Frustum;
+        }
+    }
+    if params.tests & TEST_DISTANCE != 0 {
+        // Eq. 19–20
+        let rel = v0 - camera;
+        let d_proj = (rel - up * rel.dot(up)).length();
+        let n = params.distance_levels.max(1);
+        let keep = (n as f32 * (1.0 - d_proj / params.max_distance)).floor();
+        if ((index % n) as f32) >= keep {
+            return CullOutcome::Distance;
+        }
+    }
+    CullOutcome::Drawn
+}

@@ -1,0 +1,234 @@
+//! The blade buffers on the GPU and the update pass that runs `shaders/update.wgsl` over
+//! them every frame.
+
+use wgpu::util::DeviceExt;
+
+use super::layout::{Blade, BladeState, PatchBox, SimParams, MAX_SPHERES, WORKGROUP_SIZE};
+use crate::error::{Error, Result};
+use crate::field::GeneratedField;
+use crate::gpu::{read_buffer, Gpu};
+use crate::shaders;
+
+/// The per-blade data on the GPU, shared by the update, cull and draw passes.
+pub struct BladeBuffers {
+    pub blades: wgpu::Buffer,
+    pub states: wgpu::Buffer,
+    pub patches: wgpu::Buffer,
+    /// `vec4(centre, radius)` per collider, `MAX_SPHERES` slots.
+    pub spheres: wgpu::Buffer,
+    /// Visible blade indices written by the cull pass.
+    pub visible: wgpu::Buffer,
+    pub count: u32,
+    pub patch_size: u32,
+}
+
+impl BladeBuffers {
+    /// Bytes of GPU memory the blade buffers take for `count` blades and `patches` patches.
+    pub fn bytes_for(count: u64, patches: u64) -> u64 {
+        count * super::layout::BYTES_PER_BLADE as u64
+            + patches * std::mem::size_of::<PatchBox>() as u64
+            + (MAX_SPHERES * 16) as u64
+    }
+
+    /// Uploads a generated field after checking that it fits the device.
+    pub fn new(gpu: &Gpu, field: &GeneratedField) -> Result<Self> {
+        let count = field.blades.len() as u64;
+        gpu.check_storage(
+            &format!("a field of {count} blades"),
+            count * std::mem::size_of::<Blade>() as u64,
+        )?;
+        gpu.check_dispatch(
+            &format!("a field of {count} blades"),
+            (count as u32).div_ceil(WORKGROUP_SIZE),
+        )?;
+        let device = &gpu.device;
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        // wgpu rejects zero-sized bindings: an empty field still gets one (unused) element.
+        let (zb, zs, zp) = ([Blade::default()], [BladeState::default()], [PatchBox::default()]);
+        let blades: &[Blade] = if field.blades.is_empty() { &zb } else { &field.blades };
+        let states: &[BladeState] = if field.states.is_empty() { &zs } else { &field.states };
+        let patches: &[PatchBox] = if field.patches.is_empty() { &zp } else { &field.patches };
+        let blades = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward.blades"),
+            contents: bytemuck::cast_slice(blades),
+            usage: storage,
+        });
+        let states = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward.blade_states"),
+            contents: bytemuck::cast_slice(states),
+            usage: storage,
+        });
+        let patches = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward.patches"),
+            contents: bytemuck::cast_slice(patches),
+            usage: storage,
+        });
+        let spheres = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.spheres"),
+            size: (MAX_SPHERES * 16) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let visible = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.visible"),
+            size: count.max(1) * 4,
+            usage: storage,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            blades,
+            states,
+            patches,
+            spheres,
+            visible,
+            count: count as u32,
+            patch_size: field.patch_size.max(1),
+        })
+    }
+
+    /// Uploads the colliders of this frame (at most `MAX_SPHERES`; the rest are dropped
+    /// with a warning, the scene loader already rejects more).
+    pub fn upload_spheres(&self, queue: &wgpu::Queue, spheres: &[[f32; 4]]) -> u32 {
+        let n = spheres.len().min(MAX_SPHERES);
+        if n < spheres.len() {
+            log::warn!("only the first {MAX_SPHERES} colliders are simulated");
+        }
+        if n > 0 {
+            queue.write_buffer(&self.spheres, 0, bytemuck::cast_slice(&spheres[..n]));
+        }
+        n as u32
+    }
+
+    /// Reads the blades and their states back from the GPU.
+    pub fn read(&self, gpu: &Gpu) -> Result<(Vec<Blade>, Vec<BladeState>)> {
+        if self.count == 0 {
+            return Ok((Vec::new(), Vec::new()));
+        }
+        let n = self.count as u64;
+        let b = read_buffer(gpu, &self.blades, n * std::mem::size_of::<Blade>() as u64)?;
+        let s = read_buffer(gpu, &self.states, n * std::mem::size_of::<BladeState>() as u64)?;
+        Ok((bytemuck::pod_collect_to_vec(&b), bytemuck::pod_collect_to_vec(&s)))
+    }
+
+    /// Replaces the blades and states (tests and the CPU/GPU comparison).
+    pub fn write(&self, queue: &wgpu::Queue, blades: &[Blade], states: &[BladeState]) -> Result<()> {
+        if blades.len() != self.count as usize || states.len() != self.count as usize {
+            return Err(Error::Invalid(format!(
+                "expected {} blades, got {} blades and {} states",
+                self.count,
+                blades.len(),
+                states.len()
+            )));
+        }
+        if self.count > 0 {
+            queue.write_buffer(&self.blades, 0, bytemuck::cast_slice(blades));
+            queue.write_buffer(&self.states, 0, bytemuck::cast_slice(states));
+        }
+        Ok(())
+    }
+}
+
+/// The blade update compute pass.
+pub struct UpdatePass {
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    params: wgpu::Buffer,
+    count: u32,
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A uniform-buffer layout entry visible to the given stages.
+pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A compute-visible storage-buffer layout entry.
+pub fn compute_storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    storage_entry(binding, read_only)
+}
+
+impl UpdatePass {
+    pub fn new(gpu: &Gpu, buffers: &BladeBuffers) -> Self {
+        let device = &gpu.device;
+        let module = shaders::module(device, "update.wgsl");
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.update.layout"),
+            entries: &[
+                uniform_entry(0, wgpu::ShaderStages::COMPUTE),
+                storage_entry(1, false),
+                storage_entry(2, false),
+                storage_entry(3, true),
+            ],
+        });
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.update.params"),
+            size: std::mem::size_of::<SimParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.update.bind_group"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: buffers.blades.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: buffers.states.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: buffers.spheres.as_entire_binding() },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.update.pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("sward.update.pipeline"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Self { pipeline, bind_group, params, count: buffers.count }
+    }
+
+    /// Writes this step's uniforms.
+    pub fn prepare(&self, queue: &wgpu::Queue, params: &SimParams) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+    }
+
+    /// Records the update dispatch.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, timestamps: Option<wgpu::ComputePassTimestampWrites>) {
+        if self.count == 0 {
+            return;
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.update"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.dispatch_workgroups(self.count.div_ceil(WORKGROUP_SIZE), 1, 1);
+    }
+}

@@ -1,0 +1,31 @@
+//! Shared test setup: the GPU (a CPU adapter unless SWARD_ADAPTER says otherwise, like
+//! egui_kittest) and small scenes.
+#![allow(dead_code)]
+
+use sward::gpu::{AdapterChoice, Gpu};
+use sward::scene::{Motion, Scene, Sphere, Wind};
+
+/// Opens the test adapter. Fails (never skips) when none exists: CI installs lavapipe.
+pub fn gpu() -> Gpu {
+    let choice: AdapterChoice = std::env::var("SWARD_ADAPTER")
+        .unwrap_or_else(|_| "software".into())
+        .parse()
+        .expect("infallible");
+    Gpu::new(&choice).unwrap_or_else(|e| panic!("tests need a GPU adapter: {e}"))
+}
+
+/// A scene with no forces at all: no gravity, no wind, no colliders.
+pub fn still_scene() -> Scene {
+    let mut s = Scene::default();
+    s.physics.gravity_acceleration = 0.0;
+    s.physics.gravity_center_acceleration = 0.0;
+    s.wind = Wind { directional: None, point: None };
+    s.colliders.clear();
+    s
+}
+
+/// A sphere of radius `r` crossing the field along x at `speed` m/s, its centre `height`
+/// above the ground, starting at x = `x0`.
+pub fn rolling_sphere(x0: f32, height: f32, r: f32, speed: f32) -> Sphere {
+    Sphere { center: (x0, height, 0.0), radius: r, motion: Motion::Velocity((speed, 0.0, 0.0)) }
+}
