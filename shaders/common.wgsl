@@ -32,6 +32,10 @@ struct SimParams {
     blade_count: u32,
     sphere_count: u32,
     collisions: u32,
+    collision_gain: f32,
+    max_eta: f32,
+    pad1: f32,
+    pad2: f32,
 }
 
 struct CullParams {

@@ -3,6 +3,9 @@
 //!include common.wgsl
 //!include wind.wgsl
 
+// Most collide + validate rounds per step.
+const COLLISION_ROUNDS: u32 = 4u;
+
 @group(0) @binding(0) var<uniform> params: SimParams;
 @group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read_write> states: array<BladeState>;
@@ -21,6 +24,34 @@ fn validate(v0: vec3<f32>, v2_in: vec3<f32>, up: vec3<f32>, height: f32) -> arra
     let v1c = v0 + r * (v1 - v0);
     let v2c = v1c + r * (v2 - v1);
     return array<vec3<f32>, 2>(v1c, v2c);
+}
+
+// Eq. 14-16: every sphere against v2 and against the curve midpoint m (the push on m moves
+// v2 four times as far). Returns the new v2 and the added collision strength.
+fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>) -> vec4<f32> {
+    var v2 = v2_in;
+    var added = 0.0;
+    for (var s = 0u; s < params.sphere_count; s++) {
+        let sphere = spheres[s];
+        let c = sphere.xyz;
+        let r = sphere.w;
+        let to_c = c - v2;
+        let dist = length(to_c);
+        if dist < r && dist > 1e-6 {
+            let d = (dist - r) * to_c / dist;
+            v2 += d;
+            added += params.collision_gain * dot(d, d);
+        }
+        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
+        let to_cm = c - m;
+        let distm = length(to_cm);
+        if distm < r && distm > 1e-6 {
+            let d = (distm - r) * to_cm / distm;
+            v2 += 4.0 * d;
+            added += params.collision_gain * dot(d, d);
+        }
+    }
+    return vec4<f32>(v2, added);
 }
 
 @compute @workgroup_size(64)
@@ -71,31 +102,21 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Eq. 2: the collision strength fades.
     eta = max(eta - params.collision_decay * dt, 0.0);
 
-    // Eq. 14-16: spheres against v2 and against the curve midpoint m (x4 for m).
+    // Validate first so that the midpoint m of the collision test is that of a valid curve
+    // (v1 follows v2), then collide; the length correction after a push can pull a point
+    // back into the sphere, so collide + validate repeats until nothing is pushed.
+    var corrected = validate(v0, v2, up, height);
     if params.collisions != 0u {
-        for (var s = 0u; s < params.sphere_count; s++) {
-            let sphere = spheres[s];
-            let c = sphere.xyz;
-            let r = sphere.w;
-            let to_c = c - v2;
-            let dist = length(to_c);
-            if dist < r && dist > 1e-6 {
-                let d = (dist - r) * to_c / dist;
-                v2 += d;
-                eta += dot(d, d);
+        for (var round = 0u; round < COLLISION_ROUNDS; round++) {
+            let c = collide(v0, corrected[0], corrected[1]);
+            if c.w <= 0.0 {
+                break;
             }
-            let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
-            let to_cm = c - m;
-            let distm = length(to_cm);
-            if distm < r && distm > 1e-6 {
-                let d = (distm - r) * to_cm / distm;
-                v2 += 4.0 * d;
-                eta += dot(d, d);
-            }
+            eta += c.w;
+            corrected = validate(v0, c.xyz, up, height);
         }
     }
-
-    let corrected = validate(v0, v2, up, height);
+    eta = min(eta, params.max_eta);
     blades[i].v1_height = vec4<f32>(corrected[0], height);
     blades[i].v2_width = vec4<f32>(corrected[1], blade.v2_width.w);
     states[i].rest_eta.w = eta;

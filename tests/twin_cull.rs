@@ -75,10 +75,12 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
     let mut scene = Scene::default();
     scene.culling.max_distance = 6.0;
     scene.culling.distance_levels = 4;
-    // A camera at the field's edge looking across it: some patches behind, some blades far.
+    scene.field.patch_size = 256;
+    // A camera in the middle of the field looking along +x: the patches behind it fail the
+    // box test, blades at the sides the frustum test, far ones the distance test.
     let camera = CameraView {
-        eye: glam::Vec3::new(-4.0, 1.2, 0.0),
-        target: glam::Vec3::new(0.0, 0.0, 1.0),
+        eye: glam::Vec3::new(0.0, 1.2, 0.0),
+        target: glam::Vec3::new(4.0, 0.0, 1.0),
         fov_y: 50.0,
         near: 0.05,
         far: 100.0,

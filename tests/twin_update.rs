@@ -12,8 +12,8 @@ use sward::session::Session;
 
 /// Max |GPU − CPU| in metres after 60 steps. Both sides run the same f32 operations; the
 /// gap is rounding (fused multiply-adds, sin/cos/sqrt implementations) amplified a little
-/// by the length correction, far below a millimetre.
-const TOLERANCE: f32 = 1e-3;
+/// by the length correction, far below a tenth of a millimetre (measured: about 4e-7 on lavapipe).
+const TOLERANCE: f32 = 1e-4;
 
 #[test]
 fn gpu_update_matches_cpu_twin() {

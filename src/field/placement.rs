@@ -58,7 +58,7 @@ impl Acceptor<'_> {
     fn accept(&self, p: Vec2, rng: &mut Rng) -> bool {
         match self.density {
             None => true,
-            // Drawn even where the map is white, so the stream does not depend on the map.
+            // `f32()` is in [0, 1): a white pixel (1.0) always accepts, a black one never.
             Some(map) => rng.f32() < map.sample(p.x, p.y),
         }
     }

@@ -274,6 +274,14 @@ pub struct Physics {
     pub mass: f32,
     /// Decrease a of the collision strength per second, Eq. 2.
     pub collision_decay: f32,
+    /// Gain k on the collision strength of Eq. 16, η += k d·d, in 1/m². The paper adds d·d
+    /// in its own scene units; in metres a push of a few centimetres would barely weaken
+    /// the recovery, so k sets how hard a push cripples a blade (k = 100: a 10 cm push
+    /// gives η = 1, a full trail).
+    pub collision_gain: f32,
+    /// Ceiling of η. Past 0.9 the recovery of Eq. 3 is already at its 0.1 floor; the ceiling
+    /// bounds how long a blade stays down (η_max / a seconds) when a collider sits on it.
+    pub max_collision_strength: f32,
     /// Largest time step the update takes; longer frames are clamped to it.
     pub max_dt: f32,
     pub collisions: bool,
@@ -289,6 +297,8 @@ impl Default for Physics {
             gravity_blend: 0.0,
             mass: 0.08,
             collision_decay: 0.25,
+            collision_gain: 100.0,
+            max_collision_strength: 2.0,
             max_dt: 0.05,
             collisions: true,
         }

@@ -37,6 +37,8 @@
 //! | `physics.gravity_blend` | 0 ≤ gravity_blend ≤ 1 |
 //! | `physics.mass` | ≥ 0 |
 //! | `physics.collision_decay` | ≥ 0 1/s |
+//! | `physics.collision_gain` | 0 ..= 1e6 1/m² |
+//! | `physics.max_collision_strength` | 0 ..= 100 |
 //! | `physics.max_dt` | 0 < max_dt ≤ 1 s |
 //! | `culling.orientation_threshold` | 0 ≤ orientation_threshold ≤ 1 |
 //! | `culling.frustum_tolerance` | 0 ≤ frustum_tolerance ≤ 10 |
@@ -274,6 +276,10 @@ fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     check.real("physics.mass", physics.mass, Allowed::at_least(0.0, ""))?;
     let decay = Allowed::at_least(0.0, "1/s");
     check.real("physics.collision_decay", physics.collision_decay, decay)?;
+    let gain = Allowed::closed(0.0, 1.0e6, "1/m²");
+    check.real("physics.collision_gain", physics.collision_gain, gain)?;
+    let ceiling = Allowed::closed(0.0, 100.0, "");
+    check.real("physics.max_collision_strength", physics.max_collision_strength, ceiling)?;
     let max_dt = Allowed::open_closed(0.0, 1.0, "s");
     check.real("physics.max_dt", physics.max_dt, max_dt)
 }

@@ -63,6 +63,11 @@ pub struct SimParams {
     pub sphere_count: u32,
     /// 1 = sphere collisions on.
     pub collisions: u32,
+    /// k of η += k d·d (Eq. 16).
+    pub collision_gain: f32,
+    /// Ceiling of η.
+    pub max_eta: f32,
+    pub _pad: [f32; 2],
 }
 
 /// Uniforms of the cull pass (`shaders/cull.wgsl`).
@@ -145,7 +150,7 @@ pub struct DrawIndexedIndirect {
 const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
-const _: () = assert!(std::mem::size_of::<SimParams>() == 128);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 144);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 112);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 64);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 208);

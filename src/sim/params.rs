@@ -27,6 +27,8 @@ pub fn sim_params(
         mass: physics.mass,
         gravity_blend: physics.gravity_blend,
         collision_decay: physics.collision_decay,
+        collision_gain: physics.collision_gain,
+        max_eta: physics.max_collision_strength,
         blade_count,
         sphere_count,
         collisions: physics.collisions as u32,

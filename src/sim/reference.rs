@@ -112,8 +112,38 @@ pub fn rest_pose(v0: Vec3, up: Vec3, front: Vec3, height: f32, bend: f32) -> (Ve
     validate(v0, v2, up, height)
 }
 
+/// Most collide + validate rounds per step; `COLLISION_ROUNDS` in WGSL.
+pub const COLLISION_ROUNDS: u32 = 4;
+
 fn v4(a: [f32; 4]) -> Vec4 {
     Vec4::from_array(a)
+}
+
+/// Eq. 14–16: every sphere against v2 and the curve midpoint m (the push on m moves v2 four
+/// times as far). Returns the new v2 and the added collision strength.
+pub fn collide(v0: Vec3, v1: Vec3, v2: Vec3, params: &SimParams, spheres: &[[f32; 4]]) -> (Vec3, f32) {
+    let mut v2 = v2;
+    let mut added = 0.0;
+    for s in spheres.iter().take(params.sphere_count as usize) {
+        let c = Vec3::new(s[0], s[1], s[2]);
+        let r = s[3];
+        let to_c = c - v2;
+        let dist = to_c.length();
+        if dist < r && dist > 1e-6 {
+            let d = (dist - r) * to_c / dist;
+            v2 += d;
+            added += params.collision_gain * d.dot(d);
+        }
+        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
+        let to_c = c - m;
+        let dist = to_c.length();
+        if dist < r && dist > 1e-6 {
+            let d = (dist - r) * to_c / dist;
+            v2 += 4.0 * d;
+            added += params.collision_gain * d.dot(d);
+        }
+    }
+    (v2, added)
 }
 
 /// One update step of one blade (Eq. 1–16 and the validation), the twin of `update.wgsl`.
@@ -167,32 +197,21 @@ pub fn update_blade(
     // Eq. 2: the collision strength fades.
     eta = (eta - params.collision_decay * dt).max(0.0);
 
-    // Eq. 14–16: sphere collisions on v2 and on the curve midpoint m (× 4 for m).
+    // Validate first so that the midpoint m of the collision test is that of a valid curve
+    // (v1 follows v2), then collide; the length correction after a push can pull a point
+    // back into the sphere, so collide + validate repeats until nothing is pushed.
+    (v1, v2) = validate(v0, v2, up, height);
     if params.collisions != 0 {
-        for s in spheres.iter().take(params.sphere_count as usize) {
-            let c = Vec3::new(s[0], s[1], s[2]);
-            let r = s[3];
-            let to_c = c - v2;
-            let dist = to_c.length();
-            if dist < r && dist > 1e-6 {
-                let d = (dist - r) * to_c / dist;
-                v2 += d;
-                eta += d.dot(d);
+        for _ in 0..COLLISION_ROUNDS {
+            let (cv2, added) = collide(v0, v1, v2, params, spheres);
+            if added <= 0.0 {
+                break;
             }
-            let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
-            let to_c = c - m;
-            let dist = to_c.length();
-            if dist < r && dist > 1e-6 {
-                let d = (dist - r) * to_c / dist;
-                v2 += 4.0 * d;
-                eta += d.dot(d);
-            }
+            eta += added;
+            (v1, v2) = validate(v0, cv2, up, height);
         }
     }
-
-    let (nv1, nv2) = validate(v0, v2, up, height);
-    v1 = nv1;
-    v2 = nv2;
+    eta = eta.min(params.max_eta);
     blade.v1_height = [v1.x, v1.y, v1.z, height];
     blade.v2_width = [v2.x, v2.y, v2.z, blade.v2_width[3]];
     state.rest_eta[3] = eta;
