@@ -43,9 +43,9 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let sun = frame.sun_dir.xyz;
     let q = in.world.xz;
     let patchy = value_noise(q * 0.35) * 0.6 + value_noise(q * 1.7) * 0.3 + value_noise(q * 7.0) * 0.1;
-    let soil = vec3<f32>(0.16, 0.12, 0.07);
-    let turf = vec3<f32>(0.07, 0.17, 0.035);
-    let albedo = mix(soil, turf, smoothstep(0.25, 0.7, patchy));
+    let soil = vec3<f32>(0.13, 0.11, 0.06);
+    let turf = vec3<f32>(0.06, 0.15, 0.03);
+    let albedo = mix(soil, turf, smoothstep(0.15, 0.55, patchy));
     let diffuse = max(dot(n, sun), 0.0);
     var color = albedo * (AMBIENT_COLOR * (0.5 + 0.5 * n.y) + SUN_COLOR * diffuse * 1.5);
     color = apply_fog(color, in.world, frame);
