@@ -63,7 +63,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let blade = blades[i];
     let v0 = blade.v0_dir.xyz;
     let angle = blade.v0_dir.w;
-    let v1 = blade.v1_height.xyz;
     let height = blade.v1_height.w;
     var v2 = blade.v2_width.xyz;
     let up = blade.up_stiffness.xyz;

@@ -61,7 +61,9 @@ impl RenderOptions {
 
 fn check_dt(dt: f32) -> Result<()> {
     if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
-        return Err(Error::Invalid(format!("--dt {dt} is out of range: allowed 0 < dt <= 1 s")));
+        return Err(Error::Invalid(format!(
+            "--dt {dt} is out of range: allowed 0 < dt <= 1 s"
+        )));
     }
     Ok(())
 }
@@ -87,12 +89,25 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         session.field.patch_size
     );
     let camera = CameraView::from_scene(&session.scene.camera);
-    let mut renderer = Renderer::new(&gpu, session.scene, session.terrain, &session.field, COLOR_FORMAT)?;
+    let mut renderer = Renderer::new(
+        &gpu,
+        session.scene,
+        session.terrain,
+        &session.field,
+        COLOR_FORMAT,
+    )?;
     let mut sums = [0.0f64; 3];
     let mut timed = 0u32;
     let mut last = None;
     for _ in 0..o.frames.max(1) {
-        renderer.frame(&gpu, o.dt, &camera, &target.color_view, &target.depth_view, o.size);
+        renderer.frame(
+            &gpu,
+            o.dt,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            o.size,
+        );
         if o.timings {
             let stats = renderer.stats(&gpu)?;
             if let Some(ms) = stats.pass_ms {
@@ -106,7 +121,13 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     }
     let image = target.read_image(&gpu)?;
     save_png(&o.out, &image)?;
-    eprintln!("wrote {} ({}x{}, {} frames)", o.out.display(), o.size.0, o.size.1, o.frames.max(1));
+    eprintln!(
+        "wrote {} ({}x{}, {} frames)",
+        o.out.display(),
+        o.size.0,
+        o.size.1,
+        o.frames.max(1)
+    );
     if o.timings {
         let stats = match last {
             Some(s) => s,
@@ -127,7 +148,10 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             let total: f64 = sums.iter().sum::<f64>() / timed as f64;
             for (name, s) in PASSES.iter().zip(sums) {
                 let ms = s / timed as f64;
-                println!("gpu {name:>6}: {ms:9.3} ms  ({:5.1} %)", 100.0 * ms / total.max(1e-12));
+                println!(
+                    "gpu {name:>6}: {ms:9.3} ms  ({:5.1} %)",
+                    100.0 * ms / total.max(1e-12)
+                );
             }
             println!("gpu  total: {total:9.3} ms (mean of {timed} frames)");
         } else {
@@ -186,7 +210,11 @@ struct Dump {
 }
 
 fn to_json(blades: &[Blade], states: &[BladeState]) -> Vec<BladeJson> {
-    blades.iter().zip(states).map(|(b, s)| BladeJson::new(b, s)).collect()
+    blades
+        .iter()
+        .zip(states)
+        .map(|(b, s)| BladeJson::new(b, s))
+        .collect()
 }
 
 /// Runs the CPU twin for `steps` steps of `dt` from time 0 (same clock and collider motion
@@ -225,8 +253,13 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
     } else {
         let gpu = open_gpu(&o.adapter)?;
         let session = Session::new(scene, o.blades, Some(&gpu))?;
-        let mut renderer =
-            Renderer::new(&gpu, session.scene.clone(), session.terrain.clone(), &session.field, COLOR_FORMAT)?;
+        let mut renderer = Renderer::new(
+            &gpu,
+            session.scene.clone(),
+            session.terrain.clone(),
+            &session.field,
+            COLOR_FORMAT,
+        )?;
         for _ in 0..o.steps {
             renderer.step(&gpu, o.dt);
         }
@@ -242,6 +275,11 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         message: e.to_string(),
     })?;
     write_atomic(&o.dump, &text)?;
-    eprintln!("wrote {} ({} blades, {} steps)", o.dump.display(), blades.len(), o.steps);
+    eprintln!(
+        "wrote {} ({} blades, {} steps)",
+        o.dump.display(),
+        blades.len(),
+        o.steps
+    );
     Ok(())
 }

@@ -53,7 +53,8 @@ impl Gpu {
     /// Opens the adapter `choice` names. The error lists the adapters that exist and says
     /// what to install when there are none.
     pub fn new(choice: &AdapterChoice) -> Result<Gpu> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         let adapter = pick(adapters, choice)?;
         Self::from_adapter(instance, adapter)
@@ -136,9 +137,14 @@ impl Gpu {
 
 fn pick(adapters: Vec<wgpu::Adapter>, choice: &AdapterChoice) -> Result<wgpu::Adapter> {
     if adapters.is_empty() {
-        return Err(Error::NoAdapter(format!("no GPU adapter found: {INSTALL_HINT}")));
+        return Err(Error::NoAdapter(format!(
+            "no GPU adapter found: {INSTALL_HINT}"
+        )));
     }
-    let names: Vec<String> = adapters.iter().map(|a| describe_info(&a.get_info())).collect();
+    let names: Vec<String> = adapters
+        .iter()
+        .map(|a| describe_info(&a.get_info()))
+        .collect();
     let is_cpu = |a: &wgpu::Adapter| a.get_info().device_type == wgpu::DeviceType::Cpu;
     let found = match choice {
         AdapterChoice::Auto => {
@@ -153,7 +159,11 @@ fn pick(adapters: Vec<wgpu::Adapter>, choice: &AdapterChoice) -> Result<wgpu::Ad
                     wgpu::DeviceType::Cpu => 3,
                     wgpu::DeviceType::Other => 4,
                 };
-                let backend = if info.backend == wgpu::Backend::Gl { 1 } else { 0 };
+                let backend = if info.backend == wgpu::Backend::Gl {
+                    1
+                } else {
+                    0
+                };
                 (backend, device)
             };
             adapters.into_iter().min_by_key(rank)
@@ -168,9 +178,9 @@ fn pick(adapters: Vec<wgpu::Adapter>, choice: &AdapterChoice) -> Result<wgpu::Ad
     };
     found.ok_or_else(|| {
         let wanted = match choice {
-            AdapterChoice::Auto => "any adapter".to_string(),
-            AdapterChoice::Software => "a software (CPU) adapter".to_string(),
-            AdapterChoice::Name(n) => format!("an adapter named like {n:?}"),
+            AdapterChoice::Auto => "usable adapter".to_string(),
+            AdapterChoice::Software => "software (CPU) adapter".to_string(),
+            AdapterChoice::Name(n) => format!("adapter whose name contains {n:?}"),
         };
         Error::NoAdapter(format!(
             "no {wanted} among: {}; {INSTALL_HINT}",

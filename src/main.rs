@@ -10,7 +10,11 @@ use sward::commands::{render, simulate, RenderOptions, SimulateOptions};
 use sward::gpu::AdapterChoice;
 
 #[derive(Parser)]
-#[command(name = "sward", version, about = "Real-time grass: every blade simulated on the GPU")]
+#[command(
+    name = "sward",
+    version,
+    about = "Real-time grass: every blade simulated on the GPU"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -75,10 +79,18 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
-    let w: u32 = w.trim().parse().map_err(|_| format!("width {w:?} is not a number"))?;
-    let h: u32 = h.trim().parse().map_err(|_| format!("height {h:?} is not a number"))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("width {w:?} is not a number"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("height {h:?} is not a number"))?;
     if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("{w}x{h} is out of range: allowed 1..=16384 per side"));
+        return Err(format!(
+            "{w}x{h} is out of range: allowed 1..=16384 per side"
+        ));
     }
     Ok((w, h))
 }
@@ -89,7 +101,14 @@ fn main() -> ExitCode {
     let adapter: AdapterChoice = cli.adapter.adapter.parse().expect("infallible");
     let result = match cli.command {
         None => render(&RenderOptions::default_meadow(adapter)),
-        Some(Command::Render { scene, size, frames, dt, out, timings }) => render(&RenderOptions {
+        Some(Command::Render {
+            scene,
+            size,
+            frames,
+            dt,
+            out,
+            timings,
+        }) => render(&RenderOptions {
             scene,
             size,
             frames,
@@ -98,9 +117,22 @@ fn main() -> ExitCode {
             timings,
             adapter,
         }),
-        Some(Command::Simulate { scene, steps, dt, dump, cpu, blades }) => {
-            simulate(&SimulateOptions { scene, steps, dt, dump, cpu, blades, adapter })
-        }
+        Some(Command::Simulate {
+            scene,
+            steps,
+            dt,
+            dump,
+            cpu,
+            blades,
+        }) => simulate(&SimulateOptions {
+            scene,
+            steps,
+            dt,
+            dump,
+            cpu,
+            blades,
+            adapter,
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

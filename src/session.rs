@@ -26,7 +26,10 @@ pub fn requested_blades(scene: &Scene) -> f64 {
 /// Checks that `count` blades fit the adapter's buffers.
 pub fn check_blade_count(gpu: &Gpu, count: f64) -> Result<()> {
     let bytes = (count.max(0.0) * std::mem::size_of::<Blade>() as f64).ceil();
-    gpu.check_storage(&format!("a field of {count:.0} blades"), bytes.min(u64::MAX as f64) as u64)
+    gpu.check_storage(
+        &format!("a field of {count:.0} blades"),
+        bytes.min(u64::MAX as f64) as u64,
+    )
 }
 
 impl Session {
@@ -40,7 +43,9 @@ impl Session {
                 )));
             }
         }
-        let count = blades.map(|n| n as f64).unwrap_or_else(|| requested_blades(&scene));
+        let count = blades
+            .map(|n| n as f64)
+            .unwrap_or_else(|| requested_blades(&scene));
         if let Some(gpu) = gpu {
             check_blade_count(gpu, count)?;
         }
@@ -50,13 +55,21 @@ impl Session {
                 let mut scene = scene;
                 scene.terrain.size = terrain.size;
                 scene.terrain.height = crate::scene::HeightSource::Flat;
-                Ok(Self { scene, terrain, field })
+                Ok(Self {
+                    scene,
+                    terrain,
+                    field,
+                })
             }
             None => {
                 let terrain = HeightField::from_scene(&scene.terrain)?;
                 let density = DensityMap::from_scene(&scene.terrain)?;
                 let field = generate(&scene.field, &terrain, density.as_ref());
-                Ok(Self { scene, terrain, field })
+                Ok(Self {
+                    scene,
+                    terrain,
+                    field,
+                })
             }
         }
     }

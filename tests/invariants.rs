@@ -19,11 +19,22 @@ fn xyz(a: [f32; 4]) -> Vec3 {
     Vec3::new(a[0], a[1], a[2])
 }
 
-fn run_gpu(scene: Scene, blades: usize, steps: u32, dt: f32) -> (Session, Vec<Blade>, Vec<BladeState>) {
+fn run_gpu(
+    scene: Scene,
+    blades: usize,
+    steps: u32,
+    dt: f32,
+) -> (Session, Vec<Blade>, Vec<BladeState>) {
     let gpu = common::gpu();
     let session = Session::new(scene, Some(blades), Some(&gpu)).expect("field");
-    let mut r = Renderer::new(&gpu, session.scene.clone(), session.terrain.clone(), &session.field, COLOR_FORMAT)
-        .expect("renderer");
+    let mut r = Renderer::new(
+        &gpu,
+        session.scene.clone(),
+        session.terrain.clone(),
+        &session.field,
+        COLOR_FORMAT,
+    )
+    .expect("renderer");
     for _ in 0..steps {
         r.step(&gpu, dt);
     }
@@ -35,22 +46,46 @@ fn run_gpu(scene: Scene, blades: usize, steps: u32, dt: f32) -> (Session, Vec<Bl
 fn assert_valid(blades: &[Blade], what: &str) {
     let mut worst_len = 0.0f32;
     for (i, b) in blades.iter().enumerate() {
-        let (v0, v1, v2, up) = (xyz(b.v0_dir), xyz(b.v1_height), xyz(b.v2_width), xyz(b.up_stiffness));
+        let (v0, v1, v2, up) = (
+            xyz(b.v0_dir),
+            xyz(b.v1_height),
+            xyz(b.v2_width),
+            xyz(b.up_stiffness),
+        );
         let h = b.v1_height[3];
         let rel = (curve_length(v0, v1, v2) - h).abs() / h;
         worst_len = worst_len.max(rel);
-        assert!(rel < 1e-3, "{what}: blade {i} length off by {:.3} %", rel * 100.0);
-        assert!(up.dot(v2 - v0) >= -1e-5 * h, "{what}: blade {i} tip below its ground plane");
+        assert!(
+            rel < 1e-3,
+            "{what}: blade {i} length off by {:.3} %",
+            rel * 100.0
+        );
+        assert!(
+            up.dot(v2 - v0) >= -1e-5 * h,
+            "{what}: blade {i} tip below its ground plane"
+        );
         let side = (v1 - v0).cross(up).length();
-        assert!(side < 1e-4 * h, "{what}: blade {i} v1 - v0 not parallel to up ({side})");
+        assert!(
+            side < 1e-4 * h,
+            "{what}: blade {i} v1 - v0 not parallel to up ({side})"
+        );
     }
-    println!("{what}: worst curve-length error {:.2e} % over {} blades", worst_len * 100.0, blades.len());
+    println!(
+        "{what}: worst curve-length error {:.2e} % over {} blades",
+        worst_len * 100.0,
+        blades.len()
+    );
 }
 
 #[test]
 fn validation_invariants_hold_under_wind_gravity_and_a_sphere() {
     let mut scene = Scene::default();
-    scene.wind.directional.as_mut().expect("default wind").strength = 6.0;
+    scene
+        .wind
+        .directional
+        .as_mut()
+        .expect("default wind")
+        .strength = 6.0;
     scene.colliders = vec![common::rolling_sphere(-3.0, 0.3, 0.5, 2.5)];
     let (session, blades, _) = run_gpu(scene.clone(), 1024, 60, 1.0 / 30.0);
     assert_valid(&session.field.blades, "initial field");
@@ -78,7 +113,11 @@ fn blades_under_a_static_sphere_end_outside_it() {
     let mut scene = common::still_scene();
     scene.physics.gravity_acceleration = 9.81;
     let (c, r) = (Vec3::new(0.0, 0.45, 0.0), 0.4);
-    scene.colliders = vec![Sphere { center: c.into(), radius: r, motion: Motion::Static }];
+    scene.colliders = vec![Sphere {
+        center: c.into(),
+        radius: r,
+        motion: Motion::Static,
+    }];
     let (_, blades, states) = run_gpu(scene, 2048, 120, 1.0 / 30.0);
     let mut hit = 0;
     let mut worst = 0.0f32;
@@ -93,7 +132,10 @@ fn blades_under_a_static_sphere_end_outside_it() {
     println!("static sphere: {hit} blades pressed, deepest point inside by {worst:.4} m");
     assert!(hit > 10, "the sphere must press some blades ({hit})");
     // Collide + validate rounds converge to the surface; a hair of rounding remains.
-    assert!(worst < 0.005 * r, "a blade point ends {worst} m inside the sphere");
+    assert!(
+        worst < 0.005 * r,
+        "a blade point ends {worst} m inside the sphere"
+    );
 }
 
 #[test]
@@ -109,7 +151,10 @@ fn eta_fades_and_blades_recover_after_the_collider_leaves() {
     // After 0.7 s the sphere is in the middle of the field: blades behind it are pressed.
     let (_, _, pressed_eta) = run_gpu(scene.clone(), 1024, 20, dt);
     let hit = pressed_eta.iter().filter(|s| s.rest_eta[3] > 0.0).count();
-    assert!(hit > 20, "the sphere must cross the field ({hit} blades hit)");
+    assert!(
+        hit > 20,
+        "the sphere must cross the field ({hit} blades hit)"
+    );
     let (_, after, after_eta) = run_gpu(scene, 1024, 600, dt);
     let (_, control, _) = run_gpu(control_scene, 1024, 600, dt);
     let max_eta = after_eta.iter().map(|s| s.rest_eta[3]).fold(0.0, f32::max);
@@ -119,5 +164,9 @@ fn eta_fades_and_blades_recover_after_the_collider_leaves() {
     }
     println!("recovery: {hit} blades hit, max eta after 20 s {max_eta}, worst tip offset {:.3} % of height", worst * 100.0);
     assert_eq!(max_eta, 0.0, "eta must return to 0");
-    assert!(worst < 0.01, "blades must return within 1 % of rest, worst {:.3} %", worst * 100.0);
+    assert!(
+        worst < 0.01,
+        "blades must return within 1 % of rest, worst {:.3} %",
+        worst * 100.0
+    );
 }

@@ -10,9 +10,12 @@ fn every_entry_file_parses_and_validates() {
         let src = source(name);
         let module = naga::front::wgsl::parse_str(&src)
             .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
-        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
         assert!(!module.entry_points.is_empty(), "{name} has no entry point");
         checked += 1;
     }
@@ -31,6 +34,10 @@ fn every_shader_file_is_reachable_from_an_entry_file() {
             .lines()
             .find(|l| !l.trim().is_empty() && !l.trim_start().starts_with("//"))
             .expect("shader has code");
-        assert!(all.contains(line), "{} is not used by any entry file", path.display());
+        assert!(
+            all.contains(line),
+            "{} is not used by any entry file",
+            path.display()
+        );
     }
 }

@@ -22,9 +22,22 @@ fn run(scene: Scene, camera: CameraView) -> (usize, CullCounters) {
     let gpu = common::gpu();
     let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
     let target = Target::new(&gpu, 96, 64).expect("target");
-    let mut r = Renderer::new(&gpu, session.scene.clone(), session.terrain.clone(), &session.field, COLOR_FORMAT)
-        .expect("renderer");
-    r.frame(&gpu, 1.0 / 30.0, &camera, &target.color_view, &target.depth_view, (96, 64));
+    let mut r = Renderer::new(
+        &gpu,
+        session.scene.clone(),
+        session.terrain.clone(),
+        &session.field,
+        COLOR_FORMAT,
+    )
+    .expect("renderer");
+    r.frame(
+        &gpu,
+        1.0 / 30.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        (96, 64),
+    );
     let counters = r.cull.read_counters(&gpu).expect("counters");
     let mut visible = r.cull.read_visible(&gpu, &r.buffers).expect("visible");
     visible.sort_unstable();
@@ -50,8 +63,14 @@ fn run(scene: Scene, camera: CameraView) -> (usize, CullCounters) {
             CullOutcome::Distance => cpu.culled_distance += 1,
         }
     }
-    let differ = visible.iter().filter(|i| cpu_visible.binary_search(i).is_err()).count()
-        + cpu_visible.iter().filter(|i| visible.binary_search(i).is_err()).count();
+    let differ = visible
+        .iter()
+        .filter(|i| cpu_visible.binary_search(i).is_err())
+        .count()
+        + cpu_visible
+            .iter()
+            .filter(|i| visible.binary_search(i).is_err())
+            .count();
     println!(
         "cull twin: gpu drawn {} / cpu drawn {}, gpu culled {:?} / cpu culled {:?}, visible sets differ in {differ}",
         counters.drawn(),
@@ -60,9 +79,18 @@ fn run(scene: Scene, camera: CameraView) -> (usize, CullCounters) {
         [cpu.culled_patch, cpu.culled_orientation, cpu.culled_frustum, cpu.culled_distance],
     );
     assert_eq!(counters.drawn() as usize, visible.len());
-    assert_eq!(counters.drawn() + counters.culled(), blades.len() as u32, "every blade is counted once");
-    assert!(differ <= allowed_mismatch(blades.len()), "{differ} blades differ");
-    let close = |a: u32, b: u32| (a as i64 - b as i64).unsigned_abs() as usize <= allowed_mismatch(blades.len());
+    assert_eq!(
+        counters.drawn() + counters.culled(),
+        blades.len() as u32,
+        "every blade is counted once"
+    );
+    assert!(
+        differ <= allowed_mismatch(blades.len()),
+        "{differ} blades differ"
+    );
+    let close = |a: u32, b: u32| {
+        (a as i64 - b as i64).unsigned_abs() as usize <= allowed_mismatch(blades.len())
+    };
     assert!(close(counters.culled_patch, cpu.culled_patch));
     assert!(close(counters.culled_orientation, cpu.culled_orientation));
     assert!(close(counters.culled_frustum, cpu.culled_frustum));
@@ -87,7 +115,13 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
     };
     let (_, c) = run(scene, camera);
     // Each test must have culled something here, or this test checks less than it says.
-    assert!(c.culled_patch > 0 && c.culled_orientation > 0 && c.culled_frustum > 0 && c.culled_distance > 0, "{c:?}");
+    assert!(
+        c.culled_patch > 0
+            && c.culled_orientation > 0
+            && c.culled_frustum > 0
+            && c.culled_distance > 0,
+        "{c:?}"
+    );
     assert!(c.drawn() > 0);
 }
 

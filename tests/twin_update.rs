@@ -18,17 +18,25 @@ const TOLERANCE: f32 = 1e-4;
 #[test]
 fn gpu_update_matches_cpu_twin() {
     let gpu = common::gpu();
-    let mut scene = Scene::default();
     // The flat square of 2048 blades at density 80 is about 5 m wide, centred on 0.
-    scene.colliders = vec![common::rolling_sphere(-3.0, 0.35, 0.4, 2.0)];
+    let scene = Scene {
+        colliders: vec![common::rolling_sphere(-3.0, 0.35, 0.4, 2.0)],
+        ..Default::default()
+    };
     let session = Session::new(scene, Some(2048), Some(&gpu)).expect("field");
     assert!(session.field.blades.len() >= 1024);
     let steps = 60;
     let dt = 1.0 / 30.0;
     let (cpu_blades, cpu_states) = simulate_cpu(&session, steps, dt);
 
-    let mut r = Renderer::new(&gpu, session.scene.clone(), session.terrain.clone(), &session.field, COLOR_FORMAT)
-        .expect("renderer");
+    let mut r = Renderer::new(
+        &gpu,
+        session.scene.clone(),
+        session.terrain.clone(),
+        &session.field,
+        COLOR_FORMAT,
+    )
+    .expect("renderer");
     for _ in 0..steps {
         r.step(&gpu, dt);
     }
@@ -48,6 +56,12 @@ fn gpu_update_matches_cpu_twin() {
         }
     }
     println!("update twin: {} blades, {steps} steps, max |gpu - cpu| = {max_err:.3e} (tolerance {TOLERANCE:.0e})", cpu_blades.len());
-    assert!(moved > 20, "the sphere must have hit blades for the test to mean anything ({moved})");
-    assert!(max_err < TOLERANCE, "max error {max_err} exceeds {TOLERANCE}");
+    assert!(
+        moved > 20,
+        "the sphere must have hit blades for the test to mean anything ({moved})"
+    );
+    assert!(
+        max_err < TOLERANCE,
+        "max error {max_err} exceeds {TOLERANCE}"
+    );
 }

@@ -30,7 +30,11 @@ impl CameraView {
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         let forward = (self.target - self.eye).normalize_or(Vec3::NEG_Z);
         // Looking straight up or down needs another up vector for look_at.
-        let up = if forward.y.abs() > 0.999 { Vec3::Z } else { Vec3::Y };
+        let up = if forward.y.abs() > 0.999 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
         let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, up);
         // wgpu's clip space is DirectX's: depth in [0, 1], y up.
         let proj = glam::camera::rh::proj::directx::perspective(

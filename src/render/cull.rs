@@ -50,11 +50,26 @@ impl CullPass {
             label: Some("sward.cull.bind_group"),
             layout: &layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: buffers.blades.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: buffers.patches.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: buffers.visible.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: args.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: buffers.blades.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: buffers.patches.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: buffers.visible.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: args.as_entire_binding(),
+                },
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -89,7 +104,11 @@ impl CullPass {
 
     /// Records the reset and the cull dispatch in one compute pass (the reset runs first:
     /// wgpu orders dispatches in a pass that write the same buffer).
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, timestamps: Option<wgpu::ComputePassTimestampWrites>) {
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.cull"),
             timestamp_writes: timestamps,

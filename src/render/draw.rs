@@ -56,7 +56,11 @@ struct PipelineSpec<'a> {
     cull_back: bool,
 }
 
-fn pipeline(device: &wgpu::Device, format: wgpu::TextureFormat, spec: PipelineSpec) -> wgpu::RenderPipeline {
+fn pipeline(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+    spec: PipelineSpec,
+) -> wgpu::RenderPipeline {
     let module = shaders::module(device, spec.shader);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(&format!("{}.layout", spec.label)),
@@ -75,7 +79,11 @@ fn pipeline(device: &wgpu::Device, format: wgpu::TextureFormat, spec: PipelineSp
         primitive: wgpu::PrimitiveState {
             topology: wgpu::PrimitiveTopology::TriangleList,
             front_face: wgpu::FrontFace::Ccw,
-            cull_mode: if spec.cull_back { Some(wgpu::Face::Back) } else { None },
+            cull_mode: if spec.cull_back {
+                Some(wgpu::Face::Back)
+            } else {
+                None
+            },
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
@@ -135,28 +143,49 @@ impl DrawPass {
         });
         let spheres_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.draw.spheres_layout"),
-            entries: &[uniform_entry(0, vf), read_storage(1, wgpu::ShaderStages::VERTEX)],
+            entries: &[
+                uniform_entry(0, vf),
+                read_storage(1, wgpu::ShaderStages::VERTEX),
+            ],
         });
         let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.draw.frame_group"),
             layout: &frame_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() }],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame.as_entire_binding(),
+            }],
         });
         let grass_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.draw.grass_group"),
             layout: &grass_layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: buffers.blades.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: buffers.visible.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: frame.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: buffers.blades.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: buffers.visible.as_entire_binding(),
+                },
             ],
         });
         let spheres_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.draw.spheres_group"),
             layout: &spheres_layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: buffers.spheres.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: frame.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: buffers.spheres.as_entire_binding(),
+                },
             ],
         });
 
@@ -172,39 +201,55 @@ impl DrawPass {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &sphere_attrs,
         })];
-        let sky = pipeline(device, format, PipelineSpec {
-            label: "sward.draw.sky",
-            shader: "sky.wgsl",
-            layout: &frame_layout,
-            buffers: &[],
-            depth_write: false,
-            cull_back: false,
-        });
-        let terrain_pipeline = pipeline(device, format, PipelineSpec {
-            label: "sward.draw.terrain",
-            shader: "terrain.wgsl",
-            layout: &frame_layout,
-            buffers: &terrain_buffers,
-            depth_write: true,
-            cull_back: false,
-        });
-        let spheres = pipeline(device, format, PipelineSpec {
-            label: "sward.draw.spheres",
-            shader: "spheres.wgsl",
-            layout: &spheres_layout,
-            buffers: &sphere_buffers,
-            depth_write: true,
-            cull_back: false,
-        });
+        let sky = pipeline(
+            device,
+            format,
+            PipelineSpec {
+                label: "sward.draw.sky",
+                shader: "sky.wgsl",
+                layout: &frame_layout,
+                buffers: &[],
+                depth_write: false,
+                cull_back: false,
+            },
+        );
+        let terrain_pipeline = pipeline(
+            device,
+            format,
+            PipelineSpec {
+                label: "sward.draw.terrain",
+                shader: "terrain.wgsl",
+                layout: &frame_layout,
+                buffers: &terrain_buffers,
+                depth_write: true,
+                cull_back: false,
+            },
+        );
+        let spheres = pipeline(
+            device,
+            format,
+            PipelineSpec {
+                label: "sward.draw.spheres",
+                shader: "spheres.wgsl",
+                layout: &spheres_layout,
+                buffers: &sphere_buffers,
+                depth_write: true,
+                cull_back: false,
+            },
+        );
         // Blades have no back: both sides are drawn and lit (two-sided lighting).
-        let grass = pipeline(device, format, PipelineSpec {
-            label: "sward.draw.grass",
-            shader: "grass.wgsl",
-            layout: &grass_layout,
-            buffers: &[],
-            depth_write: true,
-            cull_back: false,
-        });
+        let grass = pipeline(
+            device,
+            format,
+            PipelineSpec {
+                label: "sward.draw.grass",
+                shader: "grass.wgsl",
+                layout: &grass_layout,
+                buffers: &[],
+                depth_write: true,
+                cull_back: false,
+            },
+        );
 
         let (tv, ti) = terrain_mesh(terrain);
         let terrain_mesh = Mesh {
@@ -298,14 +343,20 @@ impl DrawPass {
 
         pass.set_pipeline(&self.terrain);
         pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
-        pass.set_index_buffer(self.terrain_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_index_buffer(
+            self.terrain_mesh.indices.slice(..),
+            wgpu::IndexFormat::Uint32,
+        );
         pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
 
         if sphere_count > 0 {
             pass.set_pipeline(&self.spheres);
             pass.set_bind_group(0, &self.spheres_group, &[]);
             pass.set_vertex_buffer(0, self.sphere_mesh.vertices.slice(..));
-            pass.set_index_buffer(self.sphere_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.set_index_buffer(
+                self.sphere_mesh.indices.slice(..),
+                wgpu::IndexFormat::Uint32,
+            );
             pass.draw_indexed(0..self.sphere_mesh.count, 0, 0..sphere_count);
         }
 

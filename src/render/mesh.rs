@@ -24,7 +24,10 @@ pub fn terrain_mesh(terrain: &HeightField) -> (Vec<TerrainVertex>, Vec<u32>) {
             let x = -half + i as f32 * step;
             let z = -half + j as f32 * step;
             let y = terrain.height(x, z);
-            vertices.push(TerrainVertex { position: [x, y, z], normal: terrain.normal(x, z).into() });
+            vertices.push(TerrainVertex {
+                position: [x, y, z],
+                normal: terrain.normal(x, z).into(),
+            });
         }
     }
     let mut indices = Vec::with_capacity(((n - 1) * (n - 1) * 6) as usize);
@@ -99,7 +102,9 @@ mod tests {
     #[test]
     fn sphere_vertices_are_on_the_unit_sphere() {
         let (v, i) = sphere_mesh(8, 12);
-        assert!(v.iter().all(|p| (glam::Vec3::from(*p).length() - 1.0).abs() < 1e-5));
+        assert!(v
+            .iter()
+            .all(|p| (glam::Vec3::from(*p).length() - 1.0).abs() < 1e-5));
         assert!(i.iter().all(|&k| (k as usize) < v.len()));
     }
 }

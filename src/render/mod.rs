@@ -96,14 +96,17 @@ impl Renderer {
             self.sphere_count,
         );
         self.update.prepare(&gpu.queue, &params);
-        self.update.encode(encoder, self.timer.as_ref().map(|t| t.compute(0)));
+        self.update
+            .encode(encoder, self.timer.as_ref().map(|t| t.compute(0)));
     }
 
     /// One simulation step without drawing (`sward simulate`).
     pub fn step(&mut self, gpu: &Gpu, dt: f32) {
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("sward.step"),
-        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sward.step"),
+            });
         self.encode_update(gpu, &mut encoder, dt);
         gpu.queue.submit([encoder.finish()]);
     }
@@ -118,7 +121,12 @@ impl Renderer {
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             camera_pos: camera.eye.extend(1.0).into(),
             sun_dir: sun.extend(0.0).into(),
-            viewport_time: [width as f32, height as f32, self.time, self.scene.terrain.size * 4.0],
+            viewport_time: [
+                width as f32,
+                height as f32,
+                self.time,
+                self.scene.terrain.size * 4.0,
+            ],
             shape: [
                 f.shape.id() as f32,
                 f.tip_threshold,
@@ -154,8 +162,10 @@ impl Renderer {
             self.index_count,
         );
         self.cull.prepare(&gpu.queue, &cp);
-        self.draw.prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
-        self.cull.encode(encoder, self.timer.as_ref().map(|t| t.compute(1)));
+        self.draw
+            .prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
+        self.cull
+            .encode(encoder, self.timer.as_ref().map(|t| t.compute(1)));
         self.draw.encode(
             encoder,
             color,
@@ -176,9 +186,11 @@ impl Renderer {
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("sward.frame"),
-        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sward.frame"),
+            });
         self.encode_update(gpu, &mut encoder, dt);
         self.encode_view(gpu, &mut encoder, camera, color, depth, size);
         if let Some(t) = &self.timer {

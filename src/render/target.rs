@@ -22,7 +22,11 @@ pub struct Target {
 pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
     let depth = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("sward.target.depth"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -39,7 +43,11 @@ impl Target {
         gpu.check_texture("an image", width, height)?;
         let color = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("sward.target.color"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -49,23 +57,32 @@ impl Target {
         });
         let color_view = color.create_view(&Default::default());
         let depth_view = depth_view(&gpu.device, width, height);
-        Ok(Self { color, color_view, depth_view, width, height })
+        Ok(Self {
+            color,
+            color_view,
+            depth_view,
+            width,
+            height,
+        })
     }
 
     /// Copies the colour texture back into an RGBA image (blocking).
     pub fn read_image(&self, gpu: &Gpu) -> Result<image::RgbaImage> {
         let row = self.width * 4;
         // Buffer rows must be 256-byte aligned for texture copies.
-        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.target.readback"),
             size: padded as u64 * self.height as u64,
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("sward.target.readback"),
-        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sward.target.readback"),
+            });
         encoder.copy_texture_to_buffer(
             self.color.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
@@ -76,7 +93,11 @@ impl Target {
                     rows_per_image: Some(self.height),
                 },
             },
-            wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
+            wgpu::Extent3d {
+                width: self.width,
+                height: self.height,
+                depth_or_array_layers: 1,
+            },
         );
         gpu.queue.submit([encoder.finish()]);
         let data = map_and_read(gpu, &staging)?;

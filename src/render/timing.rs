@@ -40,7 +40,12 @@ impl GpuTimer {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        Some(Self { queries, resolve, staging, period_ns: gpu.queue.get_timestamp_period() })
+        Some(Self {
+            queries,
+            resolve,
+            staging,
+            period_ns: gpu.queue.get_timestamp_period(),
+        })
     }
 
     /// Compute-pass timestamp writes for pass `index` of `PASSES`.

@@ -279,7 +279,11 @@ fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     let gain = Allowed::closed(0.0, 1.0e6, "1/m²");
     check.real("physics.collision_gain", physics.collision_gain, gain)?;
     let ceiling = Allowed::closed(0.0, 100.0, "");
-    check.real("physics.max_collision_strength", physics.max_collision_strength, ceiling)?;
+    check.real(
+        "physics.max_collision_strength",
+        physics.max_collision_strength,
+        ceiling,
+    )?;
     let max_dt = Allowed::open_closed(0.0, 1.0, "s");
     check.real("physics.max_dt", physics.max_dt, max_dt)
 }

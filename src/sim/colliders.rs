@@ -50,7 +50,11 @@ pub fn along_path(points: &[(f32, f32)], looped: bool, s: f32) -> Vec2 {
     if total <= 0.0 {
         return pts[0];
     }
-    let mut s = if looped { s.rem_euclid(total) } else { s.clamp(0.0, total) };
+    let mut s = if looped {
+        s.rem_euclid(total)
+    } else {
+        s.clamp(0.0, total)
+    };
     for (a, b) in &segments {
         let len = a.distance(*b);
         if s <= len {

@@ -13,11 +13,7 @@ use super::layout::{
 /// The blade's width direction and front direction (perpendicular to width and up), from
 /// its up vector and direction angle. Same construction as `blade_frame` in WGSL.
 pub fn blade_frame(up: Vec3, angle: f32) -> (Vec3, Vec3) {
-    let reference = if up.z.abs() > 0.99 {
-        Vec3::X
-    } else {
-        Vec3::Z
-    };
+    let reference = if up.z.abs() > 0.99 { Vec3::X } else { Vec3::Z };
     let tx = up.cross(reference).normalize();
     let tz = tx.cross(up);
     let width_dir = tx * angle.cos() + tz * angle.sin();
@@ -51,7 +47,9 @@ pub fn analytic_wind(p: Vec3, time: f32, params: &SimParams) -> Vec3 {
         if dist > 1e-4 && dist < radius {
             let falloff = (1.0 - dist / radius) * (1.0 - dist / radius);
             let pulse = 0.6
-                + 0.4 * (std::f32::consts::TAU * params.point_wind_shape[1] * time - 1.5 * dist).sin();
+                + 0.4
+                    * (std::f32::consts::TAU * params.point_wind_shape[1] * time - 1.5 * dist)
+                        .sin();
             w += offset / dist * (source[3] * falloff * pulse);
         }
     }
@@ -121,7 +119,13 @@ fn v4(a: [f32; 4]) -> Vec4 {
 
 /// Eq. 14–16: every sphere against v2 and the curve midpoint m (the push on m moves v2 four
 /// times as far). Returns the new v2 and the added collision strength.
-pub fn collide(v0: Vec3, v1: Vec3, v2: Vec3, params: &SimParams, spheres: &[[f32; 4]]) -> (Vec3, f32) {
+pub fn collide(
+    v0: Vec3,
+    v1: Vec3,
+    v2: Vec3,
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+) -> (Vec3, f32) {
     let mut v2 = v2;
     let mut added = 0.0;
     for s in spheres.iter().take(params.sphere_count as usize) {
@@ -155,7 +159,6 @@ pub fn update_blade(
 ) {
     let v0 = v4(blade.v0_dir).xyz();
     let angle = blade.v0_dir[3];
-    let mut v1 = v4(blade.v1_height).xyz();
     let height = blade.v1_height[3];
     let mut v2 = v4(blade.v2_width).xyz();
     let up = v4(blade.up_stiffness).xyz();
@@ -200,7 +203,7 @@ pub fn update_blade(
     // Validate first so that the midpoint m of the collision test is that of a valid curve
     // (v1 follows v2), then collide; the length correction after a push can pull a point
     // back into the sphere, so collide + validate repeats until nothing is pushed.
-    (v1, v2) = validate(v0, v2, up, height);
+    let (mut v1, mut v2) = validate(v0, v2, up, height);
     if params.collisions != 0 {
         for _ in 0..COLLISION_ROUNDS {
             let (cv2, added) = collide(v0, v1, v2, params, spheres);

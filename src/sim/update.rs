@@ -42,12 +42,30 @@ impl BladeBuffers {
             (count as u32).div_ceil(WORKGROUP_SIZE),
         )?;
         let device = &gpu.device;
-        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let storage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
         // wgpu rejects zero-sized bindings: an empty field still gets one (unused) element.
-        let (zb, zs, zp) = ([Blade::default()], [BladeState::default()], [PatchBox::default()]);
-        let blades: &[Blade] = if field.blades.is_empty() { &zb } else { &field.blades };
-        let states: &[BladeState] = if field.states.is_empty() { &zs } else { &field.states };
-        let patches: &[PatchBox] = if field.patches.is_empty() { &zp } else { &field.patches };
+        let (zb, zs, zp) = (
+            [Blade::default()],
+            [BladeState::default()],
+            [PatchBox::default()],
+        );
+        let blades: &[Blade] = if field.blades.is_empty() {
+            &zb
+        } else {
+            &field.blades
+        };
+        let states: &[BladeState] = if field.states.is_empty() {
+            &zs
+        } else {
+            &field.states
+        };
+        let patches: &[PatchBox] = if field.patches.is_empty() {
+            &zp
+        } else {
+            &field.patches
+        };
         let blades = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sward.blades"),
             contents: bytemuck::cast_slice(blades),
@@ -106,12 +124,24 @@ impl BladeBuffers {
         }
         let n = self.count as u64;
         let b = read_buffer(gpu, &self.blades, n * std::mem::size_of::<Blade>() as u64)?;
-        let s = read_buffer(gpu, &self.states, n * std::mem::size_of::<BladeState>() as u64)?;
-        Ok((bytemuck::pod_collect_to_vec(&b), bytemuck::pod_collect_to_vec(&s)))
+        let s = read_buffer(
+            gpu,
+            &self.states,
+            n * std::mem::size_of::<BladeState>() as u64,
+        )?;
+        Ok((
+            bytemuck::pod_collect_to_vec(&b),
+            bytemuck::pod_collect_to_vec(&s),
+        ))
     }
 
     /// Replaces the blades and states (tests and the CPU/GPU comparison).
-    pub fn write(&self, queue: &wgpu::Queue, blades: &[Blade], states: &[BladeState]) -> Result<()> {
+    pub fn write(
+        &self,
+        queue: &wgpu::Queue,
+        blades: &[Blade],
+        states: &[BladeState],
+    ) -> Result<()> {
         if blades.len() != self.count as usize || states.len() != self.count as usize {
             return Err(Error::Invalid(format!(
                 "expected {} blades, got {} blades and {} states",
@@ -191,10 +221,22 @@ impl UpdatePass {
             label: Some("sward.update.bind_group"),
             layout: &layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: buffers.blades.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: buffers.states.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: buffers.spheres.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: buffers.blades.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: buffers.states.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: buffers.spheres.as_entire_binding(),
+                },
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -210,7 +252,12 @@ impl UpdatePass {
             compilation_options: Default::default(),
             cache: None,
         });
-        Self { pipeline, bind_group, params, count: buffers.count }
+        Self {
+            pipeline,
+            bind_group,
+            params,
+            count: buffers.count,
+        }
     }
 
     /// Writes this step's uniforms.
@@ -219,7 +266,11 @@ impl UpdatePass {
     }
 
     /// Records the update dispatch.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, timestamps: Option<wgpu::ComputePassTimestampWrites>) {
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
         if self.count == 0 {
             return;
         }

@@ -19,7 +19,10 @@ pub fn still_scene() -> Scene {
     let mut s = Scene::default();
     s.physics.gravity_acceleration = 0.0;
     s.physics.gravity_center_acceleration = 0.0;
-    s.wind = Wind { directional: None, point: None };
+    s.wind = Wind {
+        directional: None,
+        point: None,
+    };
     s.colliders.clear();
     s
 }
@@ -27,5 +30,9 @@ pub fn still_scene() -> Scene {
 /// A sphere of radius `r` crossing the field along x at `speed` m/s, its centre `height`
 /// above the ground, starting at x = `x0`.
 pub fn rolling_sphere(x0: f32, height: f32, r: f32, speed: f32) -> Sphere {
-    Sphere { center: (x0, height, 0.0), radius: r, motion: Motion::Velocity((speed, 0.0, 0.0)) }
+    Sphere {
+        center: (x0, height, 0.0),
+        radius: r,
+        motion: Motion::Velocity((speed, 0.0, 0.0)),
+    }
 }

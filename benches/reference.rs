@@ -1,0 +1,56 @@
+//! Criterion benches of the CPU twins: one blade-update step and one cull pass over a flat
+//! field of 16,384 blades. These time the reference code, not the GPU (GPU passes are
+//! timed with timestamp queries: `sward render --timings`).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+use sward::field::flat_field;
+use sward::render::camera::CameraView;
+use sward::scene::Scene;
+use sward::sim::params::{cull_params, sim_params};
+use sward::sim::reference::{cull_blade, update_all};
+
+fn bench(c: &mut Criterion) {
+    let scene = Scene::default();
+    let (_, field) = flat_field(16_384, &scene.field);
+    let spheres = [[0.0, 0.3, 0.0, 0.5]];
+    let params = sim_params(
+        &scene.physics,
+        &scene.wind,
+        1.0 / 60.0,
+        1.0,
+        field.blades.len() as u32,
+        1,
+    );
+    c.bench_function("cpu update 16k blades", |b| {
+        let mut blades = field.blades.clone();
+        let mut states = field.states.clone();
+        b.iter(|| update_all(black_box(&mut blades), &mut states, &params, &spheres));
+    });
+    let camera = CameraView::from_scene(&scene.camera);
+    let cp = cull_params(
+        &scene.culling,
+        camera.view_proj(16.0 / 9.0),
+        camera.eye,
+        field.blades.len() as u32,
+        field.patch_size,
+        72,
+    );
+    c.bench_function("cpu cull 16k blades", |b| {
+        b.iter(|| {
+            field
+                .blades
+                .iter()
+                .enumerate()
+                .filter(|(i, blade)| {
+                    let patch = &field.patches[*i / field.patch_size as usize];
+                    cull_blade(*i as u32, blade, patch, &cp)
+                        == sward::sim::reference::CullOutcome::Drawn
+                })
+                .count()
+        });
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,242 @@
+//! The command line against bad input: each case must end with a clear message on stderr, a
+//! non-zero exit code, no panic and no output file (not even a partial one).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn sward(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(args)
+        .env(
+            "SWARD_ADAPTER",
+            std::env::var("SWARD_ADAPTER").unwrap_or_else(|_| "software".into()),
+        )
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("run sward")
+}
+
+struct Tmp(PathBuf);
+
+impl Tmp {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("sward-cli-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        Tmp(dir)
+    }
+    fn file(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).expect("write");
+        p
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+    /// Nothing but the inputs is left in the directory.
+    fn assert_only(&self, inputs: &[&str]) {
+        for e in std::fs::read_dir(&self.0).expect("read dir") {
+            let name = e.expect("entry").file_name().to_string_lossy().into_owned();
+            assert!(
+                inputs.contains(&name.as_str()),
+                "unexpected output file {name}"
+            );
+        }
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs a failing command and returns its stderr after the common checks.
+fn fails(args: &[&str]) -> String {
+    let out = sward(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "expected failure for {args:?}");
+    assert!(!stderr.contains("panicked"), "panic for {args:?}: {stderr}");
+    assert!(
+        stderr.contains("error:"),
+        "no error message for {args:?}: {stderr}"
+    );
+    stderr
+}
+
+fn render_args<'a>(scene: &'a str, out: &'a str) -> Vec<&'a str> {
+    vec![
+        "render", "--scene", scene, "--size", "32x32", "--frames", "1", "--out", out,
+    ]
+}
+
+#[test]
+fn missing_scene_file_is_named() {
+    let t = Tmp::new("missing");
+    let out = t.path("out.png");
+    let missing = t.path("nope.ron");
+    let err = fails(&render_args(
+        missing.to_str().unwrap(),
+        out.to_str().unwrap(),
+    ));
+    assert!(err.contains("nope.ron"), "{err}");
+    t.assert_only(&[]);
+}
+
+#[test]
+fn malformed_ron_reports_the_line() {
+    let t = Tmp::new("malformed");
+    let scene = t.file("bad.ron", "(\n    field: (\n        density: 10.0,\n        height: (min: 0.2 max: 0.5),\n    ),\n)\n");
+    let out = t.path("out.png");
+    let err = fails(&render_args(scene.to_str().unwrap(), out.to_str().unwrap()));
+    assert!(
+        err.contains("bad.ron:4:"),
+        "error must name file and line 4: {err}"
+    );
+    t.assert_only(&["bad.ron"]);
+}
+
+#[test]
+fn unknown_field_is_rejected_by_name() {
+    let t = Tmp::new("unknown");
+    let scene = t.file(
+        "typo.ron",
+        "(\n    field: (\n        densty: 10.0,\n    ),\n)\n",
+    );
+    let out = t.path("out.png");
+    let err = fails(&render_args(scene.to_str().unwrap(), out.to_str().unwrap()));
+    assert!(
+        err.contains("densty") && err.contains("typo.ron:3:"),
+        "{err}"
+    );
+    t.assert_only(&["typo.ron"]);
+}
+
+#[test]
+fn negative_density_names_field_line_and_range() {
+    let t = Tmp::new("negative");
+    let scene = t.file(
+        "neg.ron",
+        "(\n    terrain: (size: 4.0),\n    field: (\n        density: -3.0,\n    ),\n)\n",
+    );
+    let dump = t.path("dump.json");
+    let err = fails(&[
+        "simulate",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--steps",
+        "1",
+        "--dump",
+        dump.to_str().unwrap(),
+    ]);
+    assert!(
+        err.contains("field.density") && err.contains("neg.ron:4:") && err.contains("allowed"),
+        "{err}"
+    );
+    t.assert_only(&["neg.ron"]);
+}
+
+#[test]
+fn blade_count_beyond_the_adapter_is_refused_before_allocating() {
+    let t = Tmp::new("toomany");
+    // 10,000 blades/m² on 4 km × 4 km is 1.6e11 blades: no adapter holds that in one buffer.
+    let scene = t.file(
+        "huge.ron",
+        "(\n    terrain: (size: 4000.0),\n    field: (density: 10000.0),\n)\n",
+    );
+    let out = t.path("out.png");
+    let err = fails(&render_args(scene.to_str().unwrap(), out.to_str().unwrap()));
+    assert!(err.contains("blades") && err.contains("at most"), "{err}");
+    t.assert_only(&["huge.ron"]);
+    // The same through --blades.
+    let dump = t.path("dump.json");
+    let err = fails(&[
+        "simulate",
+        "--blades",
+        "40000000",
+        "--steps",
+        "1",
+        "--dump",
+        dump.to_str().unwrap(),
+    ]);
+    assert!(err.contains("blades") && err.contains("at most"), "{err}");
+    let err = fails(&[
+        "simulate",
+        "--blades",
+        "999999999999",
+        "--steps",
+        "1",
+        "--dump",
+        dump.to_str().unwrap(),
+    ]);
+    assert!(err.contains("out of range"), "{err}");
+    t.assert_only(&["huge.ron"]);
+}
+
+#[test]
+fn bad_size_and_dt_are_out_of_range() {
+    let t = Tmp::new("size");
+    let out = t.path("out.png");
+    let err = fails(&["render", "--size", "0x10", "--out", out.to_str().unwrap()]);
+    assert!(err.contains("out of range"), "{err}");
+    let err = fails(&[
+        "render",
+        "--dt=-1",
+        "--size",
+        "8x8",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(err.contains("--dt") && err.contains("allowed"), "{err}");
+    t.assert_only(&[]);
+}
+
+#[test]
+fn unwritable_output_directory_fails_up_front() {
+    let out = Path::new("/nonexistent-dir-sward/out.png");
+    let err = fails(&[
+        "render",
+        "--size",
+        "8x8",
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(err.contains("does not exist"), "{err}");
+}
+
+#[test]
+fn simulate_writes_the_documented_json() {
+    let t = Tmp::new("json");
+    let dump = t.path("dump.json");
+    let out = sward(&[
+        "simulate",
+        "--blades",
+        "256",
+        "--steps",
+        "5",
+        "--dump",
+        dump.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&dump).expect("dump")).expect("json");
+    let initial = v["initial"].as_array().expect("initial");
+    let last = v["final"].as_array().expect("final");
+    assert_eq!(initial.len(), 256);
+    assert_eq!(last.len(), 256);
+    for key in ["v0", "v1", "v2", "up"] {
+        assert_eq!(last[0][key].as_array().expect(key).len(), 3);
+    }
+    for key in ["height", "width", "stiffness", "eta"] {
+        assert!(last[0][key].is_number(), "{key}");
+    }
+    // The wind and gravity moved the tips.
+    assert_ne!(initial[0]["v2"], last[0]["v2"]);
+    t.assert_only(&["dump.json"]);
+}
