@@ -107,6 +107,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             return;
         }
     }
+    // Eq. 20 as printed culls when `id mod n < floor(n (1 - d/d_max))`, which would cull
+    // everything near the camera; the text says the nearest level culls nothing and each
+    // further level one more blade in n, so a blade is kept when `id mod n` is below that.
     if (params.tests & TEST_DISTANCE) != 0u {
         let rel = v0 - camera;
         let d_proj = length(rel - up * dot(rel, up));

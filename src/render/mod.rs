@@ -55,11 +55,20 @@ impl Renderer {
         field: &GeneratedField,
         format: wgpu::TextureFormat,
     ) -> Result<Self> {
+        // Limits were checked before; a device that still runs out of memory reports it here
+        // as an error instead of wgpu's default panic.
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let buffers = BladeBuffers::new(gpu, field)?;
         let update = UpdatePass::new(gpu, &buffers);
         let cull = CullPass::new(gpu, &buffers);
         let segments = scene.field.segments.max(1);
         let draw = DrawPass::new(gpu, &buffers, &terrain, segments, format);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(crate::Error::Gpu(format!(
+                "{} ran out of memory for a field of {} blades: {e}",
+                gpu.info.name, buffers.count
+            )));
+        }
         let mut r = Self {
             buffers,
             update,

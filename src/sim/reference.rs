@@ -304,7 +304,8 @@ pub fn cull_blade(index: u32, blade: &Blade, patch: &PatchBox, params: &CullPara
         }
     }
     if params.tests & TEST_DISTANCE != 0 {
-        // Eq. 19–20
+        // Eq. 19–20, read as the text describes it (the nearest level keeps every blade):
+        // kept when `id mod n < floor(n (1 − d/d_max))`, see cull.wgsl.
         let rel = v0 - camera;
         let d_proj = (rel - up * rel.dot(up)).length();
         let n = params.distance_levels.max(1);
