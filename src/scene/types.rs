@@ -239,19 +239,152 @@ impl Default for PointWind {
     }
 }
 
-/// The analytic wind of the paper. Both parts add up; either may be absent.
+/// Which wind the blades feel.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum WindSource {
+    /// The paper's analytic functions (`directional`, `point`).
+    #[default]
+    Analytic,
+    /// The Stable-Fluids grid driven by `guides`, `global`, `downwash` and the colliders.
+    Fluid,
+    /// Both added.
+    Both,
+}
+
+/// How the fluid grid treats its border.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum Boundary {
+    /// Walls: no flow through the border.
+    Closed,
+    /// Air leaves and enters freely (zero pressure outside).
+    #[default]
+    Open,
+    /// What leaves one side enters the opposite one.
+    Periodic,
+}
+
+/// The Stable-Fluids wind solver (CWD-Sim Eq. 4–10, Stam's solver) on a square grid laid
+/// over the terrain; the cell size is the terrain size / resolution.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Fluid {
+    /// Cells per side (the grid is resolution²).
+    pub resolution: u32,
+    /// Jacobi iterations of the pressure solve.
+    pub pressure_iterations: u32,
+    /// Start the pressure solve from the last frame's pressure.
+    pub warm_start: bool,
+    /// Vorticity confinement λ.
+    pub vorticity: f32,
+    /// Velocity dissipation per second (v /= 1 + dissipation · Δt after advection).
+    pub dissipation: f32,
+    /// Kinematic viscosity ν in m²/s; 0 skips the diffusion pass.
+    pub viscosity: f32,
+    /// Jacobi iterations of the viscous diffusion.
+    pub diffusion_iterations: u32,
+    pub boundary: Boundary,
+    /// Wind force on a blade per m/s of air speed (1/s): w_i = response · velocity.
+    pub response: f32,
+    /// CWD-Sim's grouping: every blade of a cell takes the cell's value (no interpolation).
+    pub per_cell: bool,
+    /// Colliders block the air (their footprint cells take the collider's velocity).
+    pub obstacles: bool,
+}
+
+impl Default for Fluid {
+    fn default() -> Self {
+        Self {
+            resolution: 256,
+            pressure_iterations: 30,
+            warm_start: true,
+            vorticity: 1.5,
+            dissipation: 0.15,
+            viscosity: 0.0,
+            diffusion_iterations: 20,
+            boundary: Boundary::Open,
+            response: 1.2,
+            per_cell: false,
+            obstacles: true,
+        }
+    }
+}
+
+/// One point of an AGC guide. Point 0 is the root; every other point names its parent, and
+/// the edge parent → point is an arrow that pushes the air along it.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GuidePoint {
+    /// (x, z) on the terrain.
+    pub position: (f32, f32),
+    /// Index of the parent point in the guide's list (None only for the root, point 0).
+    #[serde(default)]
+    pub parent: Option<usize>,
+    /// Overrides the guide's strength for the arrow that ends at this point.
+    #[serde(default)]
+    pub strength: Option<f32>,
+    /// Overrides the guide's radius for the arrow that ends at this point.
+    #[serde(default)]
+    pub radius: Option<f32>,
+}
+
+/// An Arrow-Guided wind Control guide (CWD-Sim Section 3.5): a tree of points.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Guide {
+    /// Acceleration the arrows give the air, in m/s².
+    pub strength: f32,
+    /// Half-width of the band each arrow pushes, in metres.
+    pub radius: f32,
+    pub points: Vec<GuidePoint>,
+}
+
+/// A constant push on the whole fluid grid.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GlobalWind {
+    /// Direction in the x/z plane (normalised on load).
+    pub direction: (f32, f32),
+    /// Acceleration in m/s².
+    pub strength: f32,
+}
+
+/// Radial outflow under a (moving) point: a helicopter's downwash or a fan pointing down.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Downwash {
+    /// Where the source is at t = 0 (for `Path`, y is the height above the ground).
+    pub position: (f32, f32, f32),
+    /// Radius of the outflow in metres.
+    pub radius: f32,
+    /// Outward acceleration in m/s² at half the radius.
+    pub strength: f32,
+    #[serde(default = "default_motion")]
+    pub motion: Motion,
+}
+
+/// The wind: the paper's analytic functions and/or the fluid grid with its forces.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Wind {
+    pub source: WindSource,
     pub directional: Option<DirectionalWind>,
     pub point: Option<PointWind>,
+    pub fluid: Fluid,
+    pub guides: Vec<Guide>,
+    pub global: Option<GlobalWind>,
+    pub downwash: Option<Downwash>,
 }
 
 impl Default for Wind {
     fn default() -> Self {
         Self {
+            source: WindSource::Analytic,
             directional: Some(DirectionalWind::default()),
             point: None,
+            fluid: Fluid::default(),
+            guides: Vec::new(),
+            global: None,
+            downwash: None,
         }
     }
 }

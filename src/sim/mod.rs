@@ -6,3 +6,4 @@ pub mod layout;
 pub mod params;
 pub mod reference;
 pub mod update;
+pub mod wind_layout;

@@ -1,0 +1,71 @@
+//! `#[repr(C)]` Pod twins of the wind solver's WGSL structs (`shaders/fluid_common.wgsl`),
+//! with size assertions, and the host-side description of one solver step.
+
+use bytemuck::{Pod, Zeroable};
+
+/// Most AGC arrows uploaded per frame.
+pub const MAX_ARROWS: usize = 256;
+/// Most obstacles (collider footprints) per frame.
+pub const MAX_OBSTACLES: usize = 1024;
+/// Workgroup size of the 2D fluid passes (8 × 8).
+pub const FLUID_WORKGROUP: u32 = 8;
+
+/// One AGC arrow as the splat pass reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct ArrowGpu {
+    /// Start (x, z) and end (x, z) in world metres.
+    pub segment: [f32; 4],
+    /// Acceleration along the arrow in m/s² (already scaled by the activation ramp).
+    pub strength: f32,
+    /// Half-width of the pushed band in metres.
+    pub radius: f32,
+    pub _pad: [f32; 2],
+}
+
+/// A collider footprint: cells inside it are solid and move with the collider.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct ObstacleGpu {
+    /// x, z centre, radius, unused.
+    pub circle: [f32; 4],
+    /// x, z velocity in m/s, unused ×2.
+    pub velocity: [f32; 4],
+}
+
+/// Uniforms of every fluid pass.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct FluidParams {
+    /// x, z of the grid's corner (cell (0,0)'s outer corner), cell size, 1 / cell size.
+    pub origin_cell: [f32; 4],
+    /// Global force x, z (m/s²); downwash radius, downwash strength.
+    pub global_downwash: [f32; 4],
+    /// Downwash centre x, z; unused ×2.
+    pub downwash_pos: [f32; 4],
+    pub resolution: u32,
+    pub dt: f32,
+    pub vorticity: f32,
+    pub dissipation: f32,
+    /// ν Δt / h² of the diffusion Jacobi step.
+    pub diffusion_alpha: f32,
+    /// 0 closed, 1 open, 2 periodic.
+    pub boundary: u32,
+    pub arrow_count: u32,
+    pub obstacle_count: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<ArrowGpu>() == 32);
+const _: () = assert!(std::mem::size_of::<ObstacleGpu>() == 32);
+const _: () = assert!(std::mem::size_of::<FluidParams>() == 80);
+
+/// Everything that pushes the air during one step, in world units.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FluidForces {
+    pub arrows: Vec<ArrowGpu>,
+    pub obstacles: Vec<ObstacleGpu>,
+    /// Constant acceleration (x, z) in m/s².
+    pub global: [f32; 2],
+    /// Downwash centre (x, z), radius, strength; radius 0 = none.
+    pub downwash: [f32; 4],
+}
