@@ -8,7 +8,7 @@ use sward::field::flat_field;
 use sward::render::camera::CameraView;
 use sward::scene::Scene;
 use sward::sim::params::{cull_params, sim_params};
-use sward::sim::reference::{cull_blade, update_all};
+use sward::sim::reference::{cull_blade, update_all, WindGrid};
 
 fn bench(c: &mut Criterion) {
     let scene = Scene::default();
@@ -17,6 +17,7 @@ fn bench(c: &mut Criterion) {
     let params = sim_params(
         &scene.physics,
         &scene.wind,
+        scene.terrain.size,
         1.0 / 60.0,
         1.0,
         field.blades.len() as u32,
@@ -25,7 +26,17 @@ fn bench(c: &mut Criterion) {
     c.bench_function("cpu update 16k blades", |b| {
         let mut blades = field.blades.clone();
         let mut states = field.states.clone();
-        b.iter(|| update_all(black_box(&mut blades), &mut states, &params, &spheres));
+        let zero = [[0.0f32; 2]];
+        let grid = WindGrid { velocity: &zero };
+        b.iter(|| {
+            update_all(
+                black_box(&mut blades),
+                &mut states,
+                &params,
+                &spheres,
+                &grid,
+            )
+        });
     });
     let camera = CameraView::from_scene(&scene.camera);
     let cp = cull_params(

@@ -36,6 +36,8 @@ struct SimParams {
     max_eta: f32,
     pad1: f32,
     pad2: f32,
+    fluid_grid: vec4<f32>,
+    fluid_info: vec4<u32>,
 }
 
 struct CullParams {

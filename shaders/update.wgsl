@@ -10,6 +10,46 @@ const COLLISION_ROUNDS: u32 = 4u;
 @group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read_write> states: array<BladeState>;
 @group(0) @binding(3) var<storage, read> spheres: array<vec4<f32>>;
+// The fluid solver's velocity grid (one dummy cell when the fluid is off).
+@group(0) @binding(4) var<storage, read> wind_grid: array<vec2<f32>>;
+
+const WIND_ANALYTIC: u32 = 1u;
+const WIND_FLUID: u32 = 2u;
+
+fn grid_at(i: i32, j: i32, n: i32) -> vec2<f32> {
+    return wind_grid[clamp(j, 0, n - 1) * n + clamp(i, 0, n - 1)];
+}
+
+// Air velocity at a world position: bilinear between cell centres (clamped at the edges),
+// or with per-cell grouping the value of the cell the point lies in (CWD-Sim Eq. 1).
+// The twin of `reference::sample_grid`.
+fn fluid_velocity(p: vec3<f32>) -> vec2<f32> {
+    let n = i32(params.fluid_info.x);
+    let g = (p.xz - params.fluid_grid.xy) / params.fluid_grid.z;
+    if params.fluid_info.z != 0u {
+        let c = vec2<i32>(floor(g));
+        return grid_at(c.x, c.y, n);
+    }
+    let q = clamp(g - 0.5, vec2<f32>(0.0), vec2<f32>(f32(n - 1)));
+    let c = vec2<i32>(floor(q));
+    let f = q - vec2<f32>(c);
+    let a = mix(grid_at(c.x, c.y, n), grid_at(c.x + 1, c.y, n), f.x);
+    let b = mix(grid_at(c.x, c.y + 1, n), grid_at(c.x + 1, c.y + 1, n), f.x);
+    return mix(a, b, f.y);
+}
+
+// w_i(v0): the analytic functions and/or the fluid grid, as the scene chooses.
+fn wind_at(p: vec3<f32>) -> vec3<f32> {
+    var w = vec3<f32>(0.0);
+    if (params.fluid_info.y & WIND_ANALYTIC) != 0u {
+        w += analytic_wind(p, params.time, params);
+    }
+    if (params.fluid_info.y & WIND_FLUID) != 0u {
+        let v = fluid_velocity(p) * params.fluid_grid.w;
+        w += vec3<f32>(v.x, 0.0, v.y);
+    }
+    return w;
+}
 
 // Eq. 9-13: v2 above the local ground plane, v1 from v2, curve length = height.
 fn validate(v0: vec3<f32>, v2_in: vec3<f32>, up: vec3<f32>, height: f32) -> array<vec3<f32>, 2> {
@@ -86,7 +126,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Eq. 5-6: front gravity.
     let gravity = g_env + 0.25 * length(g_env) * front;
     // Eq. 7-8: wind scaled by the alignment theta.
-    let wi = analytic_wind(v0, params.time, params);
+    let wi = wind_at(v0);
     var wind = vec3<f32>(0.0);
     let wl = length(wi);
     let tip = v2 - v0;

@@ -12,12 +12,16 @@ use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing::PASSES;
 use crate::render::Renderer;
+use crate::scene::WindSource;
 use crate::scene::{parse_scene, Scene};
 use crate::session::Session;
+use crate::sim::agc;
 use crate::sim::colliders::spheres_at;
+use crate::sim::fluid::{FluidConfig, FluidState};
 use crate::sim::layout::{Blade, BladeState};
 use crate::sim::params::sim_params;
 use crate::sim::reference;
+use crate::sim::reference::fluid::FluidCpu;
 
 /// The default scene, built into the binary so `sward` runs from any directory.
 pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/meadow.ron");
@@ -42,6 +46,10 @@ pub struct RenderOptions {
     pub out: PathBuf,
     pub timings: bool,
     pub adapter: AdapterChoice,
+    /// Draws the wind velocity and the AGC arrows over the frame.
+    pub wind_overlay: bool,
+    pub pressure_iterations: Option<u32>,
+    pub wind_resolution: Option<u32>,
 }
 
 impl RenderOptions {
@@ -55,6 +63,9 @@ impl RenderOptions {
             out: PathBuf::from("meadow.png"),
             timings: false,
             adapter,
+            wind_overlay: false,
+            pressure_iterations: None,
+            wind_resolution: None,
         }
     }
 }
@@ -78,7 +89,8 @@ fn open_gpu(choice: &AdapterChoice) -> Result<Gpu> {
 pub fn render(o: &RenderOptions) -> Result<()> {
     check_dt(o.dt)?;
     check_writable(&o.out)?;
-    let scene = load(o.scene.as_deref())?;
+    let mut scene = load(o.scene.as_deref())?;
+    apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     let gpu = open_gpu(&o.adapter)?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
@@ -96,7 +108,11 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         &session.field,
         COLOR_FORMAT,
     )?;
+    if o.wind_overlay {
+        renderer.enable_overlay(&gpu, COLOR_FORMAT);
+    }
     let mut sums = [0.0f64; 3];
+    let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
     let mut timed = 0u32;
     let mut last = None;
     for _ in 0..o.frames.max(1) {
@@ -115,6 +131,14 @@ pub fn render(o: &RenderOptions) -> Result<()> {
                     *s += m;
                 }
                 timed += 1;
+            }
+            if let Some(w) = &stats.wind_ms {
+                if wind_sums.is_empty() {
+                    wind_sums = w.iter().map(|(n, _)| (*n, 0.0)).collect();
+                }
+                for (s, (_, m)) in wind_sums.iter_mut().zip(w) {
+                    s.1 += m;
+                }
             }
             last = Some(stats);
         }
@@ -145,15 +169,26 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             c.culled_distance
         );
         if timed > 0 {
-            let total: f64 = sums.iter().sum::<f64>() / timed as f64;
-            for (name, s) in PASSES.iter().zip(sums) {
+            let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
+            let total: f64 = sums.iter().sum::<f64>() / timed as f64 + wind_total;
+            for (name, s) in &wind_sums {
                 let ms = s / timed as f64;
                 println!(
-                    "gpu {name:>6}: {ms:9.3} ms  ({:5.1} %)",
+                    "gpu wind.{name:<10}: {ms:9.3} ms  ({:5.1} %)",
                     100.0 * ms / total.max(1e-12)
                 );
             }
-            println!("gpu  total: {total:9.3} ms (mean of {timed} frames)");
+            for (name, s) in PASSES.iter().zip(sums) {
+                let ms = s / timed as f64;
+                println!(
+                    "gpu {name:<15}: {ms:9.3} ms  ({:5.1} %)",
+                    100.0 * ms / total.max(1e-12)
+                );
+            }
+            println!(
+                "gpu {:<15}: {total:9.3} ms (mean of {timed} frames)",
+                "total"
+            );
         } else {
             println!("gpu timings: the adapter has no timestamp queries");
         }
@@ -171,6 +206,10 @@ pub struct SimulateOptions {
     pub cpu: bool,
     pub blades: Option<usize>,
     pub adapter: AdapterChoice,
+    /// Writes the wind grid after the last step.
+    pub dump_wind: Option<PathBuf>,
+    pub pressure_iterations: Option<u32>,
+    pub wind_resolution: Option<u32>,
 }
 
 /// One blade as `sward simulate` writes it.
@@ -219,37 +258,135 @@ fn to_json(blades: &[Blade], states: &[BladeState]) -> Vec<BladeJson> {
 
 /// Runs the CPU twin for `steps` steps of `dt` from time 0 (same clock and collider motion
 /// as the GPU path).
-pub fn simulate_cpu(session: &Session, steps: u32, dt: f32) -> (Vec<Blade>, Vec<BladeState>) {
+pub fn simulate_cpu(session: &Session, steps: u32, dt: f32) -> CpuRun {
     let mut blades = session.field.blades.clone();
     let mut states = session.field.states.clone();
     let scene = &session.scene;
     let dt = dt.clamp(0.0, scene.physics.max_dt);
     let mut time = 0.0f32;
+    let mut fluid = (scene.wind.source != WindSource::Analytic).then(|| {
+        FluidCpu::new(&FluidConfig::from_scene(
+            &scene.wind.fluid,
+            scene.terrain.size,
+        ))
+    });
+    let mut wind = None;
     for _ in 0..steps {
         time += dt;
         let spheres = spheres_at(&scene.colliders, &session.terrain, time);
+        // Same order as the GPU frame: the wind moves, then the blades read it.
+        if let Some(f) = &mut fluid {
+            f.step(dt, &agc::fluid_forces(scene, &session.terrain, time));
+            wind = Some(f.state());
+        }
         let params = sim_params(
             &scene.physics,
             &scene.wind,
+            scene.terrain.size,
             dt,
             time,
             blades.len() as u32,
             spheres.len() as u32,
         );
-        reference::update_all(&mut blades, &mut states, &params, &spheres);
+        let zero = [[0.0f32; 2]];
+        let grid = reference::WindGrid {
+            velocity: wind
+                .as_ref()
+                .map(|w| w.velocity.as_slice())
+                .unwrap_or(&zero),
+        };
+        reference::update_all(&mut blades, &mut states, &params, &spheres, &grid);
     }
-    (blades, states)
+    CpuRun {
+        blades,
+        states,
+        wind,
+    }
+}
+
+/// What `simulate_cpu` ends with.
+pub struct CpuRun {
+    pub blades: Vec<Blade>,
+    pub states: Vec<BladeState>,
+    /// The wind grid after the last step, when the scene uses the fluid.
+    pub wind: Option<FluidState>,
+}
+
+/// The wind grid as `--dump-wind` writes it (row-major, x fastest).
+#[derive(Serialize)]
+struct WindJson<'a> {
+    width: u32,
+    height: u32,
+    cell_size: f32,
+    origin: [f32; 2],
+    velocity: &'a [[f32; 2]],
+    pressure: &'a [f32],
+    divergence: &'a [f32],
+}
+
+fn write_wind(path: &Path, state: &FluidState) -> Result<()> {
+    let json = WindJson {
+        width: state.resolution,
+        height: state.resolution,
+        cell_size: state.cell_size,
+        origin: state.origin,
+        velocity: &state.velocity,
+        pressure: &state.pressure,
+        divergence: &state.divergence,
+    };
+    let text = serde_json::to_vec(&json).map_err(|e| Error::Write {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    write_atomic(path, &text)
+}
+
+/// Applies the command-line wind overrides to a loaded scene.
+pub fn apply_wind_overrides(
+    scene: &mut Scene,
+    pressure_iterations: Option<u32>,
+    resolution: Option<u32>,
+) -> Result<()> {
+    if let Some(n) = pressure_iterations {
+        if n > 1000 {
+            return Err(Error::Invalid(format!(
+                "--pressure-iterations {n} is out of range: allowed 0..=1000"
+            )));
+        }
+        scene.wind.fluid.pressure_iterations = n;
+    }
+    if let Some(n) = resolution {
+        if !(8..=2048).contains(&n) {
+            return Err(Error::Invalid(format!(
+                "--wind-resolution {n} is out of range: allowed 8..=2048"
+            )));
+        }
+        scene.wind.fluid.resolution = n;
+    }
+    Ok(())
 }
 
 /// Runs `sward simulate`.
 pub fn simulate(o: &SimulateOptions) -> Result<()> {
     check_dt(o.dt)?;
     check_writable(&o.dump)?;
-    let scene = load(o.scene.as_deref())?;
+    if let Some(p) = &o.dump_wind {
+        check_writable(p)?;
+    }
+    let mut scene = load(o.scene.as_deref())?;
+    apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
+    if o.dump_wind.is_some() && scene.wind.source == WindSource::Analytic {
+        return Err(Error::Invalid(
+            "--dump-wind needs the fluid: the scene's wind.source is Analytic (use Fluid or Both)"
+                .into(),
+        ));
+    }
+    let mut wind_state = None;
     let (session, (blades, states)) = if o.cpu {
         let session = Session::new(scene, o.blades, None)?;
-        let out = simulate_cpu(&session, o.steps, o.dt);
-        (session, out)
+        let run = simulate_cpu(&session, o.steps, o.dt);
+        wind_state = run.wind;
+        (session, (run.blades, run.states))
     } else {
         let gpu = open_gpu(&o.adapter)?;
         let session = Session::new(scene, o.blades, Some(&gpu))?;
@@ -264,6 +401,9 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
             renderer.step(&gpu, o.dt);
         }
         let out = renderer.buffers.read(&gpu)?;
+        if let Some(f) = &renderer.fluid {
+            wind_state = Some(f.read_state(&gpu)?);
+        }
         (session, out)
     };
     let dump = Dump {
@@ -275,6 +415,10 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         message: e.to_string(),
     })?;
     write_atomic(&o.dump, &text)?;
+    if let (Some(path), Some(state)) = (&o.dump_wind, &wind_state) {
+        write_wind(path, state)?;
+        eprintln!("wrote {} ({}² wind grid)", path.display(), state.resolution);
+    }
     eprintln!(
         "wrote {} ({} blades, {} steps)",
         o.dump.display(),

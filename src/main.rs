@@ -51,6 +51,11 @@ enum Command {
         /// Print per-pass GPU times (timestamp queries) and cull counters.
         #[arg(long)]
         timings: bool,
+        /// Draw the wind velocity (colour and arrows) and the AGC guides over the frame.
+        #[arg(long)]
+        wind_overlay: bool,
+        #[command(flatten)]
+        wind: WindArgs,
     },
     /// Run the blade update and dump the initial and final blades as JSON.
     Simulate {
@@ -72,7 +77,23 @@ enum Command {
         /// Replace the field with about N blades on a flat square.
         #[arg(long)]
         blades: Option<usize>,
+        /// Also write the wind grid after the last step as JSON.
+        #[arg(long)]
+        dump_wind: Option<PathBuf>,
+        #[command(flatten)]
+        wind: WindArgs,
     },
+}
+
+/// Overrides of the scene's wind solver.
+#[derive(Args, Clone)]
+struct WindArgs {
+    /// Jacobi pressure iterations of the wind solver (overrides the scene).
+    #[arg(long)]
+    pressure_iterations: Option<u32>,
+    /// Wind grid resolution per side (overrides the scene).
+    #[arg(long)]
+    wind_resolution: Option<u32>,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -108,6 +129,8 @@ fn main() -> ExitCode {
             dt,
             out,
             timings,
+            wind_overlay,
+            wind,
         }) => render(&RenderOptions {
             scene,
             size,
@@ -116,6 +139,9 @@ fn main() -> ExitCode {
             out,
             timings,
             adapter,
+            wind_overlay,
+            pressure_iterations: wind.pressure_iterations,
+            wind_resolution: wind.wind_resolution,
         }),
         Some(Command::Simulate {
             scene,
@@ -124,6 +150,8 @@ fn main() -> ExitCode {
             dump,
             cpu,
             blades,
+            dump_wind,
+            wind,
         }) => simulate(&SimulateOptions {
             scene,
             steps,
@@ -132,6 +160,9 @@ fn main() -> ExitCode {
             cpu,
             blades,
             adapter,
+            dump_wind,
+            pressure_iterations: wind.pressure_iterations,
+            wind_resolution: wind.wind_resolution,
         }),
     };
     match result {

@@ -12,6 +12,39 @@ const FILES: &[(&str, &str)] = &[
     ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
     ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
     ("spheres.wgsl", include_str!("../shaders/spheres.wgsl")),
+    ("overlay.wgsl", include_str!("../shaders/overlay.wgsl")),
+    (
+        "fluid_common.wgsl",
+        include_str!("../shaders/fluid_common.wgsl"),
+    ),
+    (
+        "fluid_splat.wgsl",
+        include_str!("../shaders/fluid_splat.wgsl"),
+    ),
+    (
+        "fluid_vorticity.wgsl",
+        include_str!("../shaders/fluid_vorticity.wgsl"),
+    ),
+    (
+        "fluid_diffuse.wgsl",
+        include_str!("../shaders/fluid_diffuse.wgsl"),
+    ),
+    (
+        "fluid_divergence.wgsl",
+        include_str!("../shaders/fluid_divergence.wgsl"),
+    ),
+    (
+        "fluid_pressure.wgsl",
+        include_str!("../shaders/fluid_pressure.wgsl"),
+    ),
+    (
+        "fluid_gradient.wgsl",
+        include_str!("../shaders/fluid_gradient.wgsl"),
+    ),
+    (
+        "fluid_advect.wgsl",
+        include_str!("../shaders/fluid_advect.wgsl"),
+    ),
 ];
 
 /// The entry files, one per pass (the others are only included).
@@ -22,6 +55,14 @@ pub const ENTRY_FILES: &[&str] = &[
     "terrain.wgsl",
     "sky.wgsl",
     "spheres.wgsl",
+    "overlay.wgsl",
+    "fluid_splat.wgsl",
+    "fluid_vorticity.wgsl",
+    "fluid_diffuse.wgsl",
+    "fluid_divergence.wgsl",
+    "fluid_pressure.wgsl",
+    "fluid_gradient.wgsl",
+    "fluid_advect.wgsl",
 ];
 
 fn raw(name: &str) -> Option<&'static str> {

@@ -34,6 +34,9 @@ fn meadow_render_matches_reference() {
         out: out.clone(),
         timings: false,
         adapter,
+        wind_overlay: false,
+        pressure_iterations: None,
+        wind_resolution: None,
     })
     .expect("render");
     let actual = image::open(&out).expect("rendered png").to_rgba8();

@@ -27,7 +27,8 @@ fn gpu_update_matches_cpu_twin() {
     assert!(session.field.blades.len() >= 1024);
     let steps = 60;
     let dt = 1.0 / 30.0;
-    let (cpu_blades, cpu_states) = simulate_cpu(&session, steps, dt);
+    let run = simulate_cpu(&session, steps, dt);
+    let (cpu_blades, cpu_states) = (run.blades, run.states);
 
     let mut r = Renderer::new(
         &gpu,

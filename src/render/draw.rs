@@ -299,6 +299,11 @@ impl DrawPass {
         }
     }
 
+    /// The frame-uniform buffer (the overlay reads it too).
+    pub fn frame_buffer(&self) -> &wgpu::Buffer {
+        &self.frame
+    }
+
     /// Writes this frame's uniforms.
     pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));

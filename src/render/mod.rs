@@ -5,6 +5,7 @@ pub mod camera;
 pub mod cull;
 pub mod draw;
 pub mod mesh;
+pub mod overlay;
 pub mod target;
 pub mod timing;
 
@@ -14,7 +15,9 @@ use crate::error::Result;
 use crate::field::{GeneratedField, HeightField};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
+use crate::sim::agc;
 use crate::sim::colliders::spheres_at;
+use crate::sim::fluid::{FluidConfig, FluidSolver};
 use crate::sim::layout::{CullCounters, FrameUniforms};
 use crate::sim::params::{cull_params, sim_params};
 use crate::sim::update::{BladeBuffers, UpdatePass};
@@ -24,11 +27,13 @@ use draw::DrawPass;
 use timing::GpuTimer;
 
 /// What one frame did, read back from the GPU.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct FrameStats {
     pub counters: CullCounters,
     /// GPU milliseconds of update, cull and draw (`timing::PASSES`), when timestamps exist.
     pub pass_ms: Option<[f64; 3]>,
+    /// GPU milliseconds of each wind-solver pass, when the fluid runs and timestamps exist.
+    pub wind_ms: Option<Vec<(&'static str, f64)>>,
 }
 
 /// Everything on the GPU for one scene, and the clock of its simulation.
@@ -37,6 +42,11 @@ pub struct Renderer {
     update: UpdatePass,
     pub cull: CullPass,
     draw: DrawPass,
+    /// The wind solver, when the scene's wind source includes the fluid.
+    pub fluid: Option<FluidSolver>,
+    overlay: Option<overlay::OverlayPass>,
+    /// Bound in place of the velocity grid when the fluid is off.
+    _dummy_grid: wgpu::Buffer,
     timer: Option<GpuTimer>,
     pub scene: Scene,
     pub terrain: HeightField,
@@ -58,8 +68,21 @@ impl Renderer {
         // Limits were checked before; a device that still runs out of memory reports it here
         // as an error instead of wgpu's default panic.
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let fluid = if scene.wind.source != crate::scene::WindSource::Analytic {
+            let config = FluidConfig::from_scene(&scene.wind.fluid, scene.terrain.size);
+            Some(FluidSolver::new(gpu, &config)?)
+        } else {
+            None
+        };
+        let dummy_grid = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.wind.dummy_grid"),
+            size: 8,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let grid = fluid.as_ref().map(|f| f.velocity()).unwrap_or(&dummy_grid);
         let buffers = BladeBuffers::new(gpu, field)?;
-        let update = UpdatePass::new(gpu, &buffers);
+        let update = UpdatePass::new(gpu, &buffers, grid);
         let cull = CullPass::new(gpu, &buffers);
         let segments = scene.field.segments.max(1);
         let draw = DrawPass::new(gpu, &buffers, &terrain, segments, format);
@@ -74,6 +97,9 @@ impl Renderer {
             update,
             cull,
             draw,
+            fluid,
+            overlay: None,
+            _dummy_grid: dummy_grid,
             timer: GpuTimer::new(gpu),
             scene,
             terrain,
@@ -96,9 +122,16 @@ impl Renderer {
         let dt = dt.clamp(0.0, self.scene.physics.max_dt);
         self.time += dt;
         self.upload_colliders(gpu);
+        // The wind moves first; the blades then read this step's air velocity.
+        if let Some(fluid) = &mut self.fluid {
+            let forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
+            fluid.prepare(&gpu.queue, dt, &forces);
+            fluid.encode(encoder);
+        }
         let params = sim_params(
             &self.scene.physics,
             &self.scene.wind,
+            self.scene.terrain.size,
             dt,
             self.time,
             self.buffers.count,
@@ -183,6 +216,35 @@ impl Renderer {
             self.sphere_count,
             self.timer.as_ref().map(|t| t.render(2)),
         );
+        if let Some(o) = &self.overlay {
+            o.encode(encoder, color);
+        }
+    }
+
+    /// Turns the wind overlay on (velocity colour + glyphs + AGC arrows) for later frames.
+    pub fn enable_overlay(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) {
+        let (velocity, resolution, origin, cell) = match &self.fluid {
+            Some(f) => {
+                let c = f.config();
+                (f.velocity(), c.resolution, c.origin, c.cell_size)
+            }
+            None => (&self._dummy_grid, 1, [0.0, 0.0], self.scene.terrain.size),
+        };
+        let mut o = overlay::OverlayPass::new(
+            gpu,
+            format,
+            self.draw.frame_buffer(),
+            velocity,
+            resolution,
+            origin,
+            cell,
+            &self.terrain,
+        );
+        o.prepare(
+            &gpu.queue,
+            &agc::arrows_at(&self.scene.wind.guides, f32::INFINITY),
+        );
+        self.overlay = Some(o);
     }
 
     /// One whole frame: step by `dt`, cull, draw into `color`, submit.
@@ -215,6 +277,14 @@ impl Renderer {
             Some(t) => Some(t.read_ms(gpu)?),
             None => None,
         };
-        Ok(FrameStats { counters, pass_ms })
+        let wind_ms = match &self.fluid {
+            Some(f) => f.read_pass_ms(gpu)?,
+            None => None,
+        };
+        Ok(FrameStats {
+            counters,
+            pass_ms,
+            wind_ms,
+        })
     }
 }

@@ -31,6 +31,11 @@
 //! | `colliders[i].motion: Path` | ≥ 2 finite points, total length > 0, speed ≥ 0 m/s |
 //! | `wind.directional` | direction non-zero, strength ≥ 0 m/s², 0 ≤ gust ≤ 4, wavelength > 0 m, speed ≥ 0 m/s |
 //! | `wind.point` | position finite, strength ≥ 0 m/s², radius > 0 m, frequency ≥ 0 Hz |
+//! | `wind.fluid` | 8 ≤ resolution ≤ 2048 cells per side, 0 ≤ pressure_iterations ≤ 1000, 0 ≤ vorticity ≤ 1000, 0 ≤ dissipation ≤ 100 1/s, 0 ≤ viscosity ≤ 10 m²/s, 1 ≤ diffusion_iterations ≤ 200, 0 ≤ response ≤ 100 1/s |
+//! | `wind.global` | direction non-zero, 0 ≤ strength ≤ 1000 m/s² |
+//! | `wind.downwash` | position finite, radius > 0 m, 0 ≤ strength ≤ 1000 m/s², motion as for colliders |
+//! | `wind.guides[i]` | 0 ≤ strength ≤ 1000 m/s², 0 < radius ≤ terrain.size m, ≥ 1 point |
+//! | `wind.guides[i].points[k]` | position finite and on the terrain (\|x\|, \|z\| ≤ terrain.size / 2); point 0 has no parent, every other point a parent < k at least 0.0001 m away; overrides as the guide's strength and radius |
 //! | `physics.gravity_direction` | non-zero |
 //! | `physics.gravity_acceleration`, `gravity_center_acceleration` | ≥ 0 m/s² |
 //! | `physics.gravity_center` | finite |
@@ -48,8 +53,8 @@
 //! | `render.sun_direction` | non-zero |
 //! | `render.width_min_px`, `width_span_px` | ≥ 0 px |
 //!
-//! Direction vectors (`wind.directional.direction`, `physics.gravity_direction`,
-//! `render.sun_direction`) are normalised in place. Relative image paths are rewritten in
+//! Direction vectors (`wind.directional.direction`, `wind.global.direction`,
+//! `physics.gravity_direction`, `render.sun_direction`) are normalised in place. Relative image paths are rewritten in
 //! place to the scene file's directory joined with the path, so that they do not depend on
 //! the working directory of the process.
 //!
@@ -63,8 +68,8 @@ use std::path::Path;
 use glam::{Vec2, Vec3};
 
 use super::types::{
-    Camera, Culling, Field, HeightSource, Motion, Physics, Range, Render, Scene, Sphere, Terrain,
-    Wind,
+    Camera, Culling, Field, Fluid, Guide, HeightSource, Motion, Physics, Range, Render, Scene,
+    Sphere, Terrain, Wind,
 };
 use crate::error::{Error, Result};
 
@@ -83,7 +88,8 @@ pub(crate) fn validate(scene: &mut Scene, text: &str, path: &Path) -> Result<()>
     for (i, sphere) in scene.colliders.iter().enumerate() {
         collider(&check, i, sphere)?;
     }
-    wind(&check, &mut scene.wind)?;
+    // The guides must lie on the terrain, so the wind needs its (already checked) size.
+    wind(&check, &mut scene.wind, scene.terrain.size)?;
     physics(&check, &mut scene.physics)?;
     culling(&check, &scene.culling)?;
     camera(&check, &scene.camera)?;
@@ -214,7 +220,7 @@ fn collider(check: &Checker, i: usize, sphere: &Sphere) -> Result<()> {
     }
 }
 
-fn wind(check: &Checker, wind: &mut Wind) -> Result<()> {
+fn wind(check: &Checker, wind: &mut Wind, terrain_size: f32) -> Result<()> {
     if let Some(d) = &mut wind.directional {
         let mut direction = [d.direction.0, d.direction.1];
         check.direction("wind.directional.direction", &mut direction)?;
@@ -251,6 +257,168 @@ fn wind(check: &Checker, wind: &mut Wind) -> Result<()> {
             p.frequency,
             Allowed::at_least(0.0, "Hz"),
         )?;
+    }
+    fluid(check, &wind.fluid)?;
+    if let Some(g) = &mut wind.global {
+        let mut direction = [g.direction.0, g.direction.1];
+        check.direction("wind.global.direction", &mut direction)?;
+        g.direction = direction.into();
+        let strength = Allowed::closed(0.0, 1000.0, "m/s²");
+        check.real("wind.global.strength", g.strength, strength)?;
+    }
+    if let Some(d) = &wind.downwash {
+        check.finite("wind.downwash.position", &tuple3(d.position))?;
+        check.real("wind.downwash.radius", d.radius, Allowed::above(0.0, "m"))?;
+        let strength = Allowed::closed(0.0, 1000.0, "m/s²");
+        check.real("wind.downwash.strength", d.strength, strength)?;
+        motion(check, "wind.downwash.motion", &d.motion)?;
+    }
+    for (i, g) in wind.guides.iter().enumerate() {
+        guide(check, i, g, terrain_size)?;
+    }
+    Ok(())
+}
+
+fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
+    let at = |name: &str| format!("wind.fluid.{name}");
+    check.integer(
+        &at("resolution"),
+        fluid.resolution,
+        8,
+        2048,
+        "cells per side",
+    )?;
+    let iterations = fluid.pressure_iterations;
+    check.integer(&at("pressure_iterations"), iterations, 0, 1000, "")?;
+    let vorticity = Allowed::closed(0.0, 1000.0, "");
+    check.real(&at("vorticity"), fluid.vorticity, vorticity)?;
+    let dissipation = Allowed::closed(0.0, 100.0, "1/s");
+    check.real(&at("dissipation"), fluid.dissipation, dissipation)?;
+    let viscosity = Allowed::closed(0.0, 10.0, "m²/s");
+    check.real(&at("viscosity"), fluid.viscosity, viscosity)?;
+    let iterations = fluid.diffusion_iterations;
+    check.integer(&at("diffusion_iterations"), iterations, 1, 200, "")?;
+    let response = Allowed::closed(0.0, 100.0, "1/s");
+    check.real(&at("response"), fluid.response, response)
+}
+
+/// A moving source's motion (`field` is its path, e.g. `wind.downwash.motion`), with the
+/// same rules as a collider's.
+fn motion(check: &Checker, field: &str, motion: &Motion) -> Result<()> {
+    match motion {
+        Motion::Static => Ok(()),
+        Motion::Velocity(v) => check.finite(field, &tuple3(*v)),
+        Motion::Path {
+            points,
+            speed,
+            looped: _,
+        } => {
+            let name = format!("{field}.points");
+            if points.len() < 2 {
+                return Err(check.error(
+                    &name,
+                    format!(
+                        "{name} has {} point(s): a path needs at least 2",
+                        points.len()
+                    ),
+                ));
+            }
+            for (k, p) in points.iter().enumerate() {
+                check.finite(&format!("{name}[{k}]"), &[p.0, p.1])?;
+            }
+            // Coincident points give no direction to move along.
+            let length: f32 = points
+                .windows(2)
+                .map(|w| Vec2::from(w[0]).distance(Vec2::from(w[1])))
+                .sum();
+            if length <= 0.0 {
+                return Err(check.error(
+                    &name,
+                    format!("{name}: all points coincide: a path needs a length > 0 m"),
+                ));
+            }
+            let speed_range = Allowed::at_least(0.0, "m/s");
+            check.real(&format!("{field}.speed"), *speed, speed_range)
+        }
+    }
+}
+
+/// One AGC guide: a tree of points on the terrain, root first, parents before children
+/// (the order `sim::agc` relies on to switch the arrows on from the root outwards).
+fn guide(check: &Checker, i: usize, guide: &Guide, terrain_size: f32) -> Result<()> {
+    let at = |name: &str| format!("wind.guides[{i}].{name}");
+    let strength = Allowed::closed(0.0, 1000.0, "m/s²");
+    // A band wider than the terrain would push the whole grid: that is the global wind.
+    let radius = Allowed::open_closed(0.0, terrain_size, "m");
+    check.real(&at("strength"), guide.strength, strength)?;
+    check.real(&at("radius"), guide.radius, radius)?;
+    if guide.points.is_empty() {
+        let name = at("points");
+        let message = format!("{name} is empty: a guide needs at least its root point");
+        return Err(check.error(&name, message));
+    }
+    let half = terrain_size / 2.0;
+    for (k, p) in guide.points.iter().enumerate() {
+        let point = |name: &str| at(&format!("points[{k}].{name}"));
+        let name = point("position");
+        check.finite(&name, &[p.position.0, p.position.1])?;
+        if p.position.0.abs() > half || p.position.1.abs() > half {
+            let message = format!(
+                "{name} = {} is outside the terrain: allowed -{half} ..= {half} on x and z",
+                show(&[p.position.0, p.position.1])
+            );
+            return Err(check.error(&name, message));
+        }
+        match (k, p.parent) {
+            (0, None) => {}
+            (0, Some(parent)) => {
+                let name = point("parent");
+                let message = format!(
+                    "{name} = {parent}: point 0 is the root, where the flow starts, and has no \
+                     parent"
+                );
+                return Err(check.error(&name, message));
+            }
+            (_, None) => {
+                let name = point("parent");
+                let message = format!(
+                    "{name} is missing: every point but the root (point 0) names its parent, \
+                     allowed 0 <= parent <= {}",
+                    k - 1
+                );
+                let field = at(&format!("points[{k}]"));
+                return Err(check.error(&field, message));
+            }
+            (_, Some(parent)) if parent >= k => {
+                let name = point("parent");
+                let message = format!(
+                    "{name} = {parent} is out of range: allowed 0 <= parent <= {} (a parent \
+                     comes before its children in the list)",
+                    k - 1
+                );
+                return Err(check.error(&name, message));
+            }
+            (_, Some(parent)) => {
+                let from = guide.points[parent].position;
+                let length = Vec2::from(from).distance(Vec2::from(p.position));
+                // An arrow's direction is its normalised segment: zero length gives NaN.
+                if length < 1e-4 {
+                    let message = format!(
+                        "{name} = {} is within 0.0001 m of its parent, point {parent} at {}: \
+                         an arrow needs a length > 0",
+                        show(&[p.position.0, p.position.1]),
+                        show(&[from.0, from.1])
+                    );
+                    return Err(check.error(&name, message));
+                }
+            }
+        }
+        if let Some(s) = p.strength {
+            check.real(&point("strength"), s, strength)?;
+        }
+        if let Some(r) = p.radius {
+            check.real(&point("radius"), r, radius)?;
+        }
     }
     Ok(())
 }
@@ -856,7 +1024,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{DirectionalWind, PointWind};
+    use crate::scene::{DirectionalWind, Downwash, GlobalWind, GuidePoint, PointWind};
 
     const PATH: &str = "/scenes/meadow.ron";
 
@@ -1090,6 +1258,201 @@ mod tests {
             m.starts_with("colliders[0].motion = (inf, 0, 0) is not finite"),
             "{m}"
         );
+    }
+
+    /// A guide root (0, 0) → (4, 0) → (4, 4), strength 5, radius 1.
+    fn guide() -> Guide {
+        let point = |position, parent| GuidePoint {
+            position,
+            parent,
+            strength: None,
+            radius: None,
+        };
+        Guide {
+            strength: 5.0,
+            radius: 1.0,
+            points: vec![
+                point((0.0, 0.0), None),
+                point((4.0, 0.0), Some(0)),
+                point((4.0, 4.0), Some(1)),
+            ],
+        }
+    }
+
+    /// The error message for the default scene on a 32 m terrain with `guide()` changed by
+    /// `edit`.
+    fn rejected_guide(edit: impl FnOnce(&mut Guide)) -> String {
+        rejected(|s| {
+            s.terrain.size = 32.0;
+            let mut g = guide();
+            edit(&mut g);
+            s.wind.guides = vec![guide(), g];
+        })
+    }
+
+    #[test]
+    fn fluid_wind_is_checked() {
+        let mut scene = Scene::default();
+        scene.wind.global = Some(GlobalWind {
+            direction: (0.0, -2.0),
+            strength: 3.0,
+        });
+        scene.wind.downwash = Some(Downwash {
+            position: (0.0, 4.0, 0.0),
+            radius: 3.0,
+            strength: 10.0,
+            motion: Motion::Path {
+                points: vec![(0.0, 0.0), (5.0, 0.0)],
+                speed: 1.0,
+                looped: true,
+            },
+        });
+        scene.wind.guides = vec![guide()];
+        check(&mut scene).unwrap();
+        assert_eq!(scene.wind.global.as_ref().unwrap().direction, (0.0, -1.0));
+
+        assert_eq!(
+            rejected(|s| s.wind.fluid.resolution = 4096),
+            "wind.fluid.resolution = 4096 is out of range: allowed 8 <= resolution <= 2048 \
+             cells per side"
+        );
+        assert_eq!(
+            rejected(|s| s.wind.fluid.diffusion_iterations = 0),
+            "wind.fluid.diffusion_iterations = 0 is out of range: allowed 1 <= \
+             diffusion_iterations <= 200"
+        );
+        assert_eq!(
+            rejected(|s| s.wind.fluid.viscosity = 11.0),
+            "wind.fluid.viscosity = 11 is out of range: allowed 0 <= viscosity <= 10 m²/s"
+        );
+        let m = rejected(|s| s.wind.fluid.vorticity = f32::NAN);
+        assert!(
+            m.starts_with("wind.fluid.vorticity = NaN is not a finite"),
+            "{m}"
+        );
+        let m = rejected(|s| {
+            s.wind.global = Some(GlobalWind {
+                direction: (0.0, 0.0),
+                strength: 1.0,
+            })
+        });
+        assert!(
+            m.starts_with("wind.global.direction = (0, 0) has zero length"),
+            "{m}"
+        );
+        let m = rejected(|s| {
+            s.wind.downwash = Some(Downwash {
+                position: (0.0, 4.0, 0.0),
+                radius: 0.0,
+                strength: 1.0,
+                motion: Motion::Static,
+            })
+        });
+        assert_eq!(
+            m,
+            "wind.downwash.radius = 0 is out of range: allowed radius > 0 m"
+        );
+        let m = rejected(|s| {
+            s.wind.downwash = Some(Downwash {
+                position: (0.0, 4.0, 0.0),
+                radius: 1.0,
+                strength: 1.0,
+                motion: Motion::Path {
+                    points: vec![(1.0, 1.0)],
+                    speed: 1.0,
+                    looped: false,
+                },
+            })
+        });
+        assert_eq!(
+            m,
+            "wind.downwash.motion.points has 1 point(s): a path needs at least 2"
+        );
+    }
+
+    #[test]
+    fn guides_are_checked() {
+        // Zero-length arrow: point 2 on top of its parent (within 0.1 mm).
+        let m = rejected_guide(|g| g.points[2].position = (4.0, 0.00005));
+        assert_eq!(
+            m,
+            "wind.guides[1].points[2].position = (4, 0.00005) is within 0.0001 m of its \
+             parent, point 1 at (4, 0): an arrow needs a length > 0"
+        );
+        // Radius <= 0, for the guide and for a point's override.
+        assert_eq!(
+            rejected_guide(|g| g.radius = 0.0),
+            "wind.guides[1].radius = 0 is out of range: allowed 0 < radius <= 32 m"
+        );
+        assert_eq!(
+            rejected_guide(|g| g.points[1].radius = Some(-1.0)),
+            "wind.guides[1].points[1].radius = -1 is out of range: allowed 0 < radius <= 32 m"
+        );
+        // Outside the terrain.
+        assert_eq!(
+            rejected_guide(|g| g.points[2].position = (50.0, 1.0)),
+            "wind.guides[1].points[2].position = (50, 1) is outside the terrain: allowed \
+             -16 ..= 16 on x and z"
+        );
+        // NaN anywhere in a guide.
+        let m = rejected_guide(|g| g.points[1].position.1 = f32::NAN);
+        assert!(
+            m.starts_with("wind.guides[1].points[1].position = (4, NaN) is not finite"),
+            "{m}"
+        );
+        let m = rejected_guide(|g| g.strength = f32::NAN);
+        assert!(
+            m.starts_with("wind.guides[1].strength = NaN is not a finite"),
+            "{m}"
+        );
+        let m = rejected_guide(|g| g.points[2].strength = Some(f32::INFINITY));
+        assert!(
+            m.starts_with("wind.guides[1].points[2].strength = inf"),
+            "{m}"
+        );
+        // Strength range, tree shape.
+        let m = rejected_guide(|g| g.strength = 1001.0);
+        assert!(m.ends_with("allowed 0 <= strength <= 1000 m/s²"), "{m}");
+        let m = rejected_guide(|g| g.points.clear());
+        assert!(m.starts_with("wind.guides[1].points is empty"), "{m}");
+        let m = rejected_guide(|g| g.points[0].parent = Some(1));
+        assert!(m.starts_with("wind.guides[1].points[0].parent = 1: point 0 is the root"));
+        let m = rejected_guide(|g| g.points[2].parent = None);
+        assert!(
+            m.starts_with("wind.guides[1].points[2].parent is missing"),
+            "{m}"
+        );
+        let m = rejected_guide(|g| g.points[1].parent = Some(2));
+        assert!(
+            m.starts_with(
+                "wind.guides[1].points[1].parent = 2 is out of range: allowed 0 <= parent <= 0"
+            ),
+            "{m}"
+        );
+        let m = rejected_guide(|g| g.points[2].parent = Some(2));
+        assert!(m.contains("allowed 0 <= parent <= 1"), "{m}");
+    }
+
+    #[test]
+    fn guide_errors_point_at_their_line() {
+        let text = "(\n  terrain: (size: 32.0),\n  wind: (guides: [\n    (strength: 1, radius: 1, points: [\n      (position: (0, 0)),\n    ]),\n    (strength: 1, radius: 1, points: [\n      (position: (0, 0)),\n      (position: (1, 0), parent: 0),\n      (position: (50, 1), parent: 1),\n    ]),\n  ]),\n)";
+        let err = crate::scene::parse_scene(text, Path::new(PATH)).unwrap_err();
+        match err {
+            Error::Scene {
+                line,
+                column,
+                message,
+                ..
+            } => {
+                assert_eq!(
+                    message,
+                    "wind.guides[1].points[2].position = (50, 1) is outside the terrain: \
+                     allowed -16 ..= 16 on x and z"
+                );
+                assert_eq!((line, column), (10, 8));
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

@@ -68,7 +68,16 @@ pub struct SimParams {
     /// Ceiling of η.
     pub max_eta: f32,
     pub _pad: [f32; 2],
+    /// Wind grid: x, z of its corner, cell size, response (force per m/s of air speed).
+    pub fluid_grid: [f32; 4],
+    /// Wind grid: resolution, source mask (`WIND_ANALYTIC | WIND_FLUID`), 1 = per-cell
+    /// sampling (CWD-Sim grouping), unused.
+    pub fluid_info: [u32; 4],
 }
+
+/// Source-mask bits of `SimParams::fluid_info[1]`.
+pub const WIND_ANALYTIC: u32 = 1;
+pub const WIND_FLUID: u32 = 2;
 
 /// Uniforms of the cull pass (`shaders/cull.wgsl`).
 #[repr(C)]
@@ -150,7 +159,7 @@ pub struct DrawIndexedIndirect {
 const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
-const _: () = assert!(std::mem::size_of::<SimParams>() == 144);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 176);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 112);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 64);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 208);

@@ -1,7 +1,9 @@
 //! Simulation: the blade update on the GPU, its CPU twin, collider motion and the Pod
 //! layouts shared with the shaders.
 
+pub mod agc;
 pub mod colliders;
+pub mod fluid;
 pub mod layout;
 pub mod params;
 pub mod reference;

@@ -5,13 +5,15 @@ use glam::{Mat4, Vec3};
 
 use super::layout::{
     CullParams, SimParams, TEST_DISTANCE, TEST_FRUSTUM, TEST_ORIENTATION, TEST_PATCH,
+    WIND_ANALYTIC, WIND_FLUID,
 };
-use crate::scene::{Culling, Physics, Wind};
+use crate::scene::{Culling, Physics, Wind, WindSource};
 
 /// Update uniforms for one step of `dt` seconds (already clamped) at time `time`.
 pub fn sim_params(
     physics: &Physics,
     wind: &Wind,
+    terrain_size: f32,
     dt: f32,
     time: f32,
     blade_count: u32,
@@ -41,6 +43,26 @@ pub fn sim_params(
     } else {
         p.wind_wave = [1.0, 0.0, 0.0, 0.0];
     }
+    let uses_fluid = wind.source != WindSource::Analytic;
+    let mask = match wind.source {
+        WindSource::Analytic => WIND_ANALYTIC,
+        WindSource::Fluid => WIND_FLUID,
+        WindSource::Both => WIND_ANALYTIC | WIND_FLUID,
+    };
+    // Without the fluid the update still binds a one-cell dummy grid.
+    let resolution = if uses_fluid {
+        wind.fluid.resolution.max(1)
+    } else {
+        1
+    };
+    let half = terrain_size * 0.5;
+    p.fluid_grid = [
+        -half,
+        -half,
+        terrain_size / resolution as f32,
+        wind.fluid.response,
+    ];
+    p.fluid_info = [resolution, mask, wind.fluid.per_cell as u32, 0];
     if let Some(s) = &wind.point {
         p.point_wind = [s.position.0, s.position.1, s.position.2, s.strength];
         p.point_wind_shape = [s.radius, s.frequency, 0.0, 0.0];

@@ -7,7 +7,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::layout::{
     Blade, BladeState, CullParams, PatchBox, SimParams, TEST_DISTANCE, TEST_FRUSTUM,
-    TEST_ORIENTATION, TEST_PATCH,
+    TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
 };
 
 /// The blade's width direction and front direction (perpendicular to width and up), from
@@ -52,6 +52,50 @@ pub fn analytic_wind(p: Vec3, time: f32, params: &SimParams) -> Vec3 {
                         .sin();
             w += offset / dist * (source[3] * falloff * pulse);
         }
+    }
+    w
+}
+
+/// The fluid solver's velocity grid as the blade update reads it.
+#[derive(Clone, Copy, Debug)]
+pub struct WindGrid<'a> {
+    /// resolution² cells, row-major, x fastest; (u, v) along (x, z) in m/s.
+    pub velocity: &'a [[f32; 2]],
+}
+
+fn grid_at(grid: &WindGrid, i: i32, j: i32, n: i32) -> Vec2 {
+    let c = grid.velocity[(j.clamp(0, n - 1) * n + i.clamp(0, n - 1)) as usize];
+    Vec2::new(c[0], c[1])
+}
+
+/// Air velocity at a world position (bilinear, or per cell); the twin of `fluid_velocity`
+/// in `update.wgsl`.
+pub fn sample_grid(grid: &WindGrid, p: Vec3, params: &SimParams) -> Vec2 {
+    let n = params.fluid_info[0] as i32;
+    let fg = params.fluid_grid;
+    let g = (Vec2::new(p.x, p.z) - Vec2::new(fg[0], fg[1])) / fg[2];
+    if params.fluid_info[2] != 0 {
+        let c = g.floor();
+        return grid_at(grid, c.x as i32, c.y as i32, n);
+    }
+    let q = (g - 0.5).clamp(Vec2::ZERO, Vec2::splat((n - 1) as f32));
+    let c = q.floor();
+    let f = q - c;
+    let (ci, cj) = (c.x as i32, c.y as i32);
+    let a = grid_at(grid, ci, cj, n).lerp(grid_at(grid, ci + 1, cj, n), f.x);
+    let b = grid_at(grid, ci, cj + 1, n).lerp(grid_at(grid, ci + 1, cj + 1, n), f.x);
+    a.lerp(b, f.y)
+}
+
+/// w_i(v0): the analytic functions and/or the fluid grid, as the scene chooses.
+pub fn wind_at(p: Vec3, params: &SimParams, grid: &WindGrid) -> Vec3 {
+    let mut w = Vec3::ZERO;
+    if params.fluid_info[1] & WIND_ANALYTIC != 0 {
+        w += analytic_wind(p, params.time, params);
+    }
+    if params.fluid_info[1] & WIND_FLUID != 0 {
+        let v = sample_grid(grid, p, params) * params.fluid_grid[3];
+        w += Vec3::new(v.x, 0.0, v.y);
     }
     w
 }
@@ -156,6 +200,7 @@ pub fn update_blade(
     state: &mut BladeState,
     params: &SimParams,
     spheres: &[[f32; 4]],
+    grid: &WindGrid,
 ) {
     let v0 = v4(blade.v0_dir).xyz();
     let angle = blade.v0_dir[3];
@@ -185,7 +230,7 @@ pub fn update_blade(
     // Eq. 5–6: front gravity.
     let gravity = g_env + 0.25 * g_env.length() * front;
     // Eq. 7–8: wind with the alignment θ.
-    let wi = analytic_wind(v0, params.time, params);
+    let wi = wind_at(v0, params, grid);
     let mut wind = Vec3::ZERO;
     let wl = wi.length();
     let tip = v2 - v0;
@@ -226,9 +271,10 @@ pub fn update_all(
     states: &mut [BladeState],
     params: &SimParams,
     spheres: &[[f32; 4]],
+    grid: &WindGrid,
 ) {
     for (b, s) in blades.iter_mut().zip(states.iter_mut()) {
-        update_blade(b, s, params, spheres);
+        update_blade(b, s, params, spheres, grid);
     }
 }
 
@@ -316,3 +362,5 @@ pub fn cull_blade(index: u32, blade: &Blade, patch: &PatchBox, params: &CullPara
     }
     CullOutcome::Drawn
 }
+
+pub mod fluid;

@@ -199,7 +199,8 @@ pub fn compute_storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLa
 }
 
 impl UpdatePass {
-    pub fn new(gpu: &Gpu, buffers: &BladeBuffers) -> Self {
+    /// `wind_grid` is the fluid velocity grid the blades sample (a dummy when unused).
+    pub fn new(gpu: &Gpu, buffers: &BladeBuffers, wind_grid: &wgpu::Buffer) -> Self {
         let device = &gpu.device;
         let module = shaders::module(device, "update.wgsl");
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -209,6 +210,7 @@ impl UpdatePass {
                 storage_entry(1, false),
                 storage_entry(2, false),
                 storage_entry(3, true),
+                storage_entry(4, true),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -236,6 +238,10 @@ impl UpdatePass {
                 wgpu::BindGroupEntry {
                     binding: 3,
                     resource: buffers.spheres.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wind_grid.as_entire_binding(),
                 },
             ],
         });

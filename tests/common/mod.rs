@@ -22,6 +22,7 @@ pub fn still_scene() -> Scene {
     s.wind = Wind {
         directional: None,
         point: None,
+        ..Wind::default()
     };
     s.colliders.clear();
     s
