@@ -240,3 +240,62 @@ fn simulate_writes_the_documented_json() {
     assert_ne!(initial[0]["v2"], last[0]["v2"]);
     t.assert_only(&["dump.json"]);
 }
+
+#[test]
+fn dump_wind_writes_the_documented_grid() {
+    let t = Tmp::new("wind");
+    let dump = t.path("dump.json");
+    let wind = t.path("wind.json");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/two_winds.ron");
+    let out = sward(&[
+        "simulate",
+        "--scene",
+        scene,
+        "--steps",
+        "5",
+        "--wind-resolution",
+        "32",
+        "--pressure-iterations",
+        "10",
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-wind",
+        wind.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&wind).expect("wind dump")).expect("json");
+    assert_eq!(v["width"], 32);
+    assert_eq!(v["height"], 32);
+    assert!(v["cell_size"].as_f64().expect("cell_size") > 0.0);
+    assert_eq!(v["origin"].as_array().expect("origin").len(), 2);
+    assert_eq!(v["velocity"].as_array().expect("velocity").len(), 32 * 32);
+    assert_eq!(v["pressure"].as_array().expect("pressure").len(), 32 * 32);
+    assert_eq!(
+        v["divergence"].as_array().expect("divergence").len(),
+        32 * 32
+    );
+    let moving = v["velocity"]
+        .as_array()
+        .expect("velocity")
+        .iter()
+        .filter(|c| c[0].as_f64().unwrap_or(0.0).abs() > 1e-3)
+        .count();
+    assert!(moving > 10, "the guides must move the air ({moving} cells)");
+    let err = fails(&[
+        "simulate",
+        "--steps",
+        "1",
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-wind",
+        wind.to_str().unwrap(),
+        "--wind-resolution",
+        "4096",
+    ]);
+    assert!(err.contains("out of range"), "{err}");
+}
