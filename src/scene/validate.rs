@@ -182,42 +182,7 @@ fn collider(check: &Checker, i: usize, sphere: &Sphere) -> Result<()> {
     check.finite(&at("center"), &tuple3(sphere.center))?;
     let radius_range = Allowed::open_closed(0.0, 1000.0, "m");
     check.real(&at("radius"), sphere.radius, radius_range)?;
-    match &sphere.motion {
-        Motion::Static => Ok(()),
-        Motion::Velocity(v) => check.finite(&at("motion"), &tuple3(*v)),
-        Motion::Path {
-            points,
-            speed,
-            looped: _,
-        } => {
-            let name = at("motion.points");
-            if points.len() < 2 {
-                return Err(check.error(
-                    &name,
-                    format!(
-                        "{name} has {} point(s): a path needs at least 2",
-                        points.len()
-                    ),
-                ));
-            }
-            for (k, p) in points.iter().enumerate() {
-                check.finite(&format!("{name}[{k}]"), &[p.0, p.1])?;
-            }
-            // A path of coincident points has no direction to roll along (and dividing by
-            // its length would give NaN positions).
-            let length: f32 = points
-                .windows(2)
-                .map(|w| Vec2::from(w[0]).distance(Vec2::from(w[1])))
-                .sum();
-            if length <= 0.0 {
-                return Err(check.error(
-                    &name,
-                    format!("{name}: all points coincide: a path needs a length > 0 m"),
-                ));
-            }
-            check.real(&at("motion.speed"), *speed, Allowed::at_least(0.0, "m/s"))
-        }
-    }
+    motion(check, &at("motion"), &sphere.motion)
 }
 
 fn wind(check: &Checker, wind: &mut Wind, terrain_size: f32) -> Result<()> {
@@ -302,8 +267,9 @@ fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
     check.real(&at("response"), fluid.response, response)
 }
 
-/// A moving source's motion (`field` is its path, e.g. `wind.downwash.motion`), with the
-/// same rules as a collider's.
+/// A moving object's motion (`field` is its path, e.g. `colliders[0].motion` or
+/// `wind.downwash.motion`). A path of coincident points has no direction to roll along
+/// (and dividing by its length would give NaN positions).
 fn motion(check: &Checker, field: &str, motion: &Motion) -> Result<()> {
     match motion {
         Motion::Static => Ok(()),
