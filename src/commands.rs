@@ -390,13 +390,7 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
     } else {
         let gpu = open_gpu(&o.adapter)?;
         let session = Session::new(scene, o.blades, Some(&gpu))?;
-        let mut renderer = Renderer::new(
-            &gpu,
-            session.scene.clone(),
-            session.terrain.clone(),
-            &session.field,
-            COLOR_FORMAT,
-        )?;
+        let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
         for _ in 0..o.steps {
             renderer.step(&gpu, o.dt);
         }

@@ -8,8 +8,6 @@ mod common;
 
 use glam::Vec3;
 use sward::commands::simulate_cpu;
-use sward::render::target::COLOR_FORMAT;
-use sward::render::Renderer;
 use sward::scene::{Motion, Scene, Sphere};
 use sward::session::Session;
 use sward::sim::layout::{Blade, BladeState};
@@ -27,17 +25,7 @@ fn run_gpu(
 ) -> (Session, Vec<Blade>, Vec<BladeState>) {
     let gpu = common::gpu();
     let session = Session::new(scene, Some(blades), Some(&gpu)).expect("field");
-    let mut r = Renderer::new(
-        &gpu,
-        session.scene.clone(),
-        session.terrain.clone(),
-        &session.field,
-        COLOR_FORMAT,
-    )
-    .expect("renderer");
-    for _ in 0..steps {
-        r.step(&gpu, dt);
-    }
+    let r = common::stepped(&gpu, &session, steps, dt);
     let (b, s) = r.buffers.read(&gpu).expect("read-back");
     (session, b, s)
 }

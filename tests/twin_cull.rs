@@ -4,8 +4,7 @@
 mod common;
 
 use sward::render::camera::CameraView;
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::scene::Scene;
 use sward::session::Session;
 use sward::sim::layout::CullCounters;
@@ -22,14 +21,7 @@ fn run(scene: Scene, camera: CameraView) -> (usize, CullCounters) {
     let gpu = common::gpu();
     let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
     let target = Target::new(&gpu, 96, 64).expect("target");
-    let mut r = Renderer::new(
-        &gpu,
-        session.scene.clone(),
-        session.terrain.clone(),
-        &session.field,
-        COLOR_FORMAT,
-    )
-    .expect("renderer");
+    let mut r = common::stepped(&gpu, &session, 0, 0.0);
     r.frame(
         &gpu,
         1.0 / 30.0,

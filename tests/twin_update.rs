@@ -5,8 +5,6 @@
 mod common;
 
 use sward::commands::simulate_cpu;
-use sward::render::target::COLOR_FORMAT;
-use sward::render::Renderer;
 use sward::scene::Scene;
 use sward::session::Session;
 
@@ -30,17 +28,7 @@ fn gpu_update_matches_cpu_twin() {
     let run = simulate_cpu(&session, steps, dt);
     let (cpu_blades, cpu_states) = (run.blades, run.states);
 
-    let mut r = Renderer::new(
-        &gpu,
-        session.scene.clone(),
-        session.terrain.clone(),
-        &session.field,
-        COLOR_FORMAT,
-    )
-    .expect("renderer");
-    for _ in 0..steps {
-        r.step(&gpu, dt);
-    }
+    let r = common::stepped(&gpu, &session, steps, dt);
     let (gpu_blades, gpu_states) = r.buffers.read(&gpu).expect("read-back");
 
     let mut max_err = 0.0f32;

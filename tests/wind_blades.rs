@@ -7,8 +7,6 @@
 mod common;
 
 use glam::Vec2;
-use sward::render::target::COLOR_FORMAT;
-use sward::render::Renderer;
 use sward::scene::{Guide, GuidePoint, Scene, WindSource};
 use sward::session::Session;
 use sward::sim::layout::Blade;
@@ -16,17 +14,7 @@ use sward::sim::layout::Blade;
 fn run(scene: Scene, steps: u32) -> (Vec<Blade>, Vec<Blade>) {
     let gpu = common::gpu();
     let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
-    let mut r = Renderer::new(
-        &gpu,
-        session.scene.clone(),
-        session.terrain.clone(),
-        &session.field,
-        COLOR_FORMAT,
-    )
-    .expect("renderer");
-    for _ in 0..steps {
-        r.step(&gpu, 1.0 / 30.0);
-    }
+    let r = common::stepped(&gpu, &session, steps, 1.0 / 30.0);
     (
         session.field.blades.clone(),
         r.buffers.read(&gpu).expect("read-back").0,

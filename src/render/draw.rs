@@ -34,7 +34,10 @@ pub struct DrawPass {
     blade_indices: wgpu::Buffer,
 }
 
-fn read_storage(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn read_storage(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,

@@ -57,6 +57,21 @@ pub struct Renderer {
 }
 
 impl Renderer {
+    /// A renderer over a session's scene, terrain and field (which the session keeps).
+    pub fn from_session(
+        gpu: &Gpu,
+        session: &crate::session::Session,
+        format: wgpu::TextureFormat,
+    ) -> Result<Self> {
+        Self::new(
+            gpu,
+            session.scene.clone(),
+            session.terrain.clone(),
+            &session.field,
+            format,
+        )
+    }
+
     /// Uploads the field and builds every pass for colour targets of `format`.
     pub fn new(
         gpu: &Gpu,

@@ -4,6 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+use super::draw::read_storage;
 use super::mesh::{terrain_mesh, TerrainVertex};
 use crate::field::HeightField;
 use crate::gpu::Gpu;
@@ -43,19 +44,6 @@ pub struct OverlayPass {
     terrain_size: f32,
 }
 
-fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl OverlayPass {
     /// `velocity` is the solver's grid (`resolution`², corner `origin`, cell `cell_size`).
     #[allow(clippy::too_many_arguments)]
@@ -77,9 +65,9 @@ impl OverlayPass {
             entries: &[
                 uniform_entry(0, vf),
                 uniform_entry(1, vf),
-                storage(2),
-                storage(3),
-                storage(4),
+                read_storage(2, vf),
+                read_storage(3, vf),
+                read_storage(4, vf),
             ],
         });
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {

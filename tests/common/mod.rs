@@ -3,7 +3,10 @@
 #![allow(dead_code)]
 
 use sward::gpu::{AdapterChoice, Gpu};
+use sward::render::target::COLOR_FORMAT;
+use sward::render::Renderer;
 use sward::scene::{Motion, Scene, Sphere, Wind};
+use sward::session::Session;
 
 /// Opens the test adapter. Fails (never skips) when none exists: CI installs lavapipe.
 pub fn gpu() -> Gpu {
@@ -12,6 +15,15 @@ pub fn gpu() -> Gpu {
         .parse()
         .expect("infallible");
     Gpu::new(&choice).unwrap_or_else(|e| panic!("tests need a GPU adapter: {e}"))
+}
+
+/// A renderer over `session`, advanced by `steps` update steps of `dt` seconds.
+pub fn stepped(gpu: &Gpu, session: &Session, steps: u32, dt: f32) -> Renderer {
+    let mut r = Renderer::from_session(gpu, session, COLOR_FORMAT).expect("renderer");
+    for _ in 0..steps {
+        r.step(gpu, dt);
+    }
+    r
 }
 
 /// A scene with no forces at all: no gravity, no wind, no colliders.
