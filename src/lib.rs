@@ -2,6 +2,7 @@
 //! the GPU (Jahrmann & Wimmer 2017), culled on the GPU and drawn with indirect draws; the
 //! same frames render headless to PNG on a software adapter.
 
+pub mod app;
 pub mod commands;
 pub mod error;
 pub mod field;

@@ -13,6 +13,7 @@ const FILES: &[(&str, &str)] = &[
     ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
     ("spheres.wgsl", include_str!("../shaders/spheres.wgsl")),
     ("overlay.wgsl", include_str!("../shaders/overlay.wgsl")),
+    ("arrows.wgsl", include_str!("../shaders/arrows.wgsl")),
     (
         "fluid_common.wgsl",
         include_str!("../shaders/fluid_common.wgsl"),
@@ -56,6 +57,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "sky.wgsl",
     "spheres.wgsl",
     "overlay.wgsl",
+    "arrows.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",
     "fluid_diffuse.wgsl",

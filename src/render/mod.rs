@@ -1,6 +1,7 @@
 //! Rendering: one frame is update → cull → draw on one command encoder, into any colour
 //! view (an off-screen texture here, a window surface later), with per-pass GPU times.
 
+pub mod arrows;
 pub mod camera;
 pub mod cull;
 pub mod draw;

@@ -25,6 +25,7 @@
 //! ```
 
 mod load;
+pub mod save;
 pub mod types;
 mod validate;
 
