@@ -34,7 +34,7 @@ struct SimParams {
     collisions: u32,
     collision_gain: f32,
     max_eta: f32,
-    pad1: f32,
+    stiffness_scale: f32,
     pad2: f32,
     fluid_grid: vec4<f32>,
     fluid_info: vec4<u32>,
@@ -61,6 +61,7 @@ struct Frame {
     viewport_time: vec4<f32>,
     shape: vec4<f32>,
     width_correction: vec4<f32>,
+    debug: vec4<f32>,
 }
 
 const TAU: f32 = 6.283185307179586;

@@ -103,7 +103,30 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) 
     out.normal = normalize(n + t1 * (u - 0.5) * 1.2);
     out.uv = vec2<f32>(u, v);
     out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
+    // Debug colours: the distance level of Eq. 20 (0 near .. n-1 at d_max), or the patch.
+    let mode = u32(frame.debug.x);
+    if mode == 1u {
+        let d = distance(v0, frame.camera_pos.xyz);
+        let n = max(frame.debug.y, 1.0);
+        let level = min(floor(n * d / max(frame.debug.z, 1e-3)), n - 1.0);
+        out.tint = vec4<f32>(level / max(n - 1.0, 1.0), 0.0, 0.0, 1.0);
+    } else if mode == 2u {
+        let patch_id = index / max(u32(frame.debug.w), 1u);
+        out.tint = vec4<f32>(hash01(patch_id * 7u + 1u), hash01(patch_id * 13u + 5u), hash01(patch_id * 29u + 11u), 2.0);
+    }
     return out;
+}
+
+// The flat, lightly shaded colour of the debugging views: a green-to-red ramp over the
+// distance levels, or the patch's random colour.
+fn debug_color(tint: vec4<f32>, n: vec3<f32>, sun: vec3<f32>, v: f32) -> vec3<f32> {
+    var c = tint.rgb;
+    if tint.w < 1.5 {
+        let x = tint.r;
+        c = vec3<f32>(min(2.0 * x, 1.0), min(2.0 * (1.0 - x), 1.0), 0.1);
+    }
+    let light = 0.55 + 0.45 * max(dot(n, sun), 0.0);
+    return c * light * mix(0.6, 1.0, v);
 }
 
 @fragment
@@ -116,6 +139,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         n = -n;
     }
     let v = in.uv.y;
+    if in.tint.w > 0.5 {
+        return vec4<f32>(debug_color(in.tint, n, sun, v), 1.0);
+    }
     // Per-blade colour between fresh and dry-ish green, lighter towards the tip.
     let fresh = vec3<f32>(0.10, 0.34, 0.05);
     let dry = vec3<f32>(0.32, 0.40, 0.09);

@@ -106,7 +106,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let height = blade.v1_height.w;
     var v2 = blade.v2_width.xyz;
     let up = blade.up_stiffness.xyz;
-    let stiffness = blade.up_stiffness.w;
+    let stiffness = blade.up_stiffness.w * params.stiffness_scale;
     let rest = states[i].rest_eta.xyz;
     var eta = states[i].rest_eta.w;
     let dt = params.dt;

@@ -60,6 +60,21 @@ impl Gpu {
         Self::from_adapter(instance, adapter)
     }
 
+    /// Picks an adapter that can present to `surface` (the window), by `choice`, and opens
+    /// a device on it.
+    pub fn for_surface(
+        instance: wgpu::Instance,
+        surface: &wgpu::Surface<'_>,
+        choice: &AdapterChoice,
+    ) -> Result<Gpu> {
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+            .into_iter()
+            .filter(|a| a.is_surface_supported(surface))
+            .collect();
+        let adapter = pick(adapters, choice)?;
+        Self::from_adapter(instance, adapter)
+    }
+
     /// Opens a device on an adapter chosen elsewhere (the window picks one for its surface).
     pub fn from_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Gpu> {
         let info = adapter.get_info();
@@ -68,6 +83,8 @@ impl Gpu {
         if timestamps {
             features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // The panel's wireframe view draws the grass as lines where the adapter can.
+        features |= adapter.features() & wgpu::Features::POLYGON_MODE_LINE;
         // Ask for everything the adapter offers: large fields need its full buffer sizes.
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

@@ -1,11 +1,12 @@
-//! The `sward` command line: `render` (headless frames to PNG) and `simulate` (blade states
-//! to JSON). Without a subcommand it renders the default meadow to `meadow.png` (the window
-//! comes in a later release).
+//! The `sward` command line: without a subcommand it opens the window (fly over the meadow,
+//! edit the wind); `render` draws headless frames to PNG and `simulate` dumps blade states
+//! as JSON.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use sward::app::AppOptions;
 use sward::commands::{render, simulate, RenderOptions, SimulateOptions};
 use sward::gpu::AdapterChoice;
 
@@ -13,6 +14,7 @@ use sward::gpu::AdapterChoice;
 #[command(
     name = "sward",
     version,
+    args_conflicts_with_subcommands = true,
     about = "Real-time grass: every blade simulated on the GPU"
 )]
 struct Cli {
@@ -20,6 +22,62 @@ struct Cli {
     command: Option<Command>,
     #[command(flatten)]
     adapter: AdapterArg,
+    #[command(flatten)]
+    window: WindowArgs,
+}
+
+/// Options of the window (no subcommand).
+#[derive(Args, Clone)]
+struct WindowArgs {
+    /// Scene file (RON) to open; the built-in meadow when absent or when it fails to load
+    /// (the error is shown in the panel). Save writes back to it.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Where Save writes, when not the --scene file.
+    #[arg(long)]
+    save_to: Option<PathBuf>,
+    /// Window size, WIDTHxHEIGHT in physical pixels.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Present without waiting for the display's refresh.
+    #[arg(long)]
+    no_vsync: bool,
+    /// Run N frames, then exit with status 0.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    exit_after_frames: Option<u64>,
+    /// With --exit-after-frames: save the last frame (panel included) as PNG.
+    #[arg(long, requires = "exit_after_frames")]
+    screenshot: Option<PathBuf>,
+    /// Play an input script (RON: frame-numbered clicks, drags, keys) instead of live input.
+    #[arg(long)]
+    replay: Option<PathBuf>,
+    /// Record the session's input into a script that --replay plays back.
+    #[arg(long)]
+    record: Option<PathBuf>,
+    /// Hold this frame time (ms) by adapting distance culling; default 90 ms on a CPU
+    /// adapter, off on a GPU.
+    #[arg(long, value_parser = parse_frame_ms)]
+    target_frame_ms: Option<f32>,
+    /// Fixed simulation step per frame in seconds (default: the wall clock; 1/30 when
+    /// replaying, so that a replay is repeatable).
+    #[arg(long, value_parser = parse_dt)]
+    dt: Option<f32>,
+}
+
+fn parse_frame_ms(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
+    if !(1.0..=10_000.0).contains(&v) {
+        return Err(format!("{v} is out of range: allowed 1..=10000 ms"));
+    }
+    Ok(v)
+}
+
+fn parse_dt(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
+    if !(v > 0.0 && v <= 1.0) {
+        return Err(format!("{v} is out of range: allowed 0 < dt <= 1 s"));
+    }
+    Ok(v)
 }
 
 #[derive(Args, Clone)]
@@ -121,7 +179,23 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let adapter: AdapterChoice = cli.adapter.adapter.parse().expect("infallible");
     let result = match cli.command {
-        None => render(&RenderOptions::default_meadow(adapter)),
+        None => {
+            let w = cli.window;
+            let fixed_dt = w.dt.or(w.replay.as_ref().map(|_| 1.0 / 30.0));
+            sward::app::run(AppOptions {
+                save_path: w.save_to.or_else(|| w.scene.clone()),
+                scene: w.scene,
+                adapter,
+                size: w.size,
+                vsync: !w.no_vsync,
+                exit_after_frames: w.exit_after_frames,
+                screenshot: w.screenshot,
+                replay: w.replay,
+                record: w.record,
+                target_frame_ms: w.target_frame_ms,
+                fixed_dt,
+            })
+        }
         Some(Command::Render {
             scene,
             size,

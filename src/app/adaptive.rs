@@ -1,1 +1,504 @@
-//! (being written)
+//! "Target frame time": a small controller that adapts distance culling (the paper's
+//! Eq. 20, `id mod n < floor(n·(1 − d/d_max))`) so that the window holds a frame time the
+//! user asked for.
+//!
+//! # Control law
+//!
+//! * The frame times are smoothed exponentially ([`SMOOTHING`]) so that one slow frame
+//!   (a shader compile, a window resize) does not trigger a change.
+//! * The controller acts at most every [`ACT_EVERY`] frames, and counts from its last
+//!   change: by then the smoothed time mostly shows the effect of that change (the old
+//!   value's weight is `(1 − SMOOTHING)^ACT_EVERY` ≈ 10 %), so it does not keep cutting
+//!   while the last cut is still on its way into the average.
+//! * Over `target · `[`OVER`]: cull more. First `d_max × `[`SHRINK`] (down to
+//!   [`MIN_DISTANCE`] m); once `d_max` is at its floor, the number of levels `n` drops by
+//!   one (down to [`MIN_LEVELS`]; n = 1 would cull every blade beyond d = 0). Lower d_max
+//!   and lower n both cull more.
+//! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
+//!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*).
+//! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
+//!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
+//!   step does not carry the time from one edge of the band across the other, and the
+//!   controller settles instead of oscillating.
+//!
+//! The user's culling values at construction (or at [`FrameBudget::rebase`]) are the base:
+//! the controller never goes above them, and a fast machine returns to them. If distance
+//! culling is off and the budget needs to cull, it switches it on (the status says so) and
+//! leaves it on: switching it back off would be a step the gradual control cannot undo.
+
+use crate::scene::Culling;
+
+/// Weight of the newest frame in the smoothed frame time.
+pub const SMOOTHING: f32 = 0.25;
+/// Frames between two changes, so that the smoothed time shows the last change's effect.
+pub const ACT_EVERY: u32 = 8;
+/// Cull more when the smoothed time is over `target · OVER`.
+pub const OVER: f32 = 1.1;
+/// Give detail back when the smoothed time is under `target · UNDER`.
+pub const UNDER: f32 = 0.75;
+/// Factor on d_max per step when over the target.
+pub const SHRINK: f32 = 0.85;
+/// Factor on d_max per step when under the target.
+pub const GROW: f32 = 1.08;
+/// Smallest d_max the budget sets, in metres (or the base, if that is smaller).
+pub const MIN_DISTANCE: f32 = 4.0;
+/// Fewest distance levels the budget sets (or the base, if that is smaller): n = 1 culls
+/// everything beyond d = 0.
+pub const MIN_LEVELS: u32 = 2;
+
+/// What one [`FrameBudget::observe`] set in the culling block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adjustment {
+    pub levels: u32,
+    pub max_distance: f32,
+}
+
+/// Holds a target frame time by adapting distance culling (see the module docs).
+#[derive(Clone, Debug)]
+pub struct FrameBudget {
+    /// Frame time to hold, in milliseconds; `None` turns the budget off (it then changes
+    /// nothing).
+    pub target_ms: Option<f32>,
+    base_levels: u32,
+    base_distance: f32,
+    smoothed: Option<f32>,
+    /// Valid frames since the last change (or since the start / the last rebase).
+    frames: u32,
+    /// Whether the budget switched distance culling on.
+    switched_on: bool,
+    /// The values at the last observe, for the status line.
+    levels: u32,
+    max_distance: f32,
+}
+
+impl FrameBudget {
+    /// A budget whose base (ceiling) is `culling`'s current levels and d_max.
+    pub fn new(culling: &Culling, target_ms: Option<f32>) -> Self {
+        Self {
+            target_ms,
+            base_levels: culling.distance_levels,
+            base_distance: culling.max_distance,
+            smoothed: None,
+            frames: 0,
+            switched_on: false,
+            levels: culling.distance_levels,
+            max_distance: culling.max_distance,
+        }
+    }
+
+    /// The user edited the culling block by hand: its values become the new base, and the
+    /// controller waits [`ACT_EVERY`] frames before it acts on them.
+    pub fn rebase(&mut self, culling: &Culling) {
+        self.base_levels = culling.distance_levels;
+        self.base_distance = culling.max_distance;
+        self.levels = culling.distance_levels;
+        self.max_distance = culling.max_distance;
+        self.switched_on = false;
+        self.frames = 0;
+    }
+
+    /// The smoothed frame time in milliseconds (0 before the first valid frame).
+    pub fn smoothed_ms(&self) -> f32 {
+        self.smoothed.unwrap_or(0.0)
+    }
+
+    /// The floor of d_max: [`MIN_DISTANCE`], or the base if the user chose less.
+    fn distance_floor(&self) -> f32 {
+        MIN_DISTANCE.min(self.base_distance)
+    }
+
+    /// The floor of the levels: [`MIN_LEVELS`], or the base if the user chose less.
+    fn levels_floor(&self) -> u32 {
+        MIN_LEVELS.min(self.base_levels)
+    }
+
+    /// Takes one frame's time (call once per frame) and, when it is time to act and the
+    /// smoothed time is outside the band, changes `culling`'s levels / d_max (and may switch
+    /// distance culling on). Returns what it set, or `None` when it changed nothing.
+    /// Non-finite or non-positive times are ignored.
+    pub fn observe(&mut self, frame_ms: f32, culling: &mut Culling) -> Option<Adjustment> {
+        if !(frame_ms.is_finite() && frame_ms > 0.0) {
+            return None;
+        }
+        let smoothed = match self.smoothed {
+            Some(s) => s + SMOOTHING * (frame_ms - s),
+            None => frame_ms,
+        };
+        self.smoothed = Some(smoothed);
+        self.levels = culling.distance_levels;
+        self.max_distance = culling.max_distance;
+        let target = self.target_ms.filter(|t| t.is_finite() && *t > 0.0)?;
+        self.frames = self.frames.saturating_add(1);
+        if self.frames < ACT_EVERY {
+            return None;
+        }
+        let changed = if smoothed > target * OVER {
+            self.cull_more(culling)
+        } else if smoothed < target * UNDER {
+            self.cull_less(culling)
+        } else {
+            false
+        };
+        if !changed {
+            return None;
+        }
+        self.frames = 0;
+        self.levels = culling.distance_levels;
+        self.max_distance = culling.max_distance;
+        Some(Adjustment {
+            levels: culling.distance_levels,
+            max_distance: culling.max_distance,
+        })
+    }
+
+    fn cull_more(&mut self, culling: &mut Culling) -> bool {
+        if !culling.distance {
+            // The cheapest first step: the user's own levels and d_max, now applied.
+            culling.distance = true;
+            self.switched_on = true;
+            return true;
+        }
+        let floor = self.distance_floor();
+        if culling.max_distance > floor {
+            culling.max_distance = (culling.max_distance * SHRINK).max(floor);
+            return true;
+        }
+        if culling.distance_levels > self.levels_floor() {
+            culling.distance_levels -= 1;
+            return true;
+        }
+        false
+    }
+
+    fn cull_less(&mut self, culling: &mut Culling) -> bool {
+        if !culling.distance {
+            // Nothing is culled by distance: there is no detail to give back.
+            return false;
+        }
+        if culling.distance_levels < self.base_levels {
+            culling.distance_levels += 1;
+            return true;
+        }
+        if culling.max_distance < self.base_distance {
+            culling.max_distance = (culling.max_distance * GROW).min(self.base_distance);
+            return true;
+        }
+        false
+    }
+
+    /// One line for the Stats panel, e.g. `target 100 ms, now 84 ms: d_max 60 → 31 m,
+    /// levels 8 → 8`, or `off`.
+    pub fn status(&self) -> String {
+        let Some(target) = self.target_ms else {
+            return "off".into();
+        };
+        let mut line = format!(
+            "target {target:.0} ms, now {:.0} ms: d_max {:.0} → {:.0} m, levels {} → {}",
+            self.smoothed_ms(),
+            self.base_distance,
+            self.max_distance,
+            self.base_levels,
+            self.levels,
+        );
+        if self.switched_on {
+            line.push_str(" (distance culling switched on)");
+        }
+        line
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A synthetic machine: a fixed cost plus a cost that grows with the culled area
+    /// (≈ d_max²) and with the fraction of levels kept, with ±4 % deterministic noise.
+    struct Machine {
+        fixed: f32,
+        k: f32,
+        seed: u64,
+    }
+
+    impl Machine {
+        fn frame_ms(&mut self, culling: &Culling) -> f32 {
+            self.seed = self
+                .seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((self.seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.08;
+            let grass = if culling.distance {
+                self.k * culling.max_distance.powi(2) * culling.distance_levels as f32 / 8.0
+            } else {
+                self.k * 100.0 * 100.0
+            };
+            (self.fixed + grass) * (1.0 + noise)
+        }
+    }
+
+    fn run(budget: &mut FrameBudget, culling: &mut Culling, m: &mut Machine, frames: u32) {
+        for _ in 0..frames {
+            let ms = m.frame_ms(culling);
+            budget.observe(ms, culling);
+        }
+    }
+
+    fn culling() -> Culling {
+        Culling::default() // 8 levels, d_max 60 m
+    }
+
+    #[test]
+    fn a_slow_machine_is_brought_under_target_and_held_there() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(100.0));
+        // 15 + 0.05·60² = 195 ms at the base values.
+        let mut m = Machine {
+            fixed: 15.0,
+            k: 0.05,
+            seed: 1,
+        };
+        let mut last_change = 0;
+        for frame in 0..400 {
+            let ms = m.frame_ms(&c);
+            if b.observe(ms, &mut c).is_some() {
+                last_change = frame;
+            }
+        }
+        // Three cuts (60 → 51 → 43 → 37 m) of ACT_EVERY frames each, plus the lag of the
+        // smoothing: well under 100 frames.
+        assert!(last_change < 100, "still changing at frame {last_change}");
+        assert!(b.smoothed_ms() < 100.0 * OVER, "{}", b.status());
+        // From then on: no frame's smoothed time over the band, no change at all, and the
+        // values inside [floor, base].
+        let held = (c.distance_levels, c.max_distance);
+        let mut changes = 0;
+        for _ in 0..2000 {
+            let ms = m.frame_ms(&c);
+            changes += b.observe(ms, &mut c).is_some() as u32;
+            assert!(b.smoothed_ms() < 100.0 * OVER, "{}", b.status());
+            assert!(b.smoothed_ms() > 100.0 * UNDER * 0.9, "{}", b.status());
+            assert!((MIN_DISTANCE..=60.0).contains(&c.max_distance));
+            assert!((MIN_LEVELS..=8).contains(&c.distance_levels));
+        }
+        assert_eq!(changes, 0, "oscillates: {}", b.status());
+        assert_eq!((c.distance_levels, c.max_distance), held);
+        assert!(c.max_distance < 50.0);
+        assert!(
+            b.status().starts_with("target 100 ms, now "),
+            "{}",
+            b.status()
+        );
+        assert!(b.status().contains("d_max 60 → "), "{}", b.status());
+    }
+
+    #[test]
+    fn a_very_slow_machine_lowers_the_levels_once_d_max_is_at_its_floor() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(20.0));
+        // Even at d_max = 4 m and 8 levels: 15 + 1.0·16 = 31 ms > 22.
+        let mut m = Machine {
+            fixed: 15.0,
+            k: 1.0,
+            seed: 2,
+        };
+        let mut lowest = (u32::MAX, f32::MAX);
+        for _ in 0..3000 {
+            let ms = m.frame_ms(&c);
+            b.observe(ms, &mut c);
+            assert!((MIN_DISTANCE..=60.0).contains(&c.max_distance));
+            assert!((MIN_LEVELS..=8).contains(&c.distance_levels));
+            lowest = (
+                lowest.0.min(c.distance_levels),
+                lowest.1.min(c.max_distance),
+            );
+        }
+        assert_eq!(c.max_distance, MIN_DISTANCE);
+        // 15 + 16·n/8 < 22 needs n ≤ 3; it must not go below the floor of 2.
+        assert!(c.distance_levels <= 3 && c.distance_levels >= MIN_LEVELS);
+        assert!(b.smoothed_ms() < 20.0 * OVER);
+        assert_eq!(lowest.1, MIN_DISTANCE);
+    }
+
+    #[test]
+    fn a_machine_that_cannot_make_it_stops_at_the_floors() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(5.0));
+        let mut m = Machine {
+            fixed: 50.0,
+            k: 0.05,
+            seed: 3,
+        };
+        run(&mut b, &mut c, &mut m, 2000);
+        assert_eq!(
+            (c.distance_levels, c.max_distance),
+            (MIN_LEVELS, MIN_DISTANCE)
+        );
+        // Saturated: nothing more to do, so nothing is reported.
+        for _ in 0..50 {
+            let ms = m.frame_ms(&c);
+            assert_eq!(b.observe(ms, &mut c), None);
+        }
+    }
+
+    #[test]
+    fn a_fast_machine_returns_to_the_base_values() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(100.0));
+        let mut m = Machine {
+            fixed: 15.0,
+            k: 1.0,
+            seed: 4,
+        };
+        run(&mut b, &mut c, &mut m, 600);
+        assert!(c.max_distance < 20.0, "{}", b.status());
+        // The machine gets 1000× faster (e.g. the window shrank): back to the base.
+        m.k = 0.001;
+        m.fixed = 5.0;
+        let mut last = c.max_distance;
+        for _ in 0..2000 {
+            let ms = m.frame_ms(&c);
+            b.observe(ms, &mut c);
+            // Monotone on the way back: no step down while under target.
+            assert!(c.max_distance >= last);
+            assert!(c.max_distance <= 60.0 && c.distance_levels <= 8);
+            last = c.max_distance;
+        }
+        assert_eq!((c.distance_levels, c.max_distance), (8, 60.0));
+        assert!(
+            b.status().ends_with("d_max 60 → 60 m, levels 8 → 8"),
+            "{}",
+            b.status()
+        );
+    }
+
+    #[test]
+    fn levels_come_back_before_d_max() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(10.0));
+        c.max_distance = 10.0;
+        c.distance_levels = 5;
+        for _ in 0..ACT_EVERY {
+            b.observe(1.0, &mut c);
+        }
+        assert_eq!((c.distance_levels, c.max_distance), (6, 10.0));
+        for _ in 0..2 * ACT_EVERY {
+            b.observe(1.0, &mut c);
+        }
+        assert_eq!((c.distance_levels, c.max_distance), (8, 10.0));
+        for _ in 0..ACT_EVERY {
+            b.observe(1.0, &mut c);
+        }
+        assert_eq!(c.distance_levels, 8);
+        assert!((c.max_distance - 10.8).abs() < 1e-5);
+    }
+
+    #[test]
+    fn no_target_changes_nothing() {
+        let mut c = culling();
+        let before = c.clone();
+        let mut b = FrameBudget::new(&c, None);
+        for i in 0..500 {
+            assert_eq!(b.observe(1000.0 + i as f32, &mut c), None);
+        }
+        assert_eq!(c, before);
+        assert_eq!(b.status(), "off");
+        assert!(b.smoothed_ms() > 1000.0);
+        // A nonsensical target behaves like none.
+        b.target_ms = Some(f32::NAN);
+        for _ in 0..100 {
+            assert_eq!(b.observe(1000.0, &mut c), None);
+        }
+        assert_eq!(c, before);
+    }
+
+    #[test]
+    fn nan_and_non_positive_frame_times_are_ignored() {
+        let mut c = culling();
+        let before = c.clone();
+        let mut b = FrameBudget::new(&c, Some(10.0));
+        for bad in [f32::NAN, f32::INFINITY, -5.0, 0.0, f32::NEG_INFINITY] {
+            for _ in 0..100 {
+                assert_eq!(b.observe(bad, &mut c), None);
+            }
+        }
+        assert_eq!(c, before);
+        assert_eq!(b.smoothed_ms(), 0.0);
+        // And they do not poison the average afterwards.
+        b.observe(12.0, &mut c);
+        b.observe(f32::NAN, &mut c);
+        assert_eq!(b.smoothed_ms(), 12.0);
+    }
+
+    #[test]
+    fn the_budget_switches_distance_culling_on_when_it_must() {
+        let mut c = Culling {
+            distance: false,
+            ..culling()
+        };
+        let mut b = FrameBudget::new(&c, Some(50.0));
+        let mut m = Machine {
+            fixed: 15.0,
+            k: 0.05,
+            seed: 5,
+        };
+        let mut first = None;
+        for _ in 0..400 {
+            let ms = m.frame_ms(&c);
+            if let Some(a) = b.observe(ms, &mut c) {
+                first.get_or_insert(a);
+            }
+        }
+        assert!(c.distance);
+        // The first step only switched it on, at the user's values.
+        assert_eq!(
+            first,
+            Some(Adjustment {
+                levels: 8,
+                max_distance: 60.0
+            })
+        );
+        assert!(b.status().contains("switched on"), "{}", b.status());
+        assert!(b.smoothed_ms() < 50.0 * OVER);
+        // A fast machine with distance culling off: nothing to give back, nothing changes.
+        let mut off = Culling {
+            distance: false,
+            ..culling()
+        };
+        let mut fast = FrameBudget::new(&off, Some(50.0));
+        for _ in 0..100 {
+            assert_eq!(fast.observe(1.0, &mut off), None);
+        }
+        assert!(!off.distance);
+    }
+
+    #[test]
+    fn rebase_takes_the_users_new_values_as_the_ceiling() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(100.0));
+        c.max_distance = 30.0;
+        c.distance_levels = 4;
+        b.rebase(&c);
+        let mut m = Machine {
+            fixed: 1.0,
+            k: 0.0001,
+            seed: 6,
+        };
+        run(&mut b, &mut c, &mut m, 500);
+        assert_eq!((c.distance_levels, c.max_distance), (4, 30.0));
+        assert!(
+            b.status().contains("d_max 30 → 30 m, levels 4 → 4"),
+            "{}",
+            b.status()
+        );
+        // A base below the floors is a floor itself: a single level and d_max 2 m stay.
+        let mut low = Culling {
+            distance_levels: 1,
+            max_distance: 2.0,
+            ..culling()
+        };
+        let mut lb = FrameBudget::new(&low, Some(1.0));
+        for _ in 0..200 {
+            lb.observe(500.0, &mut low);
+        }
+        assert_eq!((low.distance_levels, low.max_distance), (1, 2.0));
+    }
+}

@@ -7,5 +7,41 @@ pub mod adaptive;
 pub mod balls;
 pub mod camera;
 pub mod editor;
+pub mod input;
+pub mod panel;
 pub mod picking;
 pub mod replay;
+pub mod state;
+pub mod surface;
+pub mod window;
+
+use std::path::PathBuf;
+
+use crate::gpu::AdapterChoice;
+
+pub use window::run;
+
+/// How `sward` (the window) starts.
+#[derive(Clone, Debug)]
+pub struct AppOptions {
+    /// Scene file; the built-in meadow when None (and when it fails to load).
+    pub scene: Option<PathBuf>,
+    /// Where Save writes (defaults to `scene`, else `scene.ron`).
+    pub save_path: Option<PathBuf>,
+    pub adapter: AdapterChoice,
+    /// Window size in physical pixels.
+    pub size: (u32, u32),
+    pub vsync: bool,
+    /// Run this many frames, then exit 0.
+    pub exit_after_frames: Option<u64>,
+    /// Save the last frame (with the panel) as PNG.
+    pub screenshot: Option<PathBuf>,
+    /// Play this input script.
+    pub replay: Option<PathBuf>,
+    /// Record the input into this script.
+    pub record: Option<PathBuf>,
+    /// Hold this frame time by adapting distance culling (None: the adapter decides).
+    pub target_frame_ms: Option<f32>,
+    /// Fixed simulation step per frame (replays use it for repeatable runs).
+    pub fixed_dt: Option<f32>,
+}

@@ -29,6 +29,8 @@ pub struct DrawPass {
     terrain: wgpu::RenderPipeline,
     spheres: wgpu::RenderPipeline,
     grass: wgpu::RenderPipeline,
+    /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
+    grass_lines: Option<wgpu::RenderPipeline>,
     terrain_mesh: Mesh,
     sphere_mesh: Mesh,
     blade_indices: wgpu::Buffer,
@@ -57,6 +59,7 @@ struct PipelineSpec<'a> {
     buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
     depth_write: bool,
     cull_back: bool,
+    lines: bool,
 }
 
 fn pipeline(
@@ -86,6 +89,11 @@ fn pipeline(
                 Some(wgpu::Face::Back)
             } else {
                 None
+            },
+            polygon_mode: if spec.lines {
+                wgpu::PolygonMode::Line
+            } else {
+                wgpu::PolygonMode::Fill
             },
             ..Default::default()
         },
@@ -214,6 +222,7 @@ impl DrawPass {
                 buffers: &[],
                 depth_write: false,
                 cull_back: false,
+                lines: false,
             },
         );
         let terrain_pipeline = pipeline(
@@ -226,6 +235,7 @@ impl DrawPass {
                 buffers: &terrain_buffers,
                 depth_write: true,
                 cull_back: false,
+                lines: false,
             },
         );
         let spheres = pipeline(
@@ -238,6 +248,7 @@ impl DrawPass {
                 buffers: &sphere_buffers,
                 depth_write: true,
                 cull_back: false,
+                lines: false,
             },
         );
         // Blades have no back: both sides are drawn and lit (two-sided lighting).
@@ -251,8 +262,29 @@ impl DrawPass {
                 buffers: &[],
                 depth_write: true,
                 cull_back: false,
+                lines: false,
             },
         );
+
+        // Line rasterisation is an optional feature; without it the panel says so.
+        let grass_lines = device
+            .features()
+            .contains(wgpu::Features::POLYGON_MODE_LINE)
+            .then(|| {
+                pipeline(
+                    device,
+                    format,
+                    PipelineSpec {
+                        label: "sward.draw.grass_lines",
+                        shader: "grass.wgsl",
+                        layout: &grass_layout,
+                        buffers: &[],
+                        depth_write: true,
+                        cull_back: false,
+                        lines: true,
+                    },
+                )
+            });
 
         let (tv, ti) = terrain_mesh(terrain);
         let terrain_mesh = Mesh {
@@ -296,10 +328,16 @@ impl DrawPass {
             terrain: terrain_pipeline,
             spheres,
             grass,
+            grass_lines,
             terrain_mesh,
             sphere_mesh,
             blade_indices,
         }
+    }
+
+    /// Whether the grass can be drawn as lines (the adapter supports line rasterisation).
+    pub fn has_wireframe(&self) -> bool {
+        self.grass_lines.is_some()
     }
 
     /// The frame-uniform buffer (the overlay reads it too).
@@ -320,6 +358,7 @@ impl DrawPass {
         depth: &wgpu::TextureView,
         indirect: &wgpu::Buffer,
         sphere_count: u32,
+        wireframe: bool,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -368,7 +407,11 @@ impl DrawPass {
             pass.draw_indexed(0..self.sphere_mesh.count, 0, 0..sphere_count);
         }
 
-        pass.set_pipeline(&self.grass);
+        let grass = match (&self.grass_lines, wireframe) {
+            (Some(lines), true) => lines,
+            _ => &self.grass,
+        };
+        pass.set_pipeline(grass);
         pass.set_bind_group(0, &self.grass_group, &[]);
         pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed_indirect(indirect, 0);

@@ -22,6 +22,7 @@ use crate::sim::fluid::{FluidConfig, FluidSolver};
 use crate::sim::layout::{CullCounters, FrameUniforms};
 use crate::sim::params::{cull_params, sim_params};
 use crate::sim::update::{BladeBuffers, UpdatePass};
+use crate::sim::wind_layout::{ObstacleGpu, MAX_OBSTACLES};
 use camera::CameraView;
 use cull::CullPass;
 use draw::DrawPass;
@@ -35,6 +36,15 @@ pub struct FrameStats {
     pub pass_ms: Option<[f64; 3]>,
     /// GPU milliseconds of each wind-solver pass, when the fluid runs and timestamps exist.
     pub wind_ms: Option<Vec<(&'static str, f64)>>,
+}
+
+/// A sphere moved by the caller rather than by the scene (the window's thrown balls): it
+/// collides with the grass and, as an obstacle, pushes the wind.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DynamicSphere {
+    pub center: Vec3,
+    pub radius: f32,
+    pub velocity: Vec3,
 }
 
 /// Everything on the GPU for one scene, and the clock of its simulation.
@@ -55,6 +65,13 @@ pub struct Renderer {
     pub time: f32,
     sphere_count: u32,
     index_count: u32,
+    /// Spheres added to the scene's colliders each step (see [`DynamicSphere`]).
+    pub dynamic_spheres: Vec<DynamicSphere>,
+    /// When set, culling runs from this camera instead of the drawing one ("freeze the
+    /// culling camera" in the panel: fly out and look at what the frozen view keeps).
+    pub cull_camera: Option<CameraView>,
+    /// Colour format of the targets the pipelines were built for.
+    format: wgpu::TextureFormat,
 }
 
 impl Renderer {
@@ -122,13 +139,21 @@ impl Renderer {
             time: 0.0,
             sphere_count: 0,
             index_count: segments * 12,
+            dynamic_spheres: Vec::new(),
+            cull_camera: None,
+            format,
         };
         r.upload_colliders(gpu);
         Ok(r)
     }
 
     fn upload_colliders(&mut self, gpu: &Gpu) {
-        let spheres = spheres_at(&self.scene.colliders, &self.terrain, self.time);
+        let mut spheres = spheres_at(&self.scene.colliders, &self.terrain, self.time);
+        spheres.extend(
+            self.dynamic_spheres
+                .iter()
+                .map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+        );
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
     }
 
@@ -140,7 +165,16 @@ impl Renderer {
         self.upload_colliders(gpu);
         // The wind moves first; the blades then read this step's air velocity.
         if let Some(fluid) = &mut self.fluid {
-            let forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
+            let mut forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
+            if self.scene.wind.fluid.obstacles {
+                forces
+                    .obstacles
+                    .extend(self.dynamic_spheres.iter().map(|s| ObstacleGpu {
+                        circle: [s.center.x, s.center.z, s.radius, 0.0],
+                        velocity: [s.velocity.x, s.velocity.z, 0.0, 0.0],
+                    }));
+                forces.obstacles.truncate(MAX_OBSTACLES);
+            }
             fluid.prepare(&gpu.queue, dt, &forces);
             fluid.encode(encoder);
         }
@@ -197,6 +231,12 @@ impl Renderer {
                 self.scene.terrain.size,
                 0.0,
             ],
+            debug: [
+                self.scene.render.color_mode.id() as f32,
+                self.scene.culling.distance_levels as f32,
+                self.scene.culling.max_distance,
+                self.buffers.patch_size as f32,
+            ],
         }
     }
 
@@ -210,11 +250,12 @@ impl Renderer {
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
-        let view_proj = camera.view_proj(size.0 as f32 / size.1.max(1) as f32);
+        let cull_camera = self.cull_camera.as_ref().unwrap_or(camera);
+        let view_proj = cull_camera.view_proj(size.0 as f32 / size.1.max(1) as f32);
         let cp = cull_params(
             &self.scene.culling,
             view_proj,
-            camera.eye,
+            cull_camera.eye,
             self.buffers.count,
             self.buffers.patch_size,
             self.index_count,
@@ -230,6 +271,7 @@ impl Renderer {
             depth,
             &self.cull.args,
             self.sphere_count,
+            self.scene.render.wireframe,
             self.timer.as_ref().map(|t| t.render(2)),
         );
         if let Some(o) = &self.overlay {
@@ -263,6 +305,73 @@ impl Renderer {
         self.overlay = Some(o);
     }
 
+    /// Rebuilds the wind solver for the scene's current wind settings (source switched
+    /// between analytic and fluid, or a new grid resolution). The blades keep their state;
+    /// the air starts at rest. On error the old solver stays.
+    pub fn rebuild_wind(&mut self, gpu: &Gpu) -> Result<()> {
+        let fluid = if self.scene.wind.source != crate::scene::WindSource::Analytic {
+            let config = FluidConfig::from_scene(&self.scene.wind.fluid, self.scene.terrain.size);
+            Some(FluidSolver::new(gpu, &config)?)
+        } else {
+            None
+        };
+        let grid = fluid
+            .as_ref()
+            .map(|f| f.velocity())
+            .unwrap_or(&self._dummy_grid);
+        self.update = UpdatePass::new(gpu, &self.buffers, grid);
+        self.fluid = fluid;
+        if self.overlay.is_some() {
+            self.enable_overlay(gpu, self.format);
+        }
+        Ok(())
+    }
+
+    /// Turns the wind overlay off.
+    pub fn disable_overlay(&mut self) {
+        self.overlay = None;
+    }
+
+    /// Whether the wind overlay is on.
+    pub fn overlay_enabled(&self) -> bool {
+        self.overlay.is_some()
+    }
+
+    /// Redraws the overlay's guide arrows from the scene (after the guides were edited).
+    pub fn refresh_overlay_guides(&mut self, gpu: &Gpu) {
+        if let Some(o) = &mut self.overlay {
+            o.prepare(
+                &gpu.queue,
+                &agc::arrows_at(&self.scene.wind.guides, f32::INFINITY),
+            );
+        }
+    }
+
+    /// Whether the grass can be drawn as lines on this adapter.
+    pub fn has_wireframe(&self) -> bool {
+        self.draw.has_wireframe()
+    }
+
+    /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
+    /// window can add its own passes (arrows, panel) before one submit.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_frame(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.encode_update(gpu, encoder, dt);
+        self.encode_view(gpu, encoder, camera, color, depth, size);
+        if let Some(t) = &self.timer {
+            t.resolve(encoder);
+        }
+    }
+
     /// One whole frame: step by `dt`, cull, draw into `color`, submit.
     pub fn frame(
         &mut self,
@@ -278,11 +387,7 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("sward.frame"),
             });
-        self.encode_update(gpu, &mut encoder, dt);
-        self.encode_view(gpu, &mut encoder, camera, color, depth, size);
-        if let Some(t) = &self.timer {
-            t.resolve(&mut encoder);
-        }
+        self.encode_frame(gpu, &mut encoder, dt, camera, color, depth, size);
         gpu.queue.submit([encoder.finish()]);
     }
 

@@ -68,45 +68,68 @@ impl Target {
 
     /// Copies the colour texture back into an RGBA image (blocking).
     pub fn read_image(&self, gpu: &Gpu) -> Result<image::RgbaImage> {
-        let row = self.width * 4;
-        // Buffer rows must be 256-byte aligned for texture copies.
-        let padded =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward.target.readback"),
-            size: padded as u64 * self.height as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("sward.target.readback"),
-            });
-        encoder.copy_texture_to_buffer(
-            self.color.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &staging,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded),
-                    rows_per_image: Some(self.height),
-                },
-            },
-            wgpu::Extent3d {
-                width: self.width,
-                height: self.height,
-                depth_or_array_layers: 1,
-            },
-        );
-        gpu.queue.submit([encoder.finish()]);
-        let data = map_and_read(gpu, &staging)?;
-        let mut pixels = Vec::with_capacity((row * self.height) as usize);
-        for y in 0..self.height as usize {
-            let start = y * padded as usize;
-            pixels.extend_from_slice(&data[start..start + row as usize]);
-        }
-        Ok(image::RgbaImage::from_raw(self.width, self.height, pixels)
-            .expect("buffer size matches the image size by construction"))
+        read_texture(gpu, &self.color)
     }
+}
+
+/// Copies an 8-bit RGBA or BGRA colour texture (with COPY_SRC usage) back into an RGBA
+/// image, blocking. The window uses it for `--screenshot` on its surface texture, which is
+/// often BGRA.
+pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage> {
+    use wgpu::TextureFormat as F;
+    let bgra = match texture.format() {
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => false,
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => true,
+        other => {
+            return Err(crate::Error::Gpu(format!(
+                "cannot read back a texture of format {other:?}: only 8-bit RGBA/BGRA"
+            )))
+        }
+    };
+    let (width, height) = (texture.width(), texture.height());
+    let row = width * 4;
+    // Buffer rows must be 256-byte aligned for texture copies.
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.target.readback"),
+        size: padded as u64 * height as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.target.readback"),
+        });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &staging,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let data = map_and_read(gpu, &staging)?;
+    let mut pixels = Vec::with_capacity((row * height) as usize);
+    for y in 0..height as usize {
+        let start = y * padded as usize;
+        pixels.extend_from_slice(&data[start..start + row as usize]);
+    }
+    if bgra {
+        for px in pixels.chunks_exact_mut(4) {
+            px.swap(0, 2);
+        }
+    }
+    Ok(image::RgbaImage::from_raw(width, height, pixels)
+        .expect("buffer size matches the image size by construction"))
 }

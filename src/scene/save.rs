@@ -1,1 +1,292 @@
-//! (being written)
+//! Writing a scene back to a RON file (the window's Save button, after editing AGC guides).
+//!
+//! The text is `ron`'s pretty form with the crate's default options: structs as `( .. )`
+//! without their type names and optional values written as `Some( .. )`. Both are what the
+//! loader reads (it accepts `Some( .. )` although its `implicit_some` extension lets users
+//! leave it out), so nothing needs a `#![enable(..)]` header. Before anything is written the
+//! text is parsed back with the loader's own [`parse_scene`], so a scene that would not load
+//! (a NaN, a value out of range) is refused instead of written.
+//!
+//! The file is written with [`write_atomic`] (a temporary file beside the target, then a
+//! rename): a failed save leaves an existing file as it was and no partial file behind.
+//!
+//! # Image paths
+//!
+//! The loader rewrites relative image paths (`terrain.height: Png(path: ..)`,
+//! `terrain.density_map`) as the scene file's directory joined with the path. Saving writes
+//! a path relative to the saved file's directory when that directory is a leading part of
+//! the image path, compared component by component after making both absolute against the
+//! working directory (without resolving symlinks). That is exact: the loader joins the
+//! directory with the remainder and gets the very same path back, so a scene saved where it
+//! was loaded from keeps the relative paths its author wrote (`../maps/h.png` included),
+//! and a scene folder stays movable. Any other image path is written absolute. We do not
+//! invent `..` steps to reach a sibling directory: `a/link/..` is not always `a` when `link`
+//! is a symlink, so such a path could name a different file; an absolute path always names
+//! the file the scene was using.
+
+use std::path::{Component, Path, PathBuf};
+
+use ron::ser::PrettyConfig;
+
+use super::load::parse_scene;
+use super::types::{HeightSource, Scene};
+use crate::error::{Error, Result};
+use crate::output::write_atomic;
+
+/// The scene as pretty RON text that [`crate::scene::parse_scene`] reads back into an equal
+/// scene. Image paths are written as they are (see [`save_scene`] for making them relative).
+///
+/// # Errors
+///
+/// [`Error::Invalid`] if `ron` cannot serialise the scene (no scene built from the scene
+/// types triggers this; the error exists because the serialiser is fallible).
+pub fn scene_to_string(scene: &Scene) -> Result<String> {
+    let config = PrettyConfig::new()
+        .struct_names(false)
+        .separate_tuple_members(false);
+    let mut text = ron::ser::to_string_pretty(scene, config)
+        .map_err(|e| Error::Invalid(format!("cannot write the scene as RON: {e}")))?;
+    text.push('\n');
+    Ok(text)
+}
+
+/// Saves `scene` to `path` as pretty RON that [`crate::scene::load_scene`] reads back into an
+/// equal scene (image paths become relative to `path`'s directory where that is exact; see
+/// the module docs).
+///
+/// # Errors
+///
+/// [`Error::Write`] naming `path` if the scene would not load back (its message gives the
+/// offending field) or if the file cannot be written (missing directory, a parent that is a
+/// file, no permission, disk full). An existing file at `path` is unchanged then.
+pub fn save_scene(scene: &Scene, path: &Path) -> Result<()> {
+    let write_error = |message: String| Error::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut scene = scene.clone();
+    relativise_images(&mut scene, dir);
+    let text = scene_to_string(&scene)?;
+    // Parse it back as the loader will, so that the file on disk always loads. The path only
+    // serves as the base for relative images here; nothing is opened.
+    parse_scene(&text, path).map_err(|e| {
+        let reason = match e {
+            Error::Scene { message, .. } => message,
+            other => other.to_string(),
+        };
+        write_error(format!("the scene would not load back: {reason}"))
+    })?;
+    // `write_atomic` reports a missing directory as a bare "No such file or directory";
+    // saying which directory is more useful.
+    if !dir.is_dir() {
+        return Err(write_error(format!(
+            "directory {} does not exist",
+            dir.display()
+        )));
+    }
+    write_atomic(path, text.as_bytes())
+}
+
+/// Rewrites the scene's image paths relative to `dir` where that is exact.
+fn relativise_images(scene: &mut Scene, dir: &Path) {
+    if let HeightSource::Png { path, .. } = &mut scene.terrain.height {
+        *path = relative_to(path, dir);
+    }
+    if let Some(map) = &mut scene.terrain.density_map {
+        *map = relative_to(map, dir);
+    }
+}
+
+/// `image` as the loader should find it from a scene file in `dir`: the part after `dir` if
+/// `dir` leads the path, else the absolute path. Falls back to `image` unchanged if the
+/// working directory is unknown or the result is not UTF-8 (the scene types hold `String`s).
+fn relative_to(image: &str, dir: &Path) -> String {
+    let (Ok(abs_image), Ok(abs_dir)) = (std::path::absolute(image), std::path::absolute(dir))
+    else {
+        return image.to_owned();
+    };
+    let abs_image = without_cur_dir(&abs_image);
+    let abs_dir = without_cur_dir(&abs_dir);
+    let chosen = match abs_image.strip_prefix(&abs_dir) {
+        Ok(rest) if !rest.as_os_str().is_empty() => rest.to_path_buf(),
+        _ => abs_image,
+    };
+    chosen
+        .to_str()
+        .map(str::to_owned)
+        .unwrap_or_else(|| image.to_owned())
+}
+
+/// Drops `.` components, which never change what a path names, so that `/a/./b` and `/a/b`
+/// compare equal.
+fn without_cur_dir(path: &Path) -> PathBuf {
+    path.components()
+        .filter(|c| !matches!(c, Component::CurDir))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    use super::*;
+    use crate::scene::load_scene;
+
+    /// A fresh, empty directory for one test (removed by [`Scratch`]'s drop).
+    struct Scratch(PathBuf);
+
+    impl Scratch {
+        fn new(name: &str) -> Self {
+            static NEXT: AtomicUsize = AtomicUsize::new(0);
+            let dir = std::env::temp_dir().join(format!(
+                "sward-save-{name}-{}-{}",
+                std::process::id(),
+                NEXT.fetch_add(1, Ordering::Relaxed)
+            ));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).expect("create scratch directory");
+            Self(dir)
+        }
+    }
+
+    impl Drop for Scratch {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    fn asset(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("assets/scenes")
+            .join(name)
+    }
+
+    /// Files in `dir`, sorted, so that a test can see that nothing was left behind.
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .expect("list directory")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn shipped_scenes_round_trip() {
+        let scratch = Scratch::new("round-trip");
+        for name in ["meadow.ron", "agc_branching.ron"] {
+            let scene = load_scene(&asset(name)).expect("load shipped scene");
+            let out = scratch.0.join(name);
+            save_scene(&scene, &out).expect("save");
+            let back = load_scene(&out).expect("load saved scene");
+            assert_eq!(back, scene, "{name}");
+            // Saving again over the first copy gives the same bytes: the form is stable.
+            let first = std::fs::read_to_string(&out).expect("read");
+            save_scene(&back, &out).expect("save again");
+            assert_eq!(std::fs::read_to_string(&out).expect("read"), first);
+        }
+        assert_eq!(listing(&scratch.0), ["agc_branching.ron", "meadow.ron"]);
+        let scene = load_scene(&asset("agc_branching.ron")).expect("load");
+        assert_eq!(scene.wind.guides[0].points.len(), 6);
+        let text = scene_to_string(&scene).expect("to string");
+        assert_eq!(
+            parse_scene(&text, Path::new("x.ron")).expect("parse"),
+            scene
+        );
+    }
+
+    #[test]
+    fn image_paths_are_relative_to_the_saved_file_where_exact() {
+        let scratch = Scratch::new("images");
+        let src = scratch.0.join("src");
+        let other = scratch.0.join("other");
+        std::fs::create_dir_all(src.join("maps")).expect("mkdir");
+        std::fs::create_dir_all(&other).expect("mkdir");
+        let original = src.join("scene.ron");
+        std::fs::write(
+            &original,
+            "(terrain: (height: Png(path: \"maps/h.png\", scale: 2.0), density_map: \
+             \"../mask.png\"))",
+        )
+        .expect("write");
+        let scene = load_scene(&original).expect("load");
+
+        // Saved where it came from: the relative paths come back as written.
+        let same = src.join("copy.ron");
+        save_scene(&scene, &same).expect("save");
+        let text = std::fs::read_to_string(&same).expect("read");
+        assert!(text.contains("path: \"maps/h.png\""), "{text}");
+        assert!(
+            text.contains("density_map: Some(\"../mask.png\")"),
+            "{text}"
+        );
+        assert_eq!(load_scene(&same).expect("load"), scene);
+
+        // Saved elsewhere: absolute, naming the same files.
+        let moved = other.join("moved.ron");
+        save_scene(&scene, &moved).expect("save");
+        let text = std::fs::read_to_string(&moved).expect("read");
+        let abs = src.join("maps/h.png");
+        assert!(
+            text.contains(&format!("{:?}", abs.to_str().expect("utf-8"))),
+            "{text}"
+        );
+        assert_eq!(load_scene(&moved).expect("load"), scene);
+    }
+
+    #[test]
+    fn missing_directory_is_an_error_naming_the_path() {
+        let scratch = Scratch::new("missing");
+        let scene = load_scene(&asset("meadow.ron")).expect("load");
+        let path = scratch.0.join("no/such/dir/scene.ron");
+        let err = save_scene(&scene, &path).expect_err("must fail");
+        assert!(
+            matches!(&err, Error::Write { path: p, .. } if *p == path),
+            "{err:?}"
+        );
+        let shown = err.to_string();
+        assert!(shown.contains(path.to_str().expect("utf-8")), "{shown}");
+        assert!(shown.contains("does not exist"), "{shown}");
+        assert!(!path.exists());
+        assert!(listing(&scratch.0).is_empty());
+    }
+
+    #[test]
+    fn failed_save_leaves_existing_content() {
+        let scratch = Scratch::new("failed");
+        let scene = load_scene(&asset("meadow.ron")).expect("load");
+
+        // The parent is a file: nothing can be created below it, and it keeps its content.
+        let blocker = scratch.0.join("plain.txt");
+        std::fs::write(&blocker, "old content").expect("write");
+        let path = blocker.join("scene.ron");
+        let err = save_scene(&scene, &path).expect_err("must fail");
+        assert!(
+            err.to_string().contains(path.to_str().expect("utf-8")),
+            "{err}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&blocker).expect("read"),
+            "old content"
+        );
+
+        // A scene that would not load back is refused before the existing file is touched.
+        let existing = scratch.0.join("scene.ron");
+        std::fs::write(&existing, "// old\n()\n").expect("write");
+        let mut bad = scene.clone();
+        bad.field.density = f32::NAN;
+        let err = save_scene(&bad, &existing).expect_err("must fail");
+        let shown = err.to_string();
+        assert!(shown.contains("field.density"), "{shown}");
+        assert!(shown.contains(existing.to_str().expect("utf-8")), "{shown}");
+        assert_eq!(
+            std::fs::read_to_string(&existing).expect("read"),
+            "// old\n()\n"
+        );
+        assert_eq!(listing(&scratch.0), ["plain.txt", "scene.ron"]);
+    }
+}

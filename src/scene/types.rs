@@ -415,6 +415,8 @@ pub struct Physics {
     /// Ceiling of η. Past 0.9 the recovery of Eq. 3 is already at its 0.1 floor; the ceiling
     /// bounds how long a blade stays down (η_max / a seconds) when a collider sits on it.
     pub max_collision_strength: f32,
+    /// Multiplies every blade's stiffness s (Eq. 3): < 1 makes the whole meadow softer.
+    pub stiffness_scale: f32,
     /// Largest time step the update takes; longer frames are clamped to it.
     pub max_dt: f32,
     pub collisions: bool,
@@ -432,6 +434,7 @@ impl Default for Physics {
             collision_decay: 0.25,
             collision_gain: 100.0,
             max_collision_strength: 2.0,
+            stiffness_scale: 1.0,
             max_dt: 0.05,
             collisions: true,
         }
@@ -506,6 +509,32 @@ pub struct Render {
     /// Width correction (Eq. 24): w_min and w_span in pixels; w_span = 0 switches it off.
     pub width_min_px: f32,
     pub width_span_px: f32,
+    /// What the blade colour shows.
+    pub color_mode: ColorMode,
+    /// Draw the grass as lines (needs the adapter's line polygon mode).
+    pub wireframe: bool,
+}
+
+/// What the blades' colour shows: their natural colour, or a debugging view.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum ColorMode {
+    #[default]
+    Natural,
+    /// The distance level of Eq. 20 each blade falls in (green near, red at d_max).
+    Lod,
+    /// One colour per patch (the unit of patch culling).
+    Patch,
+}
+
+impl ColorMode {
+    /// The id the grass shader switches on.
+    pub fn id(self) -> u32 {
+        match self {
+            ColorMode::Natural => 0,
+            ColorMode::Lod => 1,
+            ColorMode::Patch => 2,
+        }
+    }
 }
 
 impl Default for Render {
@@ -515,6 +544,8 @@ impl Default for Render {
             displacement: true,
             width_min_px: 1.0,
             width_span_px: 2.0,
+            color_mode: ColorMode::Natural,
+            wireframe: false,
         }
     }
 }

@@ -44,6 +44,7 @@
 //! | `physics.collision_decay` | ≥ 0 1/s |
 //! | `physics.collision_gain` | 0 ..= 1e6 1/m² |
 //! | `physics.max_collision_strength` | 0 ..= 100 |
+//! | `physics.stiffness_scale` | 0.05 ≤ stiffness_scale ≤ 4 |
 //! | `physics.max_dt` | 0 < max_dt ≤ 1 s |
 //! | `culling.orientation_threshold` | 0 ≤ orientation_threshold ≤ 1 |
 //! | `culling.frustum_tolerance` | 0 ≤ frustum_tolerance ≤ 10 |
@@ -418,6 +419,10 @@ fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
         physics.max_collision_strength,
         ceiling,
     )?;
+    // Explicit Euler on the recovery term stays stable while s·scale·Δt < 2; with s up to
+    // ~12 1/s and Δt ≤ 0.05 s a scale of 4 keeps that margin for the default fields.
+    let scale = Allowed::closed(0.05, 4.0, "");
+    check.real("physics.stiffness_scale", physics.stiffness_scale, scale)?;
     let max_dt = Allowed::open_closed(0.0, 1.0, "s");
     check.real("physics.max_dt", physics.max_dt, max_dt)
 }

@@ -571,6 +571,23 @@ impl FluidSolver {
         &self.config
     }
 
+    /// Takes the scene's solver settings for the next steps (the panel edits them live).
+    /// Returns false, changing nothing, when the change needs a new solver: another grid
+    /// resolution or terrain size, or diffusion switched on or off (its bind groups exist
+    /// only when it runs).
+    pub fn apply_settings(&mut self, fluid: &Fluid, terrain_size: f32) -> bool {
+        let next = FluidConfig::from_scene(fluid, terrain_size);
+        if next.resolution != self.config.resolution
+            || next.cell_size != self.config.cell_size
+            || next.diffuses() != self.config.diffuses()
+            || next.validate().is_err()
+        {
+            return false;
+        }
+        self.config = next;
+        true
+    }
+
     /// The pressure of the last solve (`array<f32>`, STORAGE | COPY_SRC). With warm start
     /// and an odd iteration count the solve alternates between two buffers, so fetch this
     /// after each `encode` instead of binding it once.

@@ -67,7 +67,9 @@ pub struct SimParams {
     pub collision_gain: f32,
     /// Ceiling of η.
     pub max_eta: f32,
-    pub _pad: [f32; 2],
+    /// Multiplies every blade's stiffness (the panel's "stiffness scale").
+    pub stiffness_scale: f32,
+    pub _pad: f32,
     /// Wind grid: x, z of its corner, cell size, response (force per m/s of air speed).
     pub fluid_grid: [f32; 4],
     /// Wind grid: resolution, source mask (`WIND_ANALYTIC | WIND_FLUID`), 1 = per-cell
@@ -143,6 +145,9 @@ pub struct FrameUniforms {
     pub shape: [f32; 4],
     /// x: w_min, y: w_span (0 = off), z: terrain size.
     pub width_correction: [f32; 4],
+    /// x: blade colour mode (0 natural, 1 by distance level, 2 by patch), y: distance
+    /// levels n, z: d_max, w: blades per patch.
+    pub debug: [f32; 4],
 }
 
 /// `draw_indexed_indirect` arguments, as wgpu reads them.
@@ -162,7 +167,7 @@ const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 176);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 112);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 64);
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 208);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
 /// GPU bytes per blade: the blade, its state and its slot in the visible-index list.

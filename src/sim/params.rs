@@ -31,6 +31,7 @@ pub fn sim_params(
         collision_decay: physics.collision_decay,
         collision_gain: physics.collision_gain,
         max_eta: physics.max_collision_strength,
+        stiffness_scale: physics.stiffness_scale,
         blade_count,
         sphere_count,
         collisions: physics.collisions as u32,

@@ -207,7 +207,7 @@ pub fn update_blade(
     let height = blade.v1_height[3];
     let mut v2 = v4(blade.v2_width).xyz();
     let up = v4(blade.up_stiffness).xyz();
-    let stiffness = blade.up_stiffness[3];
+    let stiffness = blade.up_stiffness[3] * params.stiffness_scale;
     let rest = v4(state.rest_eta).xyz();
     let mut eta = state.rest_eta[3];
     let dt = params.dt;

@@ -1,0 +1,546 @@
+//! The window's state apart from the window itself: the renderer and its scene, the camera,
+//! the AGC editor, the balls, the frame budget and what the panel shows. Input arrives as
+//! [`Event`]s (from winit or from a replayed script), frames are encoded into any colour
+//! view, so all of it runs the same under a real window, Xvfb or a test.
+
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use glam::{Vec2, Vec3};
+
+use super::adaptive::FrameBudget;
+use super::balls::Balls;
+use super::camera::{CameraController, CameraMode};
+use super::editor::{Editor, Selection};
+use super::input::InputState;
+use super::picking::{pick_point, pick_terrain, screen_ray};
+use super::replay::{Button, Event, Key};
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
+use crate::render::camera::CameraView;
+use crate::render::{DynamicSphere, FrameStats, Renderer};
+use crate::scene::save::save_scene;
+use crate::scene::{load_scene, parse_scene, Scene, WindSource};
+use crate::session::Session;
+
+/// What a left click does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Clicks throw balls.
+    Play,
+    /// Clicks place, select and drag AGC guide points.
+    Edit,
+}
+
+/// Speed of a thrown ball in m/s and its radius in metres.
+pub const THROW_SPEED: f32 = 14.0;
+pub const BALL_RADIUS: f32 = 0.35;
+/// Radius of the steered character ball.
+pub const CHARACTER_RADIUS: f32 = 0.45;
+/// How close (pixels) the cursor must be to a guide point to pick it.
+pub const PICK_RADIUS_PX: f32 = 14.0;
+/// Frame times kept for the Stats plot.
+pub const PLOT_FRAMES: usize = 300;
+
+/// A message for the panel's status line.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Status {
+    Info(String),
+    Error(String),
+}
+
+/// Everything the window shows and edits.
+pub struct AppState {
+    pub renderer: Renderer,
+    pub camera: CameraController,
+    pub editor: Editor,
+    applied_revision: u64,
+    pub balls: Balls,
+    pub budget: FrameBudget,
+    pub mode: Mode,
+    pub input: InputState,
+    arrows: ArrowPass,
+    pub hover: Option<Selection>,
+    /// Path typed in the panel for Save / Load.
+    pub scene_path: String,
+    /// The field settings the next "Regenerate" applies.
+    pub field_draft: crate::scene::Field,
+    pub status: Option<Status>,
+    pub show_help: bool,
+    /// Wall-clock milliseconds of the last frames (the Stats plot).
+    pub frame_times: VecDeque<f32>,
+    pub stats: FrameStats,
+    /// Seconds per frame when fixed (replays, tests); otherwise the wall clock's.
+    pub fixed_dt: Option<f32>,
+    /// Whether the simulation advances.
+    pub paused: bool,
+    pub format: wgpu::TextureFormat,
+    pub size: (u32, u32),
+    pub frame: u64,
+    last_frame: Option<Instant>,
+}
+
+/// The default meadow, parsed from the built-in scene.
+pub fn default_scene() -> Result<Scene> {
+    parse_scene(
+        crate::commands::DEFAULT_SCENE,
+        Path::new(crate::commands::DEFAULT_SCENE_PATH),
+    )
+}
+
+/// Validates a scene edited in memory by writing it and loading it back through the same
+/// checks as a file; errors name the field and the allowed range.
+pub fn validated(scene: &Scene) -> Result<Scene> {
+    let text = crate::scene::save::scene_to_string(scene)?;
+    parse_scene(&text, Path::new("(panel)"))
+}
+
+impl AppState {
+    /// Builds the state for `scene`; when it failed to load, opens the default scene and
+    /// shows the error in the panel.
+    pub fn new(
+        gpu: &Gpu,
+        format: wgpu::TextureFormat,
+        size: (u32, u32),
+        scene: Result<Scene>,
+        path: Option<&Path>,
+    ) -> Result<Self> {
+        let (scene, status) = match scene {
+            Ok(s) => (s, None),
+            Err(e) => {
+                eprintln!("error: {e}\nopening the default meadow instead");
+                (
+                    default_scene()?,
+                    Some(Status::Error(format!(
+                        "{e} — the default meadow was opened instead"
+                    ))),
+                )
+            }
+        };
+        let (renderer, editor) = build(gpu, scene, format)?;
+        let camera = CameraController::from_view(&CameraView::from_scene(&renderer.scene.camera));
+        let budget = FrameBudget::new(&renderer.scene.culling, None);
+        let mut balls = Balls::new();
+        // The scene camera's target point, kept as the orbit centre.
+        let target = camera.orbit_center;
+        balls.spawn_character((target.x, target.z), CHARACTER_RADIUS, &renderer.terrain);
+        let applied_revision = editor.revision();
+        let field_draft = renderer.scene.field.clone();
+        Ok(Self {
+            arrows: ArrowPass::new(gpu, format),
+            renderer,
+            camera,
+            editor,
+            applied_revision,
+            balls,
+            budget,
+            mode: Mode::Play,
+            input: InputState::default(),
+            hover: None,
+            scene_path: path
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|| "scene.ron".to_string()),
+            field_draft,
+            status,
+            show_help: false,
+            frame_times: VecDeque::with_capacity(PLOT_FRAMES),
+            stats: FrameStats::default(),
+            fixed_dt: None,
+            paused: false,
+            format,
+            size,
+            frame: 0,
+            last_frame: None,
+        })
+    }
+
+    /// The camera the frame is drawn from.
+    pub fn view(&self) -> CameraView {
+        self.camera.view()
+    }
+
+    /// The ball the follow camera tracks: the character, else the last thrown ball.
+    pub fn followed(&self) -> Option<Vec3> {
+        self.balls
+            .character
+            .as_ref()
+            .or(self.balls.thrown.last())
+            .map(|b| b.center)
+    }
+
+    /// Handles one input event. `egui_pointer` / `egui_keyboard`: the panel uses the pointer
+    /// or the keyboard now, so the scene must not.
+    pub fn handle(&mut self, event: Event, egui_pointer: bool, egui_keyboard: bool) {
+        // Releases always reach the state, or a key would stay held after egui took focus.
+        let release = matches!(event, Event::Key(_, false) | Event::Button(_, false));
+        if release {
+            self.input.apply(event);
+            if event == Event::Button(Button::Left, false) && self.editor.is_dragging() {
+                self.editor.release();
+            }
+            return;
+        }
+        match event {
+            Event::CursorMoved(..) => {
+                self.input.apply(event);
+                if self.mode == Mode::Edit && self.editor.is_dragging() {
+                    let ground = self.ground_under_cursor();
+                    self.editor.drag(ground);
+                }
+            }
+            Event::Scroll(_) if egui_pointer => {}
+            Event::Scroll(_) => {
+                self.input.apply(event);
+            }
+            Event::Button(..) if egui_pointer => {}
+            Event::Button(b, true) => {
+                self.input.apply(event);
+                if b == Button::Left {
+                    self.left_press();
+                }
+            }
+            Event::Key(..) if egui_keyboard => {}
+            Event::Key(k, true) => {
+                let repeat = self.input.held(k);
+                self.input.apply(event);
+                if !repeat {
+                    self.key_press(k);
+                }
+            }
+            Event::Button(_, false) | Event::Key(_, false) => {}
+        }
+    }
+
+    /// The terrain point (x, z) under the cursor.
+    fn ground_under_cursor(&self) -> Option<Vec2> {
+        let cursor = self.input.cursor?;
+        let ray = screen_ray(&self.view(), self.size, cursor);
+        let far = self.camera.far;
+        pick_terrain(&ray, &self.renderer.terrain, far).map(|p| Vec2::new(p.x, p.z))
+    }
+
+    /// The guide point under the cursor.
+    fn point_under_cursor(&self) -> Option<Selection> {
+        let cursor = self.input.cursor?;
+        pick_point(
+            self.editor.guides(),
+            &self.renderer.terrain,
+            &self.view(),
+            self.size,
+            cursor,
+            PICK_RADIUS_PX,
+            ARROW_LIFT,
+        )
+    }
+
+    fn left_press(&mut self) {
+        match self.mode {
+            Mode::Edit => {
+                let hit = self.point_under_cursor();
+                let ground = self.ground_under_cursor();
+                let alt = self.input.held(Key::Alt);
+                self.editor.press(hit, ground, alt);
+            }
+            Mode::Play => {
+                if let Some(cursor) = self.input.cursor {
+                    let ray = screen_ray(&self.view(), self.size, cursor);
+                    self.throw(ray.dir);
+                }
+            }
+        }
+    }
+
+    /// Throws a ball from just in front of the camera along `dir`.
+    pub fn throw(&mut self, dir: Vec3) {
+        let view = self.view();
+        let origin = view.eye + dir.normalize_or(Vec3::NEG_Z) * 1.0;
+        self.balls.throw(origin, dir, THROW_SPEED, BALL_RADIUS);
+    }
+
+    fn key_press(&mut self, key: Key) {
+        let ctrl = self.input.ctrl();
+        match key {
+            Key::Z if ctrl && self.input.held(Key::Shift) => {
+                self.editor.redo();
+            }
+            Key::Z if ctrl => {
+                self.editor.undo();
+            }
+            Key::Y if ctrl => {
+                self.editor.redo();
+            }
+            Key::S if ctrl => self.save(),
+            Key::Tab => self.toggle_mode(),
+            Key::Space => {
+                let dir = self.camera.forward();
+                self.throw(dir);
+            }
+            Key::Delete if self.mode == Mode::Edit => self.editor.delete_selected(),
+            Key::Escape => self.editor.select(None),
+            Key::O => self.toggle_camera(CameraMode::Orbit),
+            Key::F => self.toggle_camera(CameraMode::Follow),
+            Key::C if !ctrl => self.balls.clear(),
+            Key::H | Key::F1 => self.show_help = !self.show_help,
+            _ => {}
+        }
+    }
+
+    pub fn toggle_mode(&mut self) {
+        self.mode = match self.mode {
+            Mode::Play => Mode::Edit,
+            Mode::Edit => Mode::Play,
+        };
+        self.hover = None;
+    }
+
+    /// Switches to `mode`, or back to flying when it is already on.
+    pub fn toggle_camera(&mut self, mode: CameraMode) {
+        let next = if self.camera.mode == mode {
+            CameraMode::Fly
+        } else {
+            mode
+        };
+        let follow = self.followed();
+        self.camera.set_mode(next, follow);
+    }
+
+    /// The scene as it is now (guides from the editor, camera from the controller), for
+    /// saving.
+    pub fn current_scene(&self) -> Scene {
+        let mut scene = self.renderer.scene.clone();
+        scene.wind.guides = self.editor.guides().to_vec();
+        let view = self.view();
+        scene.camera.eye = view.eye.into();
+        scene.camera.target = view.target.into();
+        scene
+    }
+
+    /// Saves the scene to the panel's path (temporary file + rename: a failed save leaves
+    /// the old file and the scene in memory as they were).
+    pub fn save(&mut self) {
+        let path = PathBuf::from(self.scene_path.trim());
+        self.status = Some(match save_scene(&self.current_scene(), &path) {
+            Ok(()) => Status::Info(format!("saved {}", path.display())),
+            Err(e) => Status::Error(format!("not saved: {e}")),
+        });
+    }
+
+    /// Loads the scene at the panel's path; on error the current scene stays.
+    pub fn load(&mut self, gpu: &Gpu) {
+        let path = PathBuf::from(self.scene_path.trim());
+        let result = load_scene(&path).and_then(|scene| self.replace_scene(gpu, scene));
+        self.status = Some(match result {
+            Ok(()) => Status::Info(format!("loaded {}", path.display())),
+            Err(e) => Status::Error(format!("not loaded: {e}")),
+        });
+    }
+
+    /// Rebuilds everything for a new scene (Load) and moves the camera to its view.
+    pub fn replace_scene(&mut self, gpu: &Gpu, scene: Scene) -> Result<()> {
+        let (renderer, editor) = build(gpu, scene, self.format)?;
+        let overlay = self.renderer.overlay_enabled();
+        self.renderer = renderer;
+        if overlay {
+            self.renderer.enable_overlay(gpu, self.format);
+        }
+        self.editor = editor;
+        self.applied_revision = self.editor.revision();
+        self.camera =
+            CameraController::from_view(&CameraView::from_scene(&self.renderer.scene.camera));
+        self.field_draft = self.renderer.scene.field.clone();
+        self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms);
+        self.balls.thrown.clear();
+        let target = self.camera.orbit_center;
+        self.balls.spawn_character(
+            (target.x, target.z),
+            CHARACTER_RADIUS,
+            &self.renderer.terrain,
+        );
+        Ok(())
+    }
+
+    /// Regenerates the field with the panel's draft settings; the scene keeps its wind,
+    /// culling and camera. Blade counts the adapter cannot hold are refused before anything
+    /// is allocated.
+    pub fn regenerate(&mut self, gpu: &Gpu) {
+        let mut scene = self.current_scene();
+        scene.field = self.field_draft.clone();
+        let result = validated(&scene).and_then(|s| {
+            let time = self.renderer.time;
+            self.replace_field(gpu, s)?;
+            self.renderer.time = time;
+            Ok(())
+        });
+        self.status = Some(match result {
+            Ok(()) => Status::Info(format!(
+                "regenerated: {} blades",
+                self.renderer.buffers.count
+            )),
+            Err(e) => Status::Error(format!("not regenerated: {e}")),
+        });
+    }
+
+    fn replace_field(&mut self, gpu: &Gpu, scene: Scene) -> Result<()> {
+        let (renderer, _) = build(gpu, scene, self.format)?;
+        let overlay = self.renderer.overlay_enabled();
+        self.renderer = renderer;
+        if overlay {
+            self.renderer.enable_overlay(gpu, self.format);
+        }
+        Ok(())
+    }
+
+    /// Rebuilds the wind solver after a change of source or grid resolution.
+    pub fn rebuild_wind(&mut self, gpu: &Gpu) {
+        if let Err(e) =
+            validated(&self.renderer.scene).and_then(|_| self.renderer.rebuild_wind(gpu))
+        {
+            self.status = Some(Status::Error(format!("wind not changed: {e}")));
+        }
+    }
+
+    /// Advances everything that lives on the CPU by one frame: camera, balls, the guides
+    /// into the scene, the frame budget, the hovered guide point.
+    pub fn update(&mut self, gpu: &Gpu) -> f32 {
+        let now = Instant::now();
+        let wall = self
+            .last_frame
+            .map_or(1.0 / 60.0, |t| now.duration_since(t).as_secs_f32());
+        self.last_frame = Some(now);
+        if self.frame > 0 {
+            if self.frame_times.len() == PLOT_FRAMES {
+                self.frame_times.pop_front();
+            }
+            self.frame_times.push_back(wall * 1000.0);
+            if self
+                .budget
+                .observe(wall * 1000.0, &mut self.renderer.scene.culling)
+                .is_some()
+            {
+                log::info!("frame budget: {}", self.budget.status());
+            }
+        }
+        let dt = self.fixed_dt.unwrap_or(wall.min(0.1));
+
+        let camera_input = self.input.take_camera();
+        let follow = self.followed();
+        self.camera
+            .update(&camera_input, dt, &self.renderer.terrain, follow);
+
+        let sim_dt = if self.paused { 0.0 } else { dt };
+        let steer = self.steer_direction();
+        self.balls.step(
+            sim_dt,
+            self.renderer.scene.physics.gravity_acceleration,
+            &self.renderer.terrain,
+            steer,
+        );
+        self.renderer.dynamic_spheres = self
+            .balls
+            .spheres()
+            .into_iter()
+            .map(|(center, radius, velocity)| DynamicSphere {
+                center,
+                radius,
+                velocity,
+            })
+            .collect();
+
+        self.apply_guides(gpu);
+        self.hover = match self.mode {
+            Mode::Edit => self.point_under_cursor(),
+            Mode::Play => None,
+        };
+        sim_dt
+    }
+
+    /// The arrow keys in world terms: up = the camera's forward on the ground.
+    fn steer_direction(&self) -> Vec2 {
+        let s = self.input.steer();
+        if s == Vec2::ZERO {
+            return Vec2::ZERO;
+        }
+        let f = self.camera.forward();
+        let forward = Vec2::new(f.x, f.z).normalize_or(Vec2::NEG_Y);
+        let right = Vec2::new(-forward.y, forward.x);
+        (forward * s.y + right * s.x).normalize_or_zero()
+    }
+
+    /// Copies edited guides into the scene the wind reads. Guides only act through the
+    /// fluid, so the first guide switches an analytic-only wind to the fluid.
+    fn apply_guides(&mut self, gpu: &Gpu) {
+        if self.editor.revision() == self.applied_revision {
+            return;
+        }
+        self.applied_revision = self.editor.revision();
+        self.renderer.scene.wind.guides = self.editor.guides().to_vec();
+        if !self.editor.guides().is_empty()
+            && self.renderer.scene.wind.source == WindSource::Analytic
+        {
+            self.renderer.scene.wind.source = WindSource::Fluid;
+            self.rebuild_wind(gpu);
+            self.status = Some(Status::Info(
+                "wind source set to Fluid: guides push the fluid grid".to_string(),
+            ));
+        }
+        self.renderer.refresh_overlay_guides(gpu);
+    }
+
+    /// Records the frame: simulation step, cull, grass, then the guide arrows.
+    pub fn encode(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) {
+        let view = self.view();
+        self.renderer
+            .encode_frame(gpu, encoder, dt, &view, color, depth, self.size);
+        let show_arrows = self.mode == Mode::Edit || self.renderer.overlay_enabled();
+        let mesh = if show_arrows {
+            ArrowMesh::build(
+                self.editor.guides(),
+                &self.renderer.terrain,
+                self.editor.selection(),
+                self.hover,
+            )
+        } else {
+            ArrowMesh::build(&[], &self.renderer.terrain, None, None)
+        };
+        let aspect = self.size.0 as f32 / self.size.1.max(1) as f32;
+        let sun = Vec3::from(self.renderer.scene.render.sun_direction);
+        self.arrows.prepare(gpu, &mesh, view.view_proj(aspect), sun);
+        self.arrows.encode(encoder, color, depth);
+        self.frame += 1;
+    }
+
+    /// Reads the last frame's counters and GPU times for the Stats section (blocks until
+    /// the frame is done, so the window calls it every few frames).
+    pub fn read_stats(&mut self, gpu: &Gpu) {
+        match self.renderer.stats(gpu) {
+            Ok(s) => self.stats = s,
+            Err(e) => log::warn!("stats: {e}"),
+        }
+    }
+
+    /// Freezes culling at the current camera, or unfreezes it.
+    pub fn set_cull_frozen(&mut self, frozen: bool) {
+        self.renderer.cull_camera = frozen.then(|| self.view());
+    }
+}
+
+/// A renderer and an editor for a scene (the field generated, its size checked first).
+fn build(gpu: &Gpu, scene: Scene, format: wgpu::TextureFormat) -> Result<(Renderer, Editor)> {
+    let session = Session::new(scene, None, Some(gpu))?;
+    let renderer = Renderer::from_session(gpu, &session, format)?;
+    let editor = Editor::new(
+        renderer.scene.wind.guides.clone(),
+        renderer.scene.terrain.size,
+    )
+    .map_err(|e| Error::Invalid(format!("wind.guides: {e}")))?;
+    Ok((renderer, editor))
+}

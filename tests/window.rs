@@ -1,0 +1,290 @@
+//! End to end through the real window: `sward --replay` plays clicks, Alt-clicks and a drag
+//! that build a branching AGC guide, Ctrl+S saves the scene, `--screenshot` keeps the last
+//! frame. The test checks the saved guide against where the clicks land on the terrain (the
+//! same picking code on the CPU) and that the screenshot shows the panel and the arrows.
+//!
+//! It needs an X display: it uses `DISPLAY` when set, otherwise it starts its own Xvfb
+//! (`.ci/run` installs it) and fails with a message when neither exists.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+use glam::{Vec2, Vec3};
+use sward::app::camera::CameraController;
+use sward::app::picking::{pick_terrain, project, screen_ray};
+use sward::app::replay::{Button, Event, Key, Script, Step};
+use sward::field::HeightField;
+use sward::render::arrows::ARROW_LIFT;
+use sward::render::camera::CameraView;
+use sward::scene::load_scene;
+
+const SIZE: (u32, u32) = (960, 540);
+const FRAMES: u64 = 75;
+
+/// An X server for the test's lifetime (killed on drop) or the one in `DISPLAY`.
+struct Display {
+    name: String,
+    server: Option<Child>,
+}
+
+impl Drop for Display {
+    fn drop(&mut self) {
+        if let Some(s) = &mut self.server {
+            let _ = s.kill();
+            let _ = s.wait();
+        }
+    }
+}
+
+fn display() -> Display {
+    if let Ok(name) = std::env::var("DISPLAY") {
+        if !name.is_empty() {
+            return Display { name, server: None };
+        }
+    }
+    // -displayfd: Xvfb picks a free display number and writes it to our pipe when ready.
+    let mut server = Command::new("Xvfb")
+        .args(["-displayfd", "1", "-screen", "0", "1600x1000x24", "-nolisten", "tcp"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| {
+            panic!("the window test needs an X display: DISPLAY is unset and Xvfb failed to start ({e}); install xvfb")
+        });
+    let mut line = String::new();
+    BufReader::new(server.stdout.take().expect("piped"))
+        .read_line(&mut line)
+        .expect("Xvfb's display number");
+    let number = line.trim();
+    assert!(!number.is_empty(), "Xvfb did not report a display");
+    Display {
+        name: format!(":{number}"),
+        server: Some(server),
+    }
+}
+
+fn sward(display: &Display, args: &[&str]) -> std::process::Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(args)
+        .env("DISPLAY", &display.name)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run sward");
+    eprintln!(
+        "sward {args:?}: {}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// The ground point under pixel `p` for the scene's camera.
+fn ground(view: &CameraView, terrain: &HeightField, p: Vec2) -> Vec3 {
+    pick_terrain(&screen_ray(view, SIZE, p), terrain, 500.0)
+        .unwrap_or_else(|| panic!("pixel {p} does not look at the terrain"))
+}
+
+/// Where the guide point above `ground` is drawn (and so where a click selects it).
+fn marker(view: &CameraView, terrain: &HeightField, g: Vec3) -> Vec2 {
+    let lifted = Vec3::new(g.x, terrain.height(g.x, g.z) + ARROW_LIFT, g.z);
+    project(view, SIZE, lifted).expect("marker in front of the camera")
+}
+
+fn step(frame: u64, event: Event) -> Step {
+    Step { frame, event }
+}
+
+fn click(steps: &mut Vec<Step>, frame: u64, at: Vec2) {
+    steps.push(step(frame, Event::CursorMoved(at.x, at.y)));
+    steps.push(step(frame + 1, Event::Button(Button::Left, true)));
+    steps.push(step(frame + 2, Event::Button(Button::Left, false)));
+}
+
+fn alt_click(steps: &mut Vec<Step>, frame: u64, at: Vec2) {
+    steps.push(step(frame, Event::Key(Key::Alt, true)));
+    click(steps, frame + 1, at);
+    steps.push(step(frame + 4, Event::Key(Key::Alt, false)));
+}
+
+#[test]
+fn replayed_editing_session_saves_a_branching_guide_and_a_screenshot() {
+    let dir = tempdir("window");
+    let scene_path = dir.join("scene.ron");
+    std::fs::copy("tests/scenes/window.ron", &scene_path).expect("copy the scene");
+    let scene = load_scene(&scene_path).expect("test scene");
+    let terrain = HeightField::from_scene(&scene.terrain).expect("terrain");
+    // The view the window starts with, through the same controller it uses.
+    let view = CameraController::from_view(&CameraView::from_scene(&scene.camera)).view();
+
+    // Pixels right of the panel: root, first branch, second branch, then a drag target.
+    let a = ground(&view, &terrain, Vec2::new(560.0, 330.0));
+    let b = ground(&view, &terrain, Vec2::new(820.0, 230.0));
+    let c = ground(&view, &terrain, Vec2::new(800.0, 430.0));
+    let d = ground(&view, &terrain, Vec2::new(860.0, 400.0));
+    let pa = project(&view, SIZE, a).unwrap();
+    let pb = project(&view, SIZE, b).unwrap();
+    let pc = project(&view, SIZE, c).unwrap();
+    let pd = project(&view, SIZE, d).unwrap();
+
+    let mut steps = vec![
+        step(2, Event::Key(Key::Tab, true)),
+        step(3, Event::Key(Key::Tab, false)),
+    ];
+    click(&mut steps, 5, pa); // a root at A
+    alt_click(&mut steps, 9, pb); // arrow A → B (B selected)
+    click(&mut steps, 15, marker(&view, &terrain, a)); // select the root again
+    alt_click(&mut steps, 19, pc); // arrow A → C: the guide branches at A
+                                   // Drag C's marker to D.
+    let mc = marker(&view, &terrain, c);
+    steps.push(step(25, Event::CursorMoved(mc.x, mc.y)));
+    steps.push(step(26, Event::Button(Button::Left, true)));
+    for (i, t) in [0.25f32, 0.5, 0.75, 1.0].into_iter().enumerate() {
+        let p = mc.lerp(pd, t);
+        steps.push(step(27 + i as u64, Event::CursorMoved(p.x, p.y)));
+    }
+    steps.push(step(31, Event::Button(Button::Left, false)));
+    // Ctrl+S saves back to --scene.
+    steps.push(step(33, Event::Key(Key::Ctrl, true)));
+    steps.push(step(34, Event::Key(Key::S, true)));
+    steps.push(step(35, Event::Key(Key::S, false)));
+    steps.push(step(36, Event::Key(Key::Ctrl, false)));
+    // Back to Play so the screenshot shows the wind, not the editing.
+    let script = Script { steps };
+    let script_path = dir.join("branching.ron");
+    script.save(&script_path).expect("write the script");
+
+    let shot = dir.join("shot.png");
+    let display = display();
+    let size = format!("{}x{}", SIZE.0, SIZE.1);
+    let frames = FRAMES.to_string();
+    let out = sward(
+        &display,
+        &[
+            "--scene",
+            scene_path.to_str().unwrap(),
+            "--replay",
+            script_path.to_str().unwrap(),
+            "--size",
+            &size,
+            "--exit-after-frames",
+            &frames,
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--adapter",
+            "software",
+        ],
+    );
+    assert!(out.status.success(), "sward exited with {}", out.status);
+
+    // The saved scene holds one guide that branches at its root.
+    let saved = load_scene(&scene_path).expect("the saved scene loads");
+    assert_eq!(saved.wind.guides.len(), 1, "{:?}", saved.wind.guides);
+    let g = &saved.wind.guides[0];
+    let parents: Vec<Option<usize>> = g.points.iter().map(|p| p.parent).collect();
+    assert_eq!(parents, vec![None, Some(0), Some(0)], "{g:?}");
+    // Each point where its click landed on the terrain (the drag moved C to D).
+    let near = |p: (f32, f32), q: Vec3, what: &str| {
+        let e = Vec2::from(p).distance(Vec2::new(q.x, q.z));
+        assert!(
+            e < 0.05,
+            "{what}: saved at {p:?}, clicked at ({}, {}): {e} m off",
+            q.x,
+            q.z
+        );
+    };
+    near(g.points[0].position, a, "root");
+    near(g.points[1].position, b, "first branch");
+    near(g.points[2].position, d, "dragged branch");
+
+    // The screenshot: the window's size, the panel on the left, an arrow on the right.
+    let img = image::open(&shot).expect("screenshot").to_rgba8();
+    assert_eq!(img.dimensions(), SIZE);
+    if let Ok(keep) = std::env::var("SWARD_KEEP_SCREENSHOT") {
+        std::fs::copy(&shot, keep).expect("keep the screenshot");
+    }
+    let panel = mean(&img, 10, 60, 200, 200);
+    let grass = mean(&img, 600, 480, 300, 50);
+    // egui's dark panel is grey (r ≈ g ≈ b); the meadow is green.
+    assert!(
+        (panel[0] - panel[1]).abs() < 12.0 && panel[1] < 90.0,
+        "no dark panel on the left: mean {panel:?}"
+    );
+    assert!(
+        grass[1] > grass[2] + 10.0,
+        "no grass on the right: mean {grass:?}"
+    );
+    // The arrow A → B is drawn in the strength ramp's colours, unlike grass or sky.
+    let mid = marker(&view, &terrain, (a + b) * 0.5);
+    let arrow_px = (0..9)
+        .flat_map(|dy| (0..9).map(move |dx| (dx, dy)))
+        .filter(|(dx, dy)| {
+            let x = (mid.x as i32 + dx - 4).clamp(0, SIZE.0 as i32 - 1) as u32;
+            let y = (mid.y as i32 + dy - 4).clamp(0, SIZE.1 as i32 - 1) as u32;
+            let p = img.get_pixel(x, y);
+            // Saturated, not green-dominant: the ramp at 6 m/s² is cyan-blue.
+            p[2] as i32 > p[1] as i32 - 20 && p[2] > 120
+        })
+        .count();
+    assert!(arrow_px > 5, "no arrow drawn around {mid}");
+}
+
+/// Mean RGB of a rectangle.
+fn mean(img: &image::RgbaImage, x: u32, y: u32, w: u32, h: u32) -> [f32; 3] {
+    let mut s = [0.0f64; 3];
+    for j in y..y + h {
+        for i in x..x + w {
+            let p = img.get_pixel(i, j);
+            for k in 0..3 {
+                s[k] += p[k] as f64;
+            }
+        }
+    }
+    let n = (w * h) as f64;
+    [(s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32]
+}
+
+#[test]
+fn a_scene_that_fails_to_load_opens_the_default_and_exits_cleanly() {
+    let dir = tempdir("window_bad");
+    let bad = dir.join("bad.ron");
+    std::fs::write(&bad, "(field: (density: -3.0))").unwrap();
+    let display = display();
+    let shot = dir.join("shot.png");
+    let out = sward(
+        &display,
+        &[
+            "--scene",
+            bad.to_str().unwrap(),
+            "--size",
+            "320x200",
+            "--exit-after-frames",
+            "2",
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--adapter",
+            "software",
+            "--target-frame-ms",
+            "1000",
+        ],
+    );
+    assert!(out.status.success(), "{}", out.status);
+    assert!(shot.exists());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("bad.ron") && stderr.contains("field.density"),
+        "the load error is not reported: {stderr}"
+    );
+    // The file was not touched.
+    assert_eq!(
+        std::fs::read_to_string(&bad).unwrap(),
+        "(field: (density: -3.0))"
+    );
+}
+
+fn tempdir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
