@@ -1,4 +1,4 @@
-// Sky: one full-screen triangle drawn first; the view ray of each pixel comes from the
+// Sky: one full-screen triangle drawn last, behind everything; the view ray of each pixel comes from the
 // inverse view-projection, the colour from `sky_color` (shared with the fog).
 //!include common.wgsl
 
@@ -13,7 +13,8 @@ struct VertexOut {
 fn vs_main(@builtin(vertex_index) vid: u32) -> VertexOut {
     let xy = vec2<f32>(f32((vid << 1u) & 2u), f32(vid & 2u)) * 2.0 - 1.0;
     var out: VertexOut;
-    out.clip = vec4<f32>(xy, 0.0, 1.0);
+    // At the far plane, drawn last: only pixels nothing else covered pass the depth test.
+    out.clip = vec4<f32>(xy, 1.0, 1.0);
     out.ndc = xy;
     return out;
 }

@@ -117,15 +117,21 @@ fn replayed_editing_session_saves_a_branching_guide_and_a_screenshot() {
     // The view the window starts with, through the same controller it uses.
     let view = CameraController::from_view(&CameraView::from_scene(&scene.camera)).view();
 
-    // Pixels right of the panel: root, first branch, second branch, then a drag target.
-    let a = ground(&view, &terrain, Vec2::new(560.0, 330.0));
-    let b = ground(&view, &terrain, Vec2::new(820.0, 230.0));
-    let c = ground(&view, &terrain, Vec2::new(800.0, 430.0));
-    let d = ground(&view, &terrain, Vec2::new(860.0, 400.0));
-    let pa = project(&view, SIZE, a).unwrap();
-    let pb = project(&view, SIZE, b).unwrap();
-    let pc = project(&view, SIZE, c).unwrap();
-    let pd = project(&view, SIZE, d).unwrap();
+    // Ground points right of the panel: root, first branch, second branch, drag target.
+    // Each is clicked at its projection; the point the click lands on is what the CPU
+    // picking finds under that pixel.
+    let on_ground = |x: f32, z: f32| {
+        let p = project(&view, SIZE, Vec3::new(x, terrain.height(x, z), z)).unwrap();
+        assert!(
+            p.x > 420.0 && p.x < SIZE.0 as f32 && p.y > 0.0 && p.y < SIZE.1 as f32,
+            "{p}"
+        );
+        (p, ground(&view, &terrain, p))
+    };
+    let (pa, a) = on_ground(2.0, 4.0);
+    let (pb, b) = on_ground(7.0, -3.0);
+    let (pc, c) = on_ground(7.0, 6.0);
+    let (pd, d) = on_ground(9.0, 3.0);
 
     let mut steps = vec![
         step(2, Event::Key(Key::Tab, true)),

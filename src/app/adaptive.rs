@@ -186,14 +186,14 @@ impl FrameBudget {
         false
     }
 
-    /// One line for the Stats panel, e.g. `target 100 ms, now 84 ms: d_max 60 → 31 m,
-    /// levels 8 → 8`, or `off`.
+    /// One line for the Stats panel, e.g. `target 100 ms, now 84 ms: d_max 60 -> 31 m,
+    /// levels 8 -> 8`, or `off`.
     pub fn status(&self) -> String {
         let Some(target) = self.target_ms else {
             return "off".into();
         };
         let mut line = format!(
-            "target {target:.0} ms, now {:.0} ms: d_max {:.0} → {:.0} m, levels {} → {}",
+            "target {target:.0} ms, now {:.0} ms: d_max {:.0} -> {:.0} m, levels {} -> {}",
             self.smoothed_ms(),
             self.base_distance,
             self.max_distance,
@@ -287,7 +287,7 @@ mod tests {
             "{}",
             b.status()
         );
-        assert!(b.status().contains("d_max 60 → "), "{}", b.status());
+        assert!(b.status().contains("d_max 60 -> "), "{}", b.status());
     }
 
     #[test]
@@ -364,7 +364,7 @@ mod tests {
         }
         assert_eq!((c.distance_levels, c.max_distance), (8, 60.0));
         assert!(
-            b.status().ends_with("d_max 60 → 60 m, levels 8 → 8"),
+            b.status().ends_with("d_max 60 -> 60 m, levels 8 -> 8"),
             "{}",
             b.status()
         );
@@ -485,7 +485,7 @@ mod tests {
         run(&mut b, &mut c, &mut m, 500);
         assert_eq!((c.distance_levels, c.max_distance), (4, 30.0));
         assert!(
-            b.status().contains("d_max 30 → 30 m, levels 4 → 4"),
+            b.status().contains("d_max 30 -> 30 m, levels 4 -> 4"),
             "{}",
             b.status()
         );

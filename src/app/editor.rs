@@ -21,7 +21,7 @@ use crate::sim::agc::{AgcError, GuideId, GuideSet, PointId};
 pub type Selection = (GuideId, PointId);
 
 /// Strength (m/s²) of new guides until the user changes it.
-pub const DEFAULT_STRENGTH: f32 = 6.0;
+pub const DEFAULT_STRENGTH: f32 = 12.0;
 /// Radius (m) of new guides until the user changes it.
 pub const DEFAULT_RADIUS: f32 = 2.5;
 /// Length (m) of the arrow [`Editor::add_child_of_selected`] adds.
@@ -511,11 +511,11 @@ mod tests {
     #[test]
     fn click_on_the_ground_makes_a_root() {
         let mut e = empty();
-        assert_eq!((e.new_strength, e.new_radius), (6.0, 2.5));
+        assert_eq!((e.new_strength, e.new_radius), (12.0, 2.5));
         e.press(None, Some(v(1.0, -2.0)), false);
         assert_eq!(e.guides().len(), 1);
         let g = &e.guides()[0];
-        assert_eq!((g.strength, g.radius), (6.0, 2.5));
+        assert_eq!((g.strength, g.radius), (12.0, 2.5));
         assert_eq!(g.points, [pt((1.0, -2.0), None)]);
         assert_eq!(e.selection(), Some((0, 0)));
         assert!(e.is_dragging());

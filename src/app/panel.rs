@@ -69,7 +69,7 @@ fn range_ui(
                 .speed(0.01)
                 .suffix(unit),
         );
-        ui.label("…");
+        ui.label("to");
         ui.add(
             egui::DragValue::new(&mut r.max)
                 .range(limits)
@@ -166,13 +166,21 @@ fn editor_section(ui: &mut Ui, app: &mut AppState) {
                             if slider.changed() || number.changed() {
                                 app.editor.set_strength(s);
                             }
+                            // One undo step per drag of the slider, not one per frame.
+                            if slider.drag_stopped() || number.drag_stopped() || number.lost_focus() {
+                                app.editor.end_slider_edit();
+                            }
                         });
                     }
                     if let Some(mut r) = app.editor.radius_of_selected() {
                         ui.horizontal(|ui| {
                             ui.label("Radius");
-                            if ui.add(egui::Slider::new(&mut r, 0.1..=20.0).suffix(" m")).changed() {
+                            let slider = ui.add(egui::Slider::new(&mut r, 0.1..=20.0).suffix(" m"));
+                            if slider.changed() {
                                 app.editor.set_radius(r);
+                            }
+                            if slider.drag_stopped() {
+                                app.editor.end_slider_edit();
                             }
                         });
                     }

@@ -41,6 +41,8 @@ pub const BALL_RADIUS: f32 = 0.35;
 pub const CHARACTER_RADIUS: f32 = 0.45;
 /// How close (pixels) the cursor must be to a guide point to pick it.
 pub const PICK_RADIUS_PX: f32 = 14.0;
+/// Wind grid the first guide switches to on a CPU adapter.
+pub const SOFTWARE_GRID: u32 = 128;
 /// Frame times kept for the Stats plot.
 pub const PLOT_FRAMES: usize = 300;
 
@@ -80,6 +82,8 @@ pub struct AppState {
     pub size: (u32, u32),
     pub frame: u64,
     last_frame: Option<Instant>,
+    /// The adapter is a CPU one (lavapipe): the defaults favour frame time.
+    pub software: bool,
 }
 
 /// The default meadow, parsed from the built-in scene.
@@ -153,6 +157,7 @@ impl AppState {
             size,
             frame: 0,
             last_frame: None,
+            software: gpu.info.device_type == wgpu::DeviceType::Cpu,
         })
     }
 
@@ -480,10 +485,20 @@ impl AppState {
             && self.renderer.scene.wind.source == WindSource::Analytic
         {
             self.renderer.scene.wind.source = WindSource::Fluid;
+            let fluid = &mut self.renderer.scene.wind.fluid;
+            let mut note = String::new();
+            // On a CPU adapter a 256² solve costs ~45 ms a frame; 128² keeps 10 fps in reach.
+            if self.software && fluid.resolution > SOFTWARE_GRID {
+                note = format!(
+                    " at {SOFTWARE_GRID}² (a CPU adapter; was {}², see Wind)",
+                    fluid.resolution
+                );
+                fluid.resolution = SOFTWARE_GRID;
+            }
             self.rebuild_wind(gpu);
-            self.status = Some(Status::Info(
-                "wind source set to Fluid: guides push the fluid grid".to_string(),
-            ));
+            self.status = Some(Status::Info(format!(
+                "wind source set to Fluid{note}: guides push the fluid grid"
+            )));
         }
         self.renderer.refresh_overlay_guides(gpu);
     }

@@ -2,7 +2,6 @@
 //! egui on top, the replay / record of input scripts, and `--exit-after-frames` /
 //! `--screenshot` for end-to-end tests. Everything else lives in [`AppState`].
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use winit::application::ApplicationHandler;
@@ -40,6 +39,8 @@ struct Running {
 pub struct WindowApp {
     options: AppOptions,
     running: Option<Running>,
+    /// `finish` ran (close and exit both call it).
+    finished: bool,
     /// The first fatal error; `run` returns it after the loop ends.
     pub error: Option<Error>,
 }
@@ -49,6 +50,7 @@ impl WindowApp {
         Self {
             options,
             running: None,
+            finished: false,
             error: None,
         }
     }
@@ -129,6 +131,25 @@ impl WindowApp {
     }
 
     fn finish(&mut self) {
+        if std::mem::replace(&mut self.finished, true) {
+            return;
+        }
+        if let Some(r) = &self.running {
+            // One line for logs and benchmarks: what the last frames cost on this adapter.
+            let t = &r.app.frame_times;
+            let last: Vec<f32> = t.iter().rev().take(100).copied().collect();
+            if !last.is_empty() {
+                let mean = last.iter().sum::<f32>() / last.len() as f32;
+                eprintln!(
+                    "{} frames; mean frame time of the last {}: {mean:.1} ms ({:.1} fps) on {}; frame budget: {}",
+                    r.app.frame,
+                    last.len(),
+                    1000.0 / mean,
+                    r.gpu.info.name,
+                    r.app.budget.status()
+                );
+            }
+        }
         if let (Some(r), Some(path)) = (&self.running, &self.options.record) {
             if let Some(rec) = &r.recorder {
                 if let Err(e) = rec.script().save(path) {
@@ -431,11 +452,4 @@ pub fn run(options: AppOptions) -> Result<()> {
         Some(e) => Err(e),
         None => Ok(()),
     }
-}
-
-/// Where `--record` writes, for messages.
-pub fn describe_record(path: &Option<PathBuf>) -> String {
-    path.as_ref()
-        .map(|p| p.display().to_string())
-        .unwrap_or_default()
 }

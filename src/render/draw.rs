@@ -100,10 +100,12 @@ fn pipeline(
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(spec.depth_write),
+            // Without depth writes (the sky) only the pixels nothing else covered pass: the
+            // sky sits at depth 1, the cleared value.
             depth_compare: Some(if spec.depth_write {
                 wgpu::CompareFunction::Less
             } else {
-                wgpu::CompareFunction::Always
+                wgpu::CompareFunction::LessEqual
             }),
             stencil: Default::default(),
             bias: Default::default(),
@@ -351,6 +353,7 @@ impl DrawPass {
     }
 
     /// Records the render pass into `color` with `depth`.
+    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -384,18 +387,6 @@ impl DrawPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.sky);
-        pass.set_bind_group(0, &self.frame_group, &[]);
-        pass.draw(0..3, 0..1);
-
-        pass.set_pipeline(&self.terrain);
-        pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
-        pass.set_index_buffer(
-            self.terrain_mesh.indices.slice(..),
-            wgpu::IndexFormat::Uint32,
-        );
-        pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
-
         if sphere_count > 0 {
             pass.set_pipeline(&self.spheres);
             pass.set_bind_group(0, &self.spheres_group, &[]);
@@ -415,5 +406,20 @@ impl DrawPass {
         pass.set_bind_group(0, &self.grass_group, &[]);
         pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed_indirect(indirect, 0);
+
+        // Front to back: what the grass covers of the ground and what the ground covers of
+        // the sky is rejected by the depth test before it is shaded.
+        pass.set_pipeline(&self.terrain);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
+        pass.set_index_buffer(
+            self.terrain_mesh.indices.slice(..),
+            wgpu::IndexFormat::Uint32,
+        );
+        pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
+
+        pass.set_pipeline(&self.sky);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.draw(0..3, 0..1);
     }
 }
