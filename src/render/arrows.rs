@@ -49,16 +49,16 @@ pub const POINT_SIZE: f32 = 0.18;
 pub const SELECTED_POINT_SIZE: f32 = 0.32;
 /// Size of the point under the mouse.
 pub const HOVERED_POINT_SIZE: f32 = 0.24;
-/// Strength (m/s²) at the red end of [`strength_color`]'s ramp.
+/// Strength (m/s²) at the yellow end of [`strength_color`]'s ramp.
 pub const FULL_SCALE_STRENGTH: f32 = 20.0;
 /// Light that faces turned away from the sun still get, as a fraction of full light.
 pub const AMBIENT: f32 = 0.35;
 
 /// Colour of ordinary guide points (linear RGB).
 pub const POINT_COLOR: [f32; 4] = [0.85, 0.85, 0.85, 1.0];
-/// Colour of a guide's root, where its flow starts: magenta, which the strength ramp never
+/// Colour of a guide's root, where its flow starts: cyan, which the strength ramp never
 /// produces.
-pub const ROOT_COLOR: [f32; 4] = [0.95, 0.25, 0.85, 1.0];
+pub const ROOT_COLOR: [f32; 4] = [0.15, 0.9, 0.95, 1.0];
 /// Colour of the selected point: white-yellow.
 pub const SELECTED_COLOR: [f32; 4] = [1.0, 1.0, 0.65, 1.0];
 
@@ -92,22 +92,22 @@ pub struct ArrowMesh {
     pub indices: Vec<u32>,
 }
 
-/// The colour of an arrow of `strength` m/s²: a hue ramp blue → cyan → green → yellow → red
-/// over 0..=[`FULL_SCALE_STRENGTH`] (hue 240° down to 0° linearly, full saturation and
+/// The colour of an arrow of `strength` m/s²: a hue ramp blue → magenta → red → yellow over
+/// 0..=[`FULL_SCALE_STRENGTH`] (hue 240° up to 420° = 60° linearly, full saturation and
 /// value), clamped at both ends; NaN counts as 0. Linear RGB, alpha 1.
 pub fn strength_color(strength: f32) -> [f32; 4] {
     let s = if strength.is_nan() { 0.0 } else { strength };
     let t = (s / FULL_SCALE_STRENGTH).clamp(0.0, 1.0);
-    // Four legs of 60° each, from blue (240°) down to red (0°).
-    let x = t * 4.0;
+    // Three legs of 60° each, from blue (240°) up through magenta and red to yellow
+    // (420° = 60°): the ramp never passes through green or cyan, so an arrow of any
+    // strength stands out against grass.
+    let x = t * 3.0;
     let (r, g, b) = if x < 1.0 {
-        (0.0, x, 1.0) // blue → cyan
+        (x, 0.0, 1.0) // blue → magenta
     } else if x < 2.0 {
-        (0.0, 1.0, 2.0 - x) // cyan → green
-    } else if x < 3.0 {
-        (x - 2.0, 1.0, 0.0) // green → yellow
+        (1.0, 0.0, 2.0 - x) // magenta → red
     } else {
-        (1.0, 4.0 - x, 0.0) // yellow → red
+        (1.0, x - 2.0, 0.0) // red → yellow
     };
     [r, g, b, 1.0]
 }
@@ -703,18 +703,23 @@ mod tests {
     }
 
     #[test]
-    fn strength_color_ramps_from_blue_to_red_and_clamps() {
+    fn strength_color_ramps_from_blue_to_yellow_and_clamps() {
+        let third = 20.0 / 3.0;
+        let close = |a: [f32; 4], b: [f32; 4]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-5);
         assert_eq!(strength_color(0.0), [0.0, 0.0, 1.0, 1.0]);
-        assert_eq!(strength_color(5.0), [0.0, 1.0, 1.0, 1.0]);
-        assert_eq!(strength_color(10.0), [0.0, 1.0, 0.0, 1.0]);
-        assert_eq!(strength_color(15.0), [1.0, 1.0, 0.0, 1.0]);
-        assert_eq!(strength_color(20.0), [1.0, 0.0, 0.0, 1.0]);
-        let mut last = 240.0 + 1e-3;
+        assert!(close(strength_color(third), [1.0, 0.0, 1.0, 1.0]));
+        assert!(close(strength_color(2.0 * third), [1.0, 0.0, 0.0, 1.0]));
+        assert_eq!(strength_color(20.0), [1.0, 1.0, 0.0, 1.0]);
+        // Unwrapped hue: 240° rising to 420°, never through green or cyan (90°..210°).
+        let mut last = 240.0 - 1e-3;
         for i in 0..=200 {
             let s = i as f32 * 0.1;
-            let h = hue(strength_color(s));
-            assert!(h <= last + 1e-4, "hue rises at {s}: {h} > {last}");
-            assert!((h - 240.0 * (1.0 - s / 20.0)).abs() < 1e-3, "{s}: {h}");
+            let mut h = hue(strength_color(s));
+            if h < 180.0 {
+                h += 360.0;
+            }
+            assert!(h >= last - 1e-3, "hue falls at {s}: {h} < {last}");
+            assert!((h - (240.0 + 180.0 * s / 20.0)).abs() < 1e-2, "{s}: {h}");
             last = h;
         }
         assert_eq!(strength_color(-3.0), strength_color(0.0));
