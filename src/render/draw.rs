@@ -337,6 +337,21 @@ impl DrawPass {
         }
     }
 
+    /// Bytes of the meshes and the frame uniforms.
+    pub fn gpu_bytes(&self) -> u64 {
+        [
+            &self.frame,
+            &self.terrain_mesh.vertices,
+            &self.terrain_mesh.indices,
+            &self.sphere_mesh.vertices,
+            &self.sphere_mesh.indices,
+            &self.blade_indices,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+
     /// Whether the grass can be drawn as lines (the adapter supports line rasterisation).
     pub fn has_wireframe(&self) -> bool {
         self.grass_lines.is_some()

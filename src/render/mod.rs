@@ -347,6 +347,20 @@ impl Renderer {
         }
     }
 
+    /// GPU memory held for the blades (blade, state, patch, sphere and visible-index
+    /// buffers plus the indirect arguments), and in all, wind solver included. Meshes and
+    /// uniforms are a few hundred KiB and counted in the total.
+    pub fn gpu_bytes(&self) -> (u64, u64) {
+        let b = &self.buffers;
+        let blades = [&b.blades, &b.states, &b.patches, &b.spheres, &b.visible]
+            .iter()
+            .map(|x| x.size())
+            .sum::<u64>()
+            + self.cull.args.size();
+        let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
+        (blades, blades + fluid + self.draw.gpu_bytes())
+    }
+
     /// Whether the grass can be drawn as lines on this adapter.
     pub fn has_wireframe(&self) -> bool {
         self.draw.has_wireframe()

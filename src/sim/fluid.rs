@@ -571,6 +571,18 @@ impl FluidSolver {
         &self.config
     }
 
+    /// Bytes of GPU memory the solver's buffers hold.
+    pub fn gpu_bytes(&self) -> u64 {
+        let grids: u64 = self
+            .velocity
+            .iter()
+            .chain(self.pressure.iter())
+            .chain([&self.divergence, &self._curl, &self._solid])
+            .map(|b| b.size())
+            .sum();
+        grids + self.params.size() + self.arrows.size() + self.obstacles.size()
+    }
+
     /// Takes the scene's solver settings for the next steps (the panel edits them live).
     /// Returns false, changing nothing, when the change needs a new solver: another grid
     /// resolution or terrain size, or diffusion switched on or off (its bind groups exist
