@@ -176,7 +176,11 @@ fn the_gpu_draws_the_arrow_where_the_cpu_projects_it() {
             "pixel ({px}, {py}) is {got:?}, expected {expected:?} ± {TOLERANCE}"
         );
     }
-    assert_eq!(expected, [srgb(shade), srgb(shade), 0], "a strong arrow is yellow");
+    assert_eq!(
+        expected,
+        [srgb(shade), srgb(shade), 0],
+        "a strong arrow is yellow"
+    );
 
     // Every lit pixel lies inside the projected bounds of guide 0's vertices, one pixel of
     // margin for rasterisation. Guide 1 (z ≥ 14) is outside the view: checked here first.
