@@ -3,6 +3,7 @@
 //! same frames render headless to PNG on a software adapter.
 
 pub mod app;
+pub mod bench;
 pub mod commands;
 pub mod error;
 pub mod field;

@@ -1,12 +1,13 @@
 //! The `sward` command line: without a subcommand it opens the window (fly over the meadow,
-//! edit the wind); `render` draws headless frames to PNG and `simulate` dumps blade states
-//! as JSON.
+//! edit the wind); `render` draws headless frames to PNG, `simulate` dumps blade states
+//! as JSON and `bench` prints the paper's timing table.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use sward::app::AppOptions;
+use sward::bench::{bench, BenchOptions};
 use sward::commands::{render, simulate, RenderOptions, SimulateOptions};
 use sward::gpu::AdapterChoice;
 
@@ -141,6 +142,30 @@ enum Command {
         #[command(flatten)]
         wind: WindArgs,
     },
+    /// Time the paper's three configurations (all features, collisions off, culling off)
+    /// on the same frames and print its table: FPS, frame time, blades drawn / culled per
+    /// test, GPU ms of physics / visibility / rendering, colliders, memory.
+    Bench {
+        /// Scene file (RON); the built-in meadow when absent.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Frames measured per configuration, after the warm-up (1..=100000).
+        #[arg(long, default_value = "60", allow_hyphen_values = true)]
+        frames: String,
+        /// Image size, WIDTHxHEIGHT (1..=16384 per side).
+        #[arg(long, default_value = "1280x720", allow_hyphen_values = true)]
+        size: String,
+        /// Frames run first and left out of the statistics (0..=10000).
+        #[arg(long, default_value = "5", allow_hyphen_values = true)]
+        warmup: String,
+        /// Also time the all-features configuration at these blade counts, increasing
+        /// (e.g. 100000,200000,400000): the scene's density is scaled to each.
+        #[arg(long, allow_hyphen_values = true)]
+        sweep: Option<String>,
+        /// Print one JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// Overrides of the scene's wind solver.
@@ -238,6 +263,26 @@ fn main() -> ExitCode {
             pressure_iterations: wind.pressure_iterations,
             wind_resolution: wind.wind_resolution,
         }),
+        // The values come in as text (negative numbers too) and are checked by the
+        // library, so that a bad value ends like every other error: the flag, the allowed
+        // range, exit status 1.
+        Some(Command::Bench {
+            scene,
+            frames,
+            size,
+            warmup,
+            sweep,
+            json,
+        }) => BenchOptions::parse(
+            scene,
+            &frames,
+            &size,
+            &warmup,
+            sweep.as_deref(),
+            json,
+            adapter,
+        )
+        .and_then(|o| bench(&o)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

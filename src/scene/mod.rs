@@ -24,6 +24,7 @@
 //! )
 //! ```
 
+pub mod bunny;
 mod load;
 pub mod save;
 pub mod types;

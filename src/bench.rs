@@ -1,0 +1,1010 @@
+//! `sward bench`: the measurements of Jahrmann & Wimmer 2017 (Tables 1–3) and a blade-count
+//! sweep in the manner of CWD-Sim (Choi & Sung 2024, Table 2), taken in one process.
+//!
+//! The paper compares three configurations on "frames having the exact same input data
+//! from a fixed reference viewpoint": all features, collision detection disabled, culling
+//! disabled. Here each configuration gets a fresh [`Renderer`] over the same [`Session`]
+//! (same field, same terrain), starts at t = 0 and steps the same frames with the same
+//! Δt = 1/30 s and the scene's camera, so the three columns differ only in the feature
+//! switched off. After every frame [`Renderer::stats`] blocks until the GPU is done and
+//! returns the cull counters and the per-pass GPU times (timestamp queries); the first
+//! `--warmup` frames are left out of the means (pipeline caches, first-touch allocations,
+//! blades settling out of the colliders).
+//!
+//! Frame time is the sum of the GPU passes (update, cull, draw, plus the wind solver when
+//! the scene runs it). The wall-clock time per frame (submit to read-back) is reported
+//! beside it and labelled as such: on a software adapter timestamps can miss work that
+//! the driver defers, and without timestamp queries it is the only time there is.
+//!
+//! The blade counts of a column are those of its last frame (one frame's counters, as in
+//! the paper, so that drawn + culled = total holds exactly); times are means over the
+//! measured frames.
+
+use std::path::{Path, PathBuf};
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+use serde::Serialize;
+
+use crate::commands::{load, DEFAULT_SCENE_PATH};
+use crate::error::{Error, Result};
+use crate::gpu::{AdapterChoice, Gpu};
+use crate::render::camera::CameraView;
+use crate::render::target::{Target, COLOR_FORMAT};
+use crate::render::Renderer;
+use crate::scene::Scene;
+use crate::session::{check_blade_count, Session, MAX_BLADES};
+use crate::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_SIZE};
+
+/// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
+pub const BENCH_DT: f32 = 1.0 / 30.0;
+/// Largest `--frames`.
+pub const MAX_FRAMES: u32 = 100_000;
+/// Largest `--warmup`.
+pub const MAX_WARMUP: u32 = 10_000;
+/// `--warmup` when not given.
+pub const DEFAULT_WARMUP: u32 = 5;
+/// Largest image side of `--size`.
+pub const MAX_SIDE: u32 = 16384;
+
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// What `sward bench` runs, already checked.
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    /// Scene file; the built-in meadow when `None`.
+    pub scene: Option<PathBuf>,
+    /// Frames measured per configuration (after the warm-up).
+    pub frames: u32,
+    /// Frames run before the measured ones and left out of the statistics.
+    pub warmup: u32,
+    pub size: (u32, u32),
+    /// Print one JSON object instead of the table.
+    pub json: bool,
+    /// Blade counts of the sweep, increasing; empty for no sweep.
+    pub sweep: Vec<usize>,
+    pub adapter: AdapterChoice,
+}
+
+impl BenchOptions {
+    /// Checks the flags as typed on the command line. Every error names the flag and the
+    /// allowed range.
+    pub fn parse(
+        scene: Option<PathBuf>,
+        frames: &str,
+        size: &str,
+        warmup: &str,
+        sweep: Option<&str>,
+        json: bool,
+        adapter: AdapterChoice,
+    ) -> Result<Self> {
+        Ok(Self {
+            scene,
+            frames: parse_count("--frames", frames, 1, MAX_FRAMES)?,
+            warmup: parse_count("--warmup", warmup, 0, MAX_WARMUP)?,
+            size: parse_size(size)?,
+            json,
+            sweep: match sweep {
+                Some(s) => parse_sweep(s)?,
+                None => Vec::new(),
+            },
+            adapter,
+        })
+    }
+}
+
+/// A whole number for `flag` in `lo..=hi`.
+pub fn parse_count(flag: &str, text: &str, lo: u32, hi: u32) -> Result<u32> {
+    let range = format!("allowed {lo}..={hi}");
+    let value: u64 = text
+        .trim()
+        .parse()
+        .map_err(|_| Error::Invalid(format!("{flag} {text:?} is not a whole number: {range}")))?;
+    if value < u64::from(lo) || value > u64::from(hi) {
+        return Err(Error::Invalid(format!(
+            "{flag} {value} is out of range: {range}"
+        )));
+    }
+    Ok(value as u32)
+}
+
+/// `--size WIDTHxHEIGHT`, each side in `1..=MAX_SIDE`.
+pub fn parse_size(text: &str) -> Result<(u32, u32)> {
+    let bad = || {
+        Error::Invalid(format!(
+            "--size {text:?} is not WIDTHxHEIGHT (e.g. 1280x720): allowed 1..={MAX_SIDE} pixels \
+             per side"
+        ))
+    };
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u64 = w.trim().parse().map_err(|_| bad())?;
+    let h: u64 = h.trim().parse().map_err(|_| bad())?;
+    let side = 1..=u64::from(MAX_SIDE);
+    if !side.contains(&w) || !side.contains(&h) {
+        return Err(Error::Invalid(format!(
+            "--size {w}x{h} is out of range: allowed 1..={MAX_SIDE} pixels per side"
+        )));
+    }
+    Ok((w as u32, h as u32))
+}
+
+/// `--sweep N1,N2,…`: blade counts in `1..=MAX_BLADES`, strictly increasing.
+pub fn parse_sweep(text: &str) -> Result<Vec<usize>> {
+    let allowed = format!(
+        "allowed: blade counts 1..={MAX_BLADES}, comma-separated, increasing \
+         (e.g. --sweep 100000,200000,400000)"
+    );
+    if text.trim().is_empty() {
+        return Err(Error::Invalid(format!("--sweep is empty: {allowed}")));
+    }
+    let mut counts: Vec<usize> = Vec::new();
+    for (i, item) in text.split(',').enumerate() {
+        let item = item.trim();
+        // Digit groups are common in blade counts: 100_000 reads as 100000.
+        let digits = item.replace('_', "");
+        let n: usize = digits.parse().map_err(|_| {
+            Error::Invalid(format!(
+                "--sweep entry {} ({item:?}) is not a whole number: {allowed}",
+                i + 1
+            ))
+        })?;
+        if n == 0 || n > MAX_BLADES {
+            return Err(Error::Invalid(format!(
+                "--sweep entry {} ({n}) is out of range: {allowed}",
+                i + 1
+            )));
+        }
+        if let Some(&last) = counts.last() {
+            if n <= last {
+                return Err(Error::Invalid(format!(
+                    "--sweep entry {} ({n}) is not larger than the one before ({last}): \
+                     {allowed}",
+                    i + 1
+                )));
+            }
+        }
+        counts.push(n);
+    }
+    Ok(counts)
+}
+
+/// The paper's three configurations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Config {
+    /// Collisions and every culling test on.
+    All,
+    /// `physics.collisions = false`.
+    NoCollisions,
+    /// Every test of `culling` off.
+    NoCulling,
+}
+
+impl Config {
+    pub const COLUMNS: [Config; 3] = [Config::All, Config::NoCollisions, Config::NoCulling];
+
+    /// Column heading, as in the paper.
+    pub fn name(self) -> &'static str {
+        match self {
+            Config::All => "all features",
+            Config::NoCollisions => "collisions off",
+            Config::NoCulling => "culling off",
+        }
+    }
+
+    /// The scene of this configuration. "All features" switches on what the scene file may
+    /// have switched off, so that the columns compare like with like whatever the file says.
+    pub fn apply(self, scene: &Scene) -> Scene {
+        let mut s = scene.clone();
+        let on = self != Config::NoCulling;
+        s.physics.collisions = self != Config::NoCollisions;
+        s.culling.patches = on;
+        s.culling.orientation = on;
+        s.culling.frustum = on;
+        s.culling.distance = on;
+        s
+    }
+}
+
+/// Blade counts of one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct BladeCounts {
+    pub total: u64,
+    pub drawn: u64,
+    /// Culled by any test; the four below add up to it (a blade counts for the first test
+    /// that culls it).
+    pub culled: u64,
+    pub culled_patch: u64,
+    pub culled_orientation: u64,
+    pub culled_frustum: u64,
+    pub culled_distance: u64,
+}
+
+impl BladeCounts {
+    fn new(total: u32, c: &CullCounters) -> Self {
+        Self {
+            total: total.into(),
+            drawn: c.drawn().into(),
+            culled: c.culled().into(),
+            culled_patch: c.culled_patch.into(),
+            culled_orientation: c.culled_orientation.into(),
+            culled_frustum: c.culled_frustum.into(),
+            culled_distance: c.culled_distance.into(),
+        }
+    }
+
+    /// Blades of the patches that passed the patch test: the ones tested one by one.
+    pub fn in_visible_patches(&self) -> u64 {
+        self.total.saturating_sub(self.culled_patch)
+    }
+}
+
+/// Mean GPU milliseconds per frame, from timestamp queries.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct GpuMs {
+    /// The paper's "physical model": blade update + wind solver.
+    pub physics: f64,
+    pub update: f64,
+    /// All passes of the wind solver (0 when the scene's wind is analytic only).
+    pub wind: f64,
+    /// The paper's "visibility": the cull pass (tests, visible list, indirect arguments).
+    pub visibility: f64,
+    /// The paper's "rendering": the draw pass (terrain, colliders, grass, sky).
+    pub rendering: f64,
+}
+
+impl GpuMs {
+    /// The GPU frame time: every timed pass.
+    pub fn frame(&self) -> f64 {
+        self.physics + self.visibility + self.rendering
+    }
+}
+
+/// GPU memory of the scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Memory {
+    /// The layout's bytes per blade (`BYTES_PER_BLADE`: blade, state, visible slot).
+    pub bytes_per_blade: u64,
+    /// Bytes of the blade buffers (blades, states, patches, spheres, visible list, indirect
+    /// arguments: `Renderer::gpu_bytes().0`) per blade.
+    pub measured_bytes_per_blade: f64,
+    pub blade_bytes: u64,
+    /// Everything the renderer allocated (`Renderer::gpu_bytes().1`).
+    pub gpu_bytes: u64,
+    pub gpu_mib: f64,
+}
+
+/// One column of the table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ConfigReport {
+    pub name: String,
+    /// 1000 / `frame_ms`.
+    pub fps: f64,
+    /// Mean GPU frame time (the sum of the passes); the wall clock when the adapter has no
+    /// timestamp queries (`frame_time_source` says which).
+    pub frame_ms: f64,
+    pub frame_time_source: String,
+    /// Mean wall-clock time per frame, submit to read-back.
+    pub wall_ms: f64,
+    /// Counters of the last measured frame.
+    pub blades: BladeCounts,
+    /// `None` without timestamp queries.
+    pub gpu_ms: Option<GpuMs>,
+    /// Spheres each blade is tested against (0 with collisions off).
+    pub colliders: u64,
+    pub memory: Memory,
+}
+
+/// The ratios the issue asks for, from this run (`None` where a divisor is zero or the
+/// times are missing).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Ratios {
+    /// Frame time with culling off ÷ with all features.
+    pub culling_off_over_all_frame_time: Option<f64>,
+    /// All features: blades culled one by one (orientation + frustum + distance) ÷ blades
+    /// in visible patches (total − culled by the patch test). The paper: "almost
+    /// three-fourths of all blades of grass of visible patches are culled".
+    pub culled_over_visible_patch_blades: Option<f64>,
+    /// All features: physics ms per blade ÷ rendering ms per drawn blade.
+    pub physics_per_blade_over_rendering_per_drawn_blade: Option<f64>,
+}
+
+/// One point of the sweep: the all-features configuration at another density.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepPoint {
+    pub requested: u64,
+    pub blades: u64,
+    pub drawn: u64,
+    pub fps: f64,
+    pub frame_ms: f64,
+    pub wall_ms: f64,
+    pub gpu_ms: Option<GpuMs>,
+    pub gpu_mib: f64,
+}
+
+/// Everything `sward bench` measured.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BenchReport {
+    pub adapter: String,
+    /// When the run started, UTC.
+    pub date: String,
+    pub scene: String,
+    pub size: [u32; 2],
+    pub frames: u32,
+    pub warmup: u32,
+    pub dt: f32,
+    /// Whether the adapter has timestamp queries (GPU pass times).
+    pub timestamps: bool,
+    pub configurations: Vec<ConfigReport>,
+    pub ratios: Ratios,
+    pub sweep: Vec<SweepPoint>,
+}
+
+/// What one configuration's frames gave.
+struct Measured {
+    blades: BladeCounts,
+    gpu_ms: Option<GpuMs>,
+    wall_ms: f64,
+    gpu_bytes: (u64, u64),
+}
+
+impl Measured {
+    fn frame_ms(&self) -> f64 {
+        self.gpu_ms.map_or(self.wall_ms, |g| g.frame())
+    }
+}
+
+/// Runs `warmup + frames` frames of `scene` over `session`'s field with a fresh renderer.
+fn measure(
+    gpu: &Gpu,
+    session: &Session,
+    scene: Scene,
+    target: &Target,
+    warmup: u32,
+    frames: u32,
+) -> Result<Measured> {
+    let camera = CameraView::from_scene(&scene.camera);
+    let mut renderer = Renderer::new(
+        gpu,
+        scene,
+        session.terrain.clone(),
+        &session.field,
+        COLOR_FORMAT,
+    )?;
+    let size = (target.width, target.height);
+    let mut passes = [0.0f64; 3];
+    let mut wind = 0.0f64;
+    let mut timed = 0u32;
+    let mut wall = 0.0f64;
+    let mut last = CullCounters::default();
+    for i in 0..warmup + frames {
+        let start = Instant::now();
+        renderer.frame(
+            gpu,
+            BENCH_DT,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+        let stats = renderer.stats(gpu)?;
+        let elapsed = start.elapsed().as_secs_f64() * 1000.0;
+        if i < warmup {
+            continue;
+        }
+        wall += elapsed;
+        last = stats.counters;
+        if let Some(ms) = stats.pass_ms {
+            for (sum, m) in passes.iter_mut().zip(ms) {
+                *sum += m;
+            }
+            wind += stats.wind_ms.iter().flatten().map(|(_, m)| m).sum::<f64>();
+            timed += 1;
+        }
+    }
+    let n = f64::from(frames.max(1));
+    // Every frame has timestamps or none does; a mix would mean a broken driver, and the
+    // means over the timed frames are still right then.
+    let gpu_ms = (timed > 0).then(|| {
+        let t = f64::from(timed);
+        let update = passes[0] / t;
+        let wind = wind / t;
+        GpuMs {
+            physics: update + wind,
+            update,
+            wind,
+            visibility: passes[1] / t,
+            rendering: passes[2] / t,
+        }
+    });
+    Ok(Measured {
+        blades: BladeCounts::new(renderer.buffers.count, &last),
+        gpu_ms,
+        wall_ms: wall / n,
+        gpu_bytes: renderer.gpu_bytes(),
+    })
+}
+
+fn fps(frame_ms: f64) -> f64 {
+    if frame_ms > 0.0 {
+        1000.0 / frame_ms
+    } else {
+        0.0
+    }
+}
+
+fn ratio(a: f64, b: f64) -> Option<f64> {
+    (b > 0.0 && a.is_finite() && b.is_finite()).then(|| a / b)
+}
+
+fn memory(blades: u64, (blade_bytes, gpu_bytes): (u64, u64)) -> Memory {
+    Memory {
+        bytes_per_blade: BYTES_PER_BLADE as u64,
+        measured_bytes_per_blade: if blades > 0 {
+            blade_bytes as f64 / blades as f64
+        } else {
+            0.0
+        },
+        blade_bytes,
+        gpu_bytes,
+        gpu_mib: gpu_bytes as f64 / MIB,
+    }
+}
+
+/// The sweep's scene: `base` with its density scaled so that the field holds about `count`
+/// blades, and a patch size small enough that rounding up to whole patches adds at most
+/// 2 % (or one workgroup). Returns the scene and the blade count it generates.
+pub fn sweep_scene(base: &Scene, count: usize) -> (Scene, usize) {
+    let mut scene = base.clone();
+    let area = f64::from(scene.terrain.size).powi(2);
+    let mut density = (count as f64 / area) as f32;
+    // The generator rounds density · size² up: nudge the f32 density down until that
+    // product is not above the count, or one extra blade would add a whole patch.
+    while f64::from(density) * area > count as f64 && density > 0.0 {
+        density = density.next_down();
+    }
+    scene.field.density = density;
+    let wanted = (f64::from(density) * area).ceil().max(1.0) as usize;
+    let group = WORKGROUP_SIZE as usize;
+    let mut patch = crate::field::effective_patch_size(scene.field.patch_size) as usize;
+    let total = |p: usize| wanted.div_ceil(p) * p;
+    while patch > group && total(patch) as f64 > wanted as f64 * 1.02 {
+        patch -= group;
+    }
+    scene.field.patch_size = patch as u32;
+    (scene, total(patch))
+}
+
+/// Colliders the update tests each blade against.
+fn colliders(scene: &Scene) -> u64 {
+    if scene.physics.collisions {
+        scene.colliders.len().min(MAX_SPHERES) as u64
+    } else {
+        0
+    }
+}
+
+/// Runs the benchmark and returns its report (progress goes to stderr).
+pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
+    let date = utc_now();
+    let scene = load(o.scene.as_deref())?;
+    let scene_name = o
+        .scene
+        .as_deref()
+        .unwrap_or(Path::new(DEFAULT_SCENE_PATH))
+        .display()
+        .to_string();
+    let gpu = Gpu::new(&o.adapter)?;
+    eprintln!("adapter: {}", gpu.describe());
+    // Every count is vetted before the first frame, so a sweep that cannot fit fails now
+    // rather than after minutes of measuring.
+    for &n in &o.sweep {
+        let (_, total) = sweep_scene(&scene, n);
+        check_blade_count(&gpu, total as f64).map_err(|e| match e {
+            Error::Limits(m) => Error::Limits(format!("--sweep {n}: {m}")),
+            other => other,
+        })?;
+    }
+    let target = Target::new(&gpu, o.size.0, o.size.1)?;
+    let session = Session::new(scene, None, Some(&gpu))?;
+    eprintln!(
+        "field: {} blades in {} patches of {}",
+        session.field.blades.len(),
+        session.field.patches.len(),
+        session.field.patch_size
+    );
+    let mut configurations = Vec::new();
+    for config in Config::COLUMNS {
+        eprintln!(
+            "bench: {} ({} warm-up + {} frames)",
+            config.name(),
+            o.warmup,
+            o.frames
+        );
+        let scene = config.apply(&session.scene);
+        let spheres = colliders(&scene);
+        let m = measure(&gpu, &session, scene, &target, o.warmup, o.frames)?;
+        let frame_ms = m.frame_ms();
+        configurations.push(ConfigReport {
+            name: config.name().to_string(),
+            fps: fps(frame_ms),
+            frame_ms,
+            frame_time_source: if m.gpu_ms.is_some() {
+                "gpu"
+            } else {
+                "wall clock"
+            }
+            .into(),
+            wall_ms: m.wall_ms,
+            blades: m.blades,
+            gpu_ms: m.gpu_ms,
+            colliders: spheres,
+            memory: memory(m.blades.total, m.gpu_bytes),
+        });
+    }
+    let ratios = ratios(&configurations);
+    let mut sweep = Vec::new();
+    let base = Config::All.apply(&session.scene);
+    drop(session);
+    for &n in &o.sweep {
+        let (scene, _) = sweep_scene(&base, n);
+        let session = Session::new(scene, None, Some(&gpu))?;
+        eprintln!(
+            "bench: sweep {n}: {} blades ({} warm-up + {} frames)",
+            session.field.blades.len(),
+            o.warmup,
+            o.frames
+        );
+        let m = measure(
+            &gpu,
+            &session,
+            session.scene.clone(),
+            &target,
+            o.warmup,
+            o.frames,
+        )?;
+        let frame_ms = m.frame_ms();
+        sweep.push(SweepPoint {
+            requested: n as u64,
+            blades: m.blades.total,
+            drawn: m.blades.drawn,
+            fps: fps(frame_ms),
+            frame_ms,
+            wall_ms: m.wall_ms,
+            gpu_ms: m.gpu_ms,
+            gpu_mib: m.gpu_bytes.1 as f64 / MIB,
+        });
+    }
+    Ok(BenchReport {
+        adapter: gpu.describe(),
+        date,
+        scene: scene_name,
+        size: [o.size.0, o.size.1],
+        frames: o.frames,
+        warmup: o.warmup,
+        dt: BENCH_DT,
+        timestamps: gpu.timestamps,
+        configurations,
+        ratios,
+        sweep,
+    })
+}
+
+fn ratios(configs: &[ConfigReport]) -> Ratios {
+    let find = |c: Config| configs.iter().find(|r| r.name == c.name());
+    let (Some(all), Some(off)) = (find(Config::All), find(Config::NoCulling)) else {
+        return Ratios::default();
+    };
+    let b = &all.blades;
+    let per_blade = b.culled.saturating_sub(b.culled_patch);
+    Ratios {
+        culling_off_over_all_frame_time: ratio(off.frame_ms, all.frame_ms),
+        culled_over_visible_patch_blades: ratio(per_blade as f64, b.in_visible_patches() as f64),
+        physics_per_blade_over_rendering_per_drawn_blade: all.gpu_ms.and_then(|g| {
+            let physics = ratio(g.physics, b.total as f64)?;
+            let rendering = ratio(g.rendering, b.drawn as f64)?;
+            ratio(physics, rendering)
+        }),
+    }
+}
+
+/// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
+pub fn bench(o: &BenchOptions) -> Result<()> {
+    let report = run_bench(o)?;
+    if o.json {
+        let text = serde_json::to_string_pretty(&report)
+            .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
+        println!("{text}");
+    } else {
+        print!("{}", format_report(&report));
+    }
+    Ok(())
+}
+
+/// `1234567` as `1,234,567`, the way the paper prints blade counts.
+pub fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The report as the paper's table, one column per configuration, then the ratios and
+/// the sweep.
+pub fn format_report(r: &BenchReport) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(s, "sward bench: {}", r.scene);
+    let _ = writeln!(s, "adapter: {}", r.adapter);
+    let _ = writeln!(s, "date: {}", r.date);
+    let _ = writeln!(
+        s,
+        "{}x{}, {} measured frames after {} warm-up frames, dt = 1/30 s, fixed camera",
+        r.size[0], r.size[1], r.frames, r.warmup
+    );
+    if !r.timestamps {
+        let _ = writeln!(
+            s,
+            "the adapter has no timestamp queries: no GPU pass times, frame times are wall-clock"
+        );
+    }
+    let _ = writeln!(s);
+    let c = &r.configurations;
+    let row = |s: &mut String, label: &str, values: Vec<String>| {
+        let _ = write!(s, "{label:<46}");
+        for v in values {
+            let _ = write!(s, "{v:>16}");
+        }
+        let _ = writeln!(s);
+    };
+    let each = |f: &dyn Fn(&ConfigReport) -> String| c.iter().map(f).collect::<Vec<_>>();
+    let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.3}"));
+    row(&mut s, "measurement", each(&|x| x.name.clone()));
+    let time_label = if r.timestamps {
+        "frame time, GPU passes (ms)"
+    } else {
+        "frame time, wall clock (ms)"
+    };
+    row(
+        &mut s,
+        "FPS (1000 / frame time)",
+        each(&|x| format!("{:.1}", x.fps)),
+    );
+    row(&mut s, time_label, each(&|x| format!("{:.3}", x.frame_ms)));
+    row(
+        &mut s,
+        "  wall clock per frame, submit to read-back (ms)",
+        each(&|x| format!("{:.3}", x.wall_ms)),
+    );
+    let count = |f: fn(&BladeCounts) -> u64| each(&|x: &ConfigReport| thousands(f(&x.blades)));
+    let _ = writeln!(s, "blades (last frame)");
+    row(&mut s, "  total", count(|b| b.total));
+    row(&mut s, "  drawn", count(|b| b.drawn));
+    row(&mut s, "  culled", count(|b| b.culled));
+    row(&mut s, "    by patch", count(|b| b.culled_patch));
+    row(
+        &mut s,
+        "    by orientation",
+        count(|b| b.culled_orientation),
+    );
+    row(&mut s, "    by view frustum", count(|b| b.culled_frustum));
+    row(&mut s, "    by distance", count(|b| b.culled_distance));
+    let gpu = |f: fn(&GpuMs) -> f64| each(&|x: &ConfigReport| ms(x.gpu_ms.as_ref().map(f)));
+    let _ = writeln!(s, "GPU time (ms, mean)");
+    row(
+        &mut s,
+        "  physical model (update + wind)",
+        gpu(|g| g.physics),
+    );
+    row(&mut s, "    blade update", gpu(|g| g.update));
+    row(&mut s, "    wind solver", gpu(|g| g.wind));
+    row(
+        &mut s,
+        "  visibility (cull, indirect args)",
+        gpu(|g| g.visibility),
+    );
+    row(&mut s, "  rendering (draw)", gpu(|g| g.rendering));
+    row(
+        &mut s,
+        "collision spheres considered",
+        each(&|x| thousands(x.colliders)),
+    );
+    let _ = writeln!(s, "memory");
+    row(
+        &mut s,
+        "  bytes per blade (layout)",
+        each(&|x| x.memory.bytes_per_blade.to_string()),
+    );
+    row(
+        &mut s,
+        "  bytes per blade (blade buffers / blades)",
+        each(&|x| format!("{:.2}", x.memory.measured_bytes_per_blade)),
+    );
+    row(
+        &mut s,
+        "  GPU memory of the scene (MiB)",
+        each(&|x| format!("{:.1}", x.memory.gpu_mib)),
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(s, "ratios (this run)");
+    // Small ratios (physics per blade against drawing per blade) keep three significant
+    // digits instead of rounding to zero.
+    let ratio = |v: Option<f64>, digits: usize| match v {
+        None => "n/a".to_string(),
+        Some(v) if v != 0.0 && v.abs() < 0.01 => format!("{v:.3e}"),
+        Some(v) => format!("{v:.digits$}"),
+    };
+    let _ = writeln!(
+        s,
+        "  frame time, culling off / all features:                        {}",
+        ratio(r.ratios.culling_off_over_all_frame_time, 3)
+    );
+    let _ = writeln!(
+        s,
+        "  blades culled one by one / blades in visible patches:         {}",
+        ratio(r.ratios.culled_over_visible_patch_blades, 3)
+    );
+    let _ = writeln!(
+        s,
+        "  physics ms per blade / rendering ms per drawn blade:          {}",
+        ratio(r.ratios.physics_per_blade_over_rendering_per_drawn_blade, 4)
+    );
+    // A frame that takes far longer on the wall clock than its timed passes means the
+    // timestamps missed work; say so rather than let the GPU rows pass for the whole truth.
+    let missed: Vec<String> = c
+        .iter()
+        .filter(|x| x.gpu_ms.is_some() && x.wall_ms > 1.5 * x.frame_ms + 5.0)
+        .map(|x| format!("{} (+{:.1} ms)", x.name, x.wall_ms - x.frame_ms))
+        .collect();
+    if !missed.is_empty() {
+        let _ = writeln!(
+            s,
+            "note: the wall clock per frame exceeds the timed GPU passes in {}: the adapter's \
+             timestamps do not cover all of the work (a software adapter may finish a pass \
+             after its end timestamp); compare the wall-clock row between columns",
+            missed.join(", ")
+        );
+    }
+    if !r.sweep.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "sweep (all features, density scaled)");
+        let _ = writeln!(
+            s,
+            "{:>12}{:>12}{:>12}{:>14}{:>14}{:>10}{:>12}",
+            "requested",
+            "blades",
+            "drawn",
+            time_label_short(r.timestamps),
+            "wall (ms)",
+            "FPS",
+            "GPU MiB"
+        );
+        for p in &r.sweep {
+            let _ = writeln!(
+                s,
+                "{:>12}{:>12}{:>12}{:>14.3}{:>14.3}{:>10.1}{:>12.1}",
+                thousands(p.requested),
+                thousands(p.blades),
+                thousands(p.drawn),
+                p.frame_ms,
+                p.wall_ms,
+                p.fps,
+                p.gpu_mib
+            );
+        }
+    }
+    s
+}
+
+fn time_label_short(timestamps: bool) -> &'static str {
+    if timestamps {
+        "GPU (ms)"
+    } else {
+        "frame (ms)"
+    }
+}
+
+/// The current date and time in UTC, `YYYY-MM-DD HH:MM UTC` (no time-zone database needed).
+pub fn utc_now() -> String {
+    let secs = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (y, m, d) = civil_from_days((secs / 86_400) as i64);
+    let rem = secs % 86_400;
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02} UTC",
+        rem / 3600,
+        rem % 3600 / 60
+    )
+}
+
+/// The proleptic Gregorian date of a day count since 1970-01-01: shift the epoch to
+/// 0000-03-01 so that leap days fall at the end of a year, then split into 400-year eras,
+/// years of the era and days of the year.
+fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let day_of_era = z.rem_euclid(146_097);
+    let year_of_era =
+        (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
+    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
+    // Months counted from March: 0 = March … 11 = February.
+    let month_from_march = (5 * day_of_year + 2) / 153;
+    let day = day_of_year - (153 * month_from_march + 2) / 5 + 1;
+    let month = if month_from_march < 10 {
+        month_from_march + 3
+    } else {
+        month_from_march - 9
+    };
+    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    (year, month as u32, day as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(19_723), (2024, 1, 1));
+        assert_eq!(civil_from_days(19_782), (2024, 2, 29));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+    }
+
+    #[test]
+    fn thousands_separators() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(1000), "1,000");
+        assert_eq!(thousands(397_881), "397,881");
+        assert_eq!(thousands(7_000_000), "7,000,000");
+    }
+
+    #[test]
+    fn flags_are_checked() {
+        assert!(parse_count("--frames", "0", 1, MAX_FRAMES).is_err());
+        assert!(parse_count("--frames", "-3", 1, MAX_FRAMES).is_err());
+        assert_eq!(
+            parse_count("--frames", " 20 ", 1, MAX_FRAMES).ok(),
+            Some(20)
+        );
+        assert_eq!(parse_size("1280x720").ok(), Some((1280, 720)));
+        for bad in ["0x10", "10x0", "1280", "axb", "20000x10", ""] {
+            let e = parse_size(bad).expect_err(bad).to_string();
+            assert!(e.contains("--size") && e.contains("1..=16384"), "{e}");
+        }
+        assert_eq!(
+            parse_sweep("1000, 2_000,4000").ok(),
+            Some(vec![1000, 2000, 4000])
+        );
+        for bad in ["", " ", "0", "100,50", "100,100", "1,x", "1,,2", "60000000"] {
+            let e = parse_sweep(bad).expect_err(bad).to_string();
+            assert!(e.contains("--sweep") && e.contains("1..=50000000"), "{e}");
+        }
+    }
+
+    #[test]
+    fn configurations_switch_one_feature() {
+        let mut scene = Scene::default();
+        scene.culling.distance = false;
+        scene.physics.collisions = false;
+        let all = Config::All.apply(&scene);
+        assert!(all.physics.collisions && all.culling.distance && all.culling.patches);
+        let nc = Config::NoCollisions.apply(&scene);
+        assert!(!nc.physics.collisions && nc.culling.frustum && nc.culling.distance);
+        let off = Config::NoCulling.apply(&scene);
+        let c = &off.culling;
+        assert!(off.physics.collisions);
+        assert!(!(c.patches || c.orientation || c.frustum || c.distance));
+    }
+
+    #[test]
+    fn sweep_scene_hits_the_count() {
+        let mut scene = Scene::default();
+        scene.terrain.size = 7.3;
+        scene.field.patch_size = 1024;
+        for n in [100, 2000, 4000, 65_536, 100_000, 397_881, 1_000_000] {
+            let (s, total) = sweep_scene(&scene, n);
+            assert!(total >= n, "{n}: {total}");
+            assert!(
+                total as f64 <= (n as f64 * 1.02).max((n + 64) as f64),
+                "{n}: {total} with patches of {}",
+                s.field.patch_size
+            );
+            assert!(f64::from(s.field.density) * 7.3f64.powi(2) <= n as f64);
+            assert_eq!(s.field.patch_size % 64, 0);
+        }
+    }
+
+    #[test]
+    fn without_timestamps_the_table_says_so() {
+        let column = |name: &str| ConfigReport {
+            name: name.into(),
+            fps: 10.0,
+            frame_ms: 100.0,
+            frame_time_source: "wall clock".into(),
+            wall_ms: 100.0,
+            blades: BladeCounts {
+                total: 1024,
+                drawn: 1024,
+                ..Default::default()
+            },
+            gpu_ms: None,
+            colliders: 0,
+            memory: memory(1024, (90_000, 200_000)),
+        };
+        let configurations: Vec<_> = Config::COLUMNS.iter().map(|c| column(c.name())).collect();
+        let report = BenchReport {
+            adapter: "test adapter".into(),
+            date: utc_now(),
+            scene: "scene.ron".into(),
+            size: [64, 36],
+            frames: 3,
+            warmup: 0,
+            dt: BENCH_DT,
+            timestamps: false,
+            ratios: ratios(&configurations),
+            configurations,
+            sweep: Vec::new(),
+        };
+        assert_eq!(report.ratios.culling_off_over_all_frame_time, Some(1.0));
+        assert_eq!(
+            report
+                .ratios
+                .physics_per_blade_over_rendering_per_drawn_blade,
+            None
+        );
+        let table = format_report(&report);
+        assert!(table.contains("no timestamp queries"), "{table}");
+        assert!(table.contains("frame time, wall clock (ms)"), "{table}");
+        assert!(table.contains("n/a"), "{table}");
+        assert!(!table.contains("note:"), "{table}");
+    }
+
+    #[test]
+    fn ratios_follow_the_paper() {
+        // Table 1 of the paper, all features and culling off.
+        let column =
+            |name: &str, frame_ms: f64, drawn: u64, culled: u64, patch: u64| ConfigReport {
+                name: name.into(),
+                fps: fps(frame_ms),
+                frame_ms,
+                frame_time_source: "gpu".into(),
+                wall_ms: frame_ms,
+                blades: BladeCounts {
+                    total: 397_881,
+                    drawn,
+                    culled: culled + patch,
+                    culled_patch: patch,
+                    culled_orientation: culled,
+                    ..Default::default()
+                },
+                gpu_ms: Some(GpuMs {
+                    physics: 0.547,
+                    update: 0.547,
+                    wind: 0.0,
+                    visibility: 1.401,
+                    rendering: 2.057,
+                }),
+                colliders: 183,
+                memory: Memory::default(),
+            };
+        let patch = 397_881 - 168_333;
+        let r = ratios(&[
+            column("all features", 8.13, 43_128, 125_205, patch),
+            column("culling off", 12.821, 397_881, 0, 0),
+        ]);
+        let near = |v: Option<f64>, want: f64| (v.expect("ratio") - want).abs() < 1e-3;
+        assert!(near(r.culling_off_over_all_frame_time, 1.577));
+        assert!(near(r.culled_over_visible_patch_blades, 0.744));
+        assert!(near(
+            r.physics_per_blade_over_rendering_per_drawn_blade,
+            (0.547 / 397_881.0) / (2.057 / 43_128.0)
+        ));
+    }
+}

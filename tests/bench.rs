@@ -1,0 +1,310 @@
+//! `sward bench` end to end: the real binary on a small scene, its JSON report checked for
+//! structure and counters (never for timings, which depend on the machine), the sweep's
+//! blade counts, and bad flags (a clear message naming the flag and its range, exit status
+//! 1, no panic). Runs on the adapter `SWARD_ADAPTER` names, the software one by default.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+use sward::sim::layout::BYTES_PER_BLADE;
+
+const SCENE: &str = "tests/scenes/bench_small.ron";
+/// Spheres in `SCENE`.
+const SCENE_SPHERES: u64 = 4;
+
+fn adapter() -> String {
+    std::env::var("SWARD_ADAPTER").unwrap_or_else(|_| "software".into())
+}
+
+fn sward(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("SWARD_ADAPTER", adapter())
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("run sward")
+}
+
+/// Runs a bench that must succeed and returns its JSON report.
+fn bench_json(args: &[&str]) -> Value {
+    let mut all = vec!["bench", "--scene", SCENE, "--json"];
+    all.extend_from_slice(args);
+    let out = sward(&all);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "sward {all:?} failed: {stderr}");
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "stdout is not one JSON object ({e}):\n{}",
+            String::from_utf8_lossy(&out.stdout)
+        )
+    })
+}
+
+fn u(v: &Value, path: &[&str]) -> u64 {
+    let mut x = v;
+    for p in path {
+        x = &x[*p];
+    }
+    x.as_u64()
+        .unwrap_or_else(|| panic!("{path:?} is not a count: {x}"))
+}
+
+fn f(v: &Value, path: &[&str]) -> f64 {
+    let mut x = v;
+    for p in path {
+        x = &x[*p];
+    }
+    x.as_f64()
+        .unwrap_or_else(|| panic!("{path:?} is not a number: {x}"))
+}
+
+#[test]
+fn three_configurations_on_the_same_field() {
+    let r = bench_json(&["--frames", "6", "--size", "160x90"]);
+    assert!(!r["adapter"].as_str().unwrap_or("").is_empty(), "{r}");
+    assert!(r["date"].as_str().unwrap_or("").ends_with("UTC"), "{r}");
+    assert_eq!(u(&r, &["frames"]), 6);
+    assert_eq!(u(&r, &["warmup"]), 5);
+    let timestamps = r["timestamps"].as_bool().expect("timestamps flag");
+    let configs = r["configurations"].as_array().expect("configurations");
+    let names: Vec<&str> = configs
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["all features", "collisions off", "culling off"]);
+
+    let total = u(&configs[0], &["blades", "total"]);
+    assert!((7_000..=9_000).contains(&total), "about 8k blades: {total}");
+    for c in configs {
+        let name = c["name"].as_str().unwrap();
+        let b = |k: &str| u(c, &["blades", k]);
+        assert_eq!(b("total"), total, "{name}: same field in every column");
+        assert_eq!(b("drawn") + b("culled"), total, "{name}: drawn + culled");
+        let per_test = b("culled_patch")
+            + b("culled_orientation")
+            + b("culled_frustum")
+            + b("culled_distance");
+        assert_eq!(per_test, b("culled"), "{name}: the tests add up");
+        for k in ["fps", "frame_ms", "wall_ms"] {
+            let v = f(c, &[k]);
+            assert!(v.is_finite() && v > 0.0, "{name}: {k} = {v}");
+        }
+        if timestamps {
+            assert_eq!(c["frame_time_source"], "gpu");
+            for k in ["physics", "update", "wind", "visibility", "rendering"] {
+                let v = f(c, &["gpu_ms", k]);
+                assert!(v.is_finite() && v >= 0.0, "{name}: gpu_ms.{k} = {v}");
+            }
+            let g = &c["gpu_ms"];
+            let sum = f(g, &["physics"]) + f(g, &["visibility"]) + f(g, &["rendering"]);
+            assert!((sum - f(c, &["frame_ms"])).abs() < 1e-6 * sum.max(1.0));
+        } else {
+            assert!(
+                c["gpu_ms"].is_null(),
+                "{name}: no GPU times without timestamps"
+            );
+            assert_eq!(c["frame_time_source"], "wall clock");
+        }
+        let m = &c["memory"];
+        assert_eq!(u(m, &["bytes_per_blade"]), BYTES_PER_BLADE as u64);
+        assert_eq!(u(m, &["bytes_per_blade"]), 84);
+        let measured = f(m, &["measured_bytes_per_blade"]);
+        assert!(
+            measured >= BYTES_PER_BLADE as f64,
+            "{name}: the blade buffers hold at least the layout's bytes: {measured}"
+        );
+        assert!(u(m, &["blade_bytes"]) > 0 && u(m, &["gpu_bytes"]) >= u(m, &["blade_bytes"]));
+        assert!(f(m, &["gpu_mib"]) > 0.0);
+    }
+    // The scene's camera sees only part of the field: every culling test has work.
+    let all = &configs[0];
+    assert!(u(all, &["blades", "culled"]) > 0);
+    assert!(u(all, &["blades", "drawn"]) > 0);
+    let off = &configs[2];
+    assert_eq!(
+        u(off, &["blades", "culled"]),
+        0,
+        "culling off culls nothing"
+    );
+    assert_eq!(u(off, &["blades", "drawn"]), total, "culling off draws all");
+    assert_eq!(u(&configs[0], &["colliders"]), SCENE_SPHERES);
+    assert_eq!(u(&configs[1], &["colliders"]), 0, "collisions off");
+    assert_eq!(u(&configs[2], &["colliders"]), SCENE_SPHERES);
+
+    let ratios = &r["ratios"];
+    assert!(f(ratios, &["culling_off_over_all_frame_time"]) > 0.0);
+    let culled = f(ratios, &["culled_over_visible_patch_blades"]);
+    assert!((0.0..=1.0).contains(&culled), "{culled}");
+    if timestamps {
+        assert!(
+            f(
+                ratios,
+                &["physics_per_blade_over_rendering_per_drawn_blade"]
+            ) >= 0.0
+        );
+    }
+    assert_eq!(
+        r["sweep"].as_array().map(Vec::len),
+        Some(0),
+        "no sweep asked"
+    );
+}
+
+#[test]
+fn sweep_blade_counts_follow_the_request() {
+    let r = bench_json(&[
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--size",
+        "64x36",
+        "--sweep",
+        "2000,4000",
+    ]);
+    let points = r["sweep"].as_array().expect("sweep");
+    assert_eq!(points.len(), 2);
+    let mut last = 0;
+    for (p, asked) in points.iter().zip([2000u64, 4000]) {
+        assert_eq!(u(p, &["requested"]), asked);
+        let blades = u(p, &["blades"]);
+        let off = (blades as f64 - asked as f64).abs() / asked as f64;
+        assert!(off <= 0.1, "asked {asked}, got {blades}");
+        assert!(blades > last, "increasing: {blades} after {last}");
+        last = blades;
+        assert!(u(p, &["drawn"]) <= blades);
+        assert!(f(p, &["frame_ms"]) > 0.0 && f(p, &["fps"]) > 0.0);
+        assert!(f(p, &["gpu_mib"]) > 0.0);
+    }
+}
+
+#[test]
+fn table_names_the_configurations_and_the_adapter() {
+    let out = sward(&[
+        "bench", "--scene", SCENE, "--frames", "1", "--warmup", "0", "--size", "64x36",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "adapter:",
+        "date:",
+        "all features",
+        "collisions off",
+        "culling off",
+        "FPS",
+        "wall clock per frame",
+        "blades (last frame)",
+        "by orientation",
+        "physical model",
+        "visibility",
+        "rendering",
+        "collision spheres considered",
+        "bytes per blade (layout)",
+        "GPU memory of the scene (MiB)",
+        "culling off / all features",
+        "blades in visible patches",
+        "rendering ms per drawn blade",
+    ] {
+        assert!(table.contains(needle), "no {needle:?} in:\n{table}");
+    }
+}
+
+/// A bad invocation: exit status 1, an `error:` line naming `flag` and `range`, no panic,
+/// nothing on stdout.
+fn refused(args: &[&str], flag: &str, range: &str) {
+    let mut all = vec!["bench", "--scene", SCENE];
+    all.extend_from_slice(args);
+    let out = sward(&all);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{all:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{all:?} panicked: {stderr}");
+    assert!(stderr.contains("error:"), "{all:?}: {stderr}");
+    assert!(
+        stderr.contains(flag),
+        "{all:?} does not name {flag}: {stderr}"
+    );
+    assert!(
+        stderr.contains(range),
+        "{all:?} does not give {range}: {stderr}"
+    );
+    assert!(out.stdout.is_empty(), "{all:?} printed a report");
+}
+
+#[test]
+fn bad_flags_are_refused() {
+    refused(&["--frames", "0"], "--frames", "1..=100000");
+    refused(&["--frames", "lots"], "--frames", "1..=100000");
+    refused(&["--frames", "-2"], "--frames", "1..=100000");
+    refused(&["--frames", "100001"], "--frames", "1..=100000");
+    refused(&["--warmup", "-1"], "--warmup", "0..=10000");
+    refused(&["--warmup", "20000"], "--warmup", "0..=10000");
+    refused(&["--size", "0x90"], "--size", "1..=16384");
+    refused(&["--size", "160"], "--size", "1..=16384");
+    refused(&["--size", "160x90x2"], "--size", "1..=16384");
+    refused(&["--size", "99999x90"], "--size", "1..=16384");
+    let sweep_range = "1..=50000000";
+    refused(&["--sweep", ""], "--sweep", sweep_range);
+    refused(&["--sweep", "4000,2000"], "--sweep", sweep_range);
+    refused(&["--sweep", "2000,2000"], "--sweep", sweep_range);
+    refused(&["--sweep", "0,2000"], "--sweep", sweep_range);
+    refused(&["--sweep", "2000,,4000"], "--sweep", sweep_range);
+    refused(&["--sweep", "2k"], "--sweep", sweep_range);
+    refused(&["--sweep", "60000000"], "--sweep", sweep_range);
+}
+
+/// A count the adapter cannot hold is refused before anything is allocated or measured,
+/// with the limits message. The count is one blade past what the test adapter's largest
+/// storage buffer holds (2,097,153 on lavapipe's 128 MiB).
+#[test]
+fn sweep_beyond_the_adapter_is_refused_up_front() {
+    let choice: sward::gpu::AdapterChoice = adapter().parse().expect("infallible");
+    let gpu = sward::gpu::Gpu::new(&choice).expect("tests need a GPU adapter");
+    let limits = gpu.device.limits();
+    let max_bytes = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let too_many = max_bytes / std::mem::size_of::<sward::sim::layout::Blade>() as u64 + 1;
+    drop(gpu);
+    if too_many > sward::session::MAX_BLADES as u64 {
+        // The adapter holds more than --sweep accepts; the range check covers it.
+        refused(
+            &["--sweep", &too_many.to_string()],
+            "--sweep",
+            "1..=50000000",
+        );
+        return;
+    }
+    let sweep = format!("2000,{too_many}");
+    let out = sward(&[
+        "bench", "--scene", SCENE, "--frames", "1", "--sweep", &sweep,
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains(&format!("--sweep {too_many}")) && stderr.contains("holds at most"),
+        "{stderr}"
+    );
+    assert!(out.stdout.is_empty());
+    // Refused before measuring anything: no configuration ran.
+    assert!(!stderr.contains("bench: all features"), "{stderr}");
+}
+
+#[test]
+fn missing_scene_is_named() {
+    let out = sward(&[
+        "bench",
+        "--scene",
+        "tests/scenes/no-such-scene.ron",
+        "--frames",
+        "1",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no-such-scene.ron"), "{stderr}");
+}
