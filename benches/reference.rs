@@ -7,7 +7,7 @@ use std::hint::black_box;
 use sward::field::flat_field;
 use sward::render::camera::CameraView;
 use sward::scene::Scene;
-use sward::sim::params::{cull_params, sim_params};
+use sward::sim::params::{cull_params, sim_params, CullInputs};
 use sward::sim::reference::{cull_blade, update_all, WindGrid};
 
 fn bench(c: &mut Criterion) {
@@ -39,13 +39,25 @@ fn bench(c: &mut Criterion) {
         });
     });
     let camera = CameraView::from_scene(&scene.camera);
+    let lod = sward::render::mesh::lod_meshes(scene.field.segments);
     let cp = cull_params(
         &scene.culling,
-        camera.view_proj(16.0 / 9.0),
-        camera.eye,
-        field.blades.len() as u32,
-        field.patch_size,
-        72,
+        &CullInputs {
+            view_proj: camera.view_proj(16.0 / 9.0),
+            camera: camera.eye,
+            fov_y: camera.fov_y,
+            near: camera.near,
+            far: camera.far,
+            viewport_height: 720,
+            blade_count: field.blades.len() as u32,
+            patch_size: field.patch_size,
+            patch_count: field.patches.len() as u32,
+            lod_segments: lod.segments,
+            lod_index_count: lod.index_count,
+            lod_first_index: lod.first_index,
+            frame: 0,
+            hiz: [0; 4],
+        },
     );
     c.bench_function("cpu cull 16k blades", |b| {
         b.iter(|| {
@@ -55,8 +67,10 @@ fn bench(c: &mut Criterion) {
                 .enumerate()
                 .filter(|(i, blade)| {
                     let patch = &field.patches[*i / field.patch_size as usize];
-                    cull_blade(*i as u32, blade, patch, &cp)
-                        == sward::sim::reference::CullOutcome::Drawn
+                    matches!(
+                        cull_blade(*i as u32, blade, patch, &cp, None),
+                        sward::sim::reference::CullOutcome::Drawn(_)
+                    )
                 })
                 .count()
         });

@@ -35,9 +35,13 @@ struct SimParams {
     collision_gain: f32,
     max_eta: f32,
     stiffness_scale: f32,
-    pad2: f32,
+    throttled_dt: f32,
     fluid_grid: vec4<f32>,
     fluid_info: vec4<u32>,
+    patch_size: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 struct CullParams {
@@ -50,7 +54,38 @@ struct CullParams {
     orientation_threshold: f32,
     frustum_tolerance: f32,
     max_distance: f32,
-    index_count: u32,
+    patch_count: u32,
+    lod_index_count: vec4<u32>,
+    lod_first_index: vec4<u32>,
+    lod_segments: vec4<u32>,
+    // x: px per metre at 1 m, y: level-0 threshold px, z: level-1 threshold px, w: morph band.
+    lod: vec4<f32>,
+    physics_throttle: u32,
+    frame: u32,
+    physics_radius: f32,
+    occlusion_bias: f32,
+    // Depth pyramid: width, height, levels, valid.
+    hiz: vec4<u32>,
+    // x: near, y: far.
+    clip: vec4<f32>,
+}
+
+// Projected height in pixels of a blade of `height` whose root is at `v0`: the measure the
+// level of detail is chosen by (cull) and morphed by (grass vertex shader).
+fn projected_height(v0: vec3<f32>, height: f32, p: CullParams) -> f32 {
+    let d = max(distance(v0, p.camera_pos.xyz), 1e-3);
+    return height * p.lod.x / d;
+}
+
+// Level of detail for a projected height: 0 at and above lod.y, 1 at and above lod.z, else 2.
+fn lod_level(h_px: f32, p: CullParams) -> u32 {
+    if h_px >= p.lod.y {
+        return 0u;
+    }
+    if h_px >= p.lod.z {
+        return 1u;
+    }
+    return 2u;
 }
 
 struct Frame {

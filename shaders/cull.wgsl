@@ -1,48 +1,103 @@
-// Per-blade culling (Jahrmann & Wimmer Section 6.2): the patch box against the frustum,
-// then orientation (Eq. 17), view frustum on v0 / m / v2 (Eq. 18) and distance levels
-// (Eq. 19-20). Survivors append their index to `visible` and bump the indirect instance
-// count; every culled blade bumps the counter of the test that culled it.
-// The twin of `reference::cull_blade`.
+// Culling on the GPU (Jahrmann & Wimmer Section 6.2), in two steps like the paper:
+//
+// 1. `reset`, `patches`, `finalize` (one pass, before the update): every patch box is tested
+//    against the frustum and the depth pyramid of the opaque objects; survivors go to the
+//    visible-patch list. Patches in view or near the camera, and every `physics_throttle`-th
+//    other patch in turn, go to the update list. `finalize` turns both counts into the
+//    indirect dispatches of the update and of step 2.
+// 2. `main` (indirect, over visible patches only): every blade of a visible patch is tested
+//    for orientation (Eq. 17), frustum on v0 / m / v2 (Eq. 18), distance levels (Eq. 19-20)
+//    and occlusion (v0 / m / v2 against the depth pyramid with a bias). Survivors are sorted
+//    by projected height into three level-of-detail lists, each drawn by its own indirect
+//    draw. Every culled blade bumps the counter of the test that culled it.
+// The twins are `reference::cull_patch` and `reference::cull_blade`.
 //!include common.wgsl
 
-// draw_indexed_indirect arguments followed by the cull counters (CullCounters in Rust).
 struct DrawArgs {
     index_count: u32,
     instance_count: atomic<u32>,
     first_index: u32,
     base_vertex: i32,
     first_instance: u32,
+}
+
+// CullCounters in Rust.
+struct CullOutput {
+    draws: array<DrawArgs, 3>,
+    visible_patches: atomic<u32>,
+    updated_patches: atomic<u32>,
+    throttled_patches: atomic<u32>,
     culled_patch: atomic<u32>,
     culled_orientation: atomic<u32>,
     culled_frustum: atomic<u32>,
     culled_distance: atomic<u32>,
-    pad: array<u32, 7>,
+    culled_occlusion: atomic<u32>,
+    culled_occlusion_patch: atomic<u32>,
+    pad: array<u32, 8>,
+}
+
+// PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
+struct PatchDispatch {
+    cull_x: u32,
+    cull_y: u32,
+    cull_z: u32,
+    update_x: u32,
+    update_y: u32,
+    update_z: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 const TEST_PATCH: u32 = 1u;
 const TEST_ORIENTATION: u32 = 2u;
 const TEST_FRUSTUM: u32 = 4u;
 const TEST_DISTANCE: u32 = 8u;
+const TEST_OCCLUSION: u32 = 16u;
+// Marks a throttled entry of the update list (it steps with the longer Δt).
+const THROTTLED: u32 = 0x80000000u;
+// Largest workgroup count per dimension every adapter allows.
+const MAX_GROUPS: u32 = 65535u;
 
 @group(0) @binding(0) var<uniform> params: CullParams;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read> patches: array<PatchBox>;
+// Three regions of `region` slots, one per level of detail.
 @group(0) @binding(3) var<storage, read_write> visible: array<u32>;
-@group(0) @binding(4) var<storage, read_write> args: DrawArgs;
+@group(0) @binding(4) var<storage, read_write> out: CullOutput;
+// [count, patch, patch, ...]: the patches that passed the patch tests.
+@group(0) @binding(5) var<storage, read_write> visible_patches: array<u32>;
+// [count, patch | THROTTLED?, ...]: the patches the update steps this frame.
+@group(0) @binding(6) var<storage, read_write> updated_patches: array<u32>;
+// Max-depth pyramid of the opaque objects (level 0 = the depth buffer).
+@group(0) @binding(7) var hiz: texture_2d<f32>;
+@group(1) @binding(0) var<storage, read_write> dispatch: PatchDispatch;
 
-// Clears the counters and writes the constant draw arguments; one invocation per frame,
-// dispatched before `main` in the same pass.
+// Slots per level-of-detail list.
+fn region() -> u32 {
+    return arrayLength(&visible) / 3u;
+}
+
+// Clears the counters and writes the constant draw arguments; one invocation per frame.
 @compute @workgroup_size(1)
 fn reset() {
-    args.index_count = params.index_count;
-    atomicStore(&args.instance_count, 0u);
-    args.first_index = 0u;
-    args.base_vertex = 0;
-    args.first_instance = 0u;
-    atomicStore(&args.culled_patch, 0u);
-    atomicStore(&args.culled_orientation, 0u);
-    atomicStore(&args.culled_frustum, 0u);
-    atomicStore(&args.culled_distance, 0u);
+    for (var k = 0u; k < 3u; k++) {
+        out.draws[k].index_count = params.lod_index_count[k];
+        atomicStore(&out.draws[k].instance_count, 0u);
+        out.draws[k].first_index = params.lod_first_index[k];
+        out.draws[k].base_vertex = 0;
+        // With multi-draw, level k's instances start at its region; otherwise each level
+        // binds its region at an offset and counts from 0.
+        out.draws[k].first_instance = k * params.lod_index_count.w;
+    }
+    atomicStore(&out.visible_patches, 0u);
+    atomicStore(&out.updated_patches, 0u);
+    atomicStore(&out.throttled_patches, 0u);
+    atomicStore(&out.culled_patch, 0u);
+    atomicStore(&out.culled_orientation, 0u);
+    atomicStore(&out.culled_frustum, 0u);
+    atomicStore(&out.culled_distance, 0u);
+    atomicStore(&out.culled_occlusion, 0u);
+    atomicStore(&out.culled_occlusion_patch, 0u);
 }
 
 fn in_frustum(p: vec3<f32>) -> bool {
@@ -68,19 +123,178 @@ fn box_in_frustum(bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
     return true;
 }
 
+// View distance of a depth-buffer value (perspective, depth 0 at near, 1 at far).
+fn occluder_distance(d: f32) -> f32 {
+    let n = params.clip.x;
+    let f = params.clip.y;
+    return n * f / max(f - d * (f - n), 1e-6);
+}
+
+// Whether something opaque lies in front of a point at view distance `z` by more than the
+// bias, given the farthest opaque depth `d` over the pixels that cover it.
+fn behind(z: f32, d: f32) -> bool {
+    return z - occluder_distance(d) > params.occlusion_bias * z;
+}
+
+fn to_pixel(ndc: vec2<f32>) -> vec2<i32> {
+    let size = vec2<f32>(params.hiz.xy);
+    let px = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
+    return clamp(vec2<i32>(floor(px)), vec2<i32>(0), vec2<i32>(params.hiz.xy) - 1);
+}
+
+// A point is occluded when it projects inside the screen, in front of the camera, and
+// behind the opaque depth at its pixel.
+fn point_occluded(p: vec3<f32>) -> bool {
+    let c = params.view_proj * vec4<f32>(p, 1.0);
+    if c.w <= params.clip.x {
+        return false;
+    }
+    let ndc = c.xy / c.w;
+    if any(abs(ndc) > vec2<f32>(1.0)) {
+        return false;
+    }
+    let d = textureLoad(hiz, to_pixel(ndc), 0).r;
+    return behind(c.w, d);
+}
+
+// The box's screen rectangle against the pyramid level where it spans at most 2 x 2
+// texels; occluded when its nearest corner is behind the farthest depth there.
+fn box_occluded(bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
+    var lo = vec2<f32>(1e30);
+    var hi = vec2<f32>(-1e30);
+    var z_near = 1e30;
+    for (var k = 0u; k < 8u; k++) {
+        let corner = select(bmin, bmax, vec3<bool>((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u));
+        let c = params.view_proj * vec4<f32>(corner, 1.0);
+        if c.w <= params.clip.x {
+            return false;
+        }
+        let ndc = c.xy / c.w;
+        lo = min(lo, ndc);
+        hi = max(hi, ndc);
+        z_near = min(z_near, c.w);
+    }
+    if hi.x < -1.0 || lo.x > 1.0 || hi.y < -1.0 || lo.y > 1.0 {
+        return false;
+    }
+    // Screen y runs down: the top-left pixel comes from (lo.x, hi.y).
+    let p0 = to_pixel(vec2<f32>(lo.x, hi.y));
+    let p1 = to_pixel(vec2<f32>(hi.x, lo.y));
+    var level = 0u;
+    let top = params.hiz.z - 1u;
+    loop {
+        let a = p0 >> vec2<u32>(level);
+        let b = p1 >> vec2<u32>(level);
+        if level >= top || (b.x - a.x <= 1 && b.y - a.y <= 1) {
+            break;
+        }
+        level++;
+    }
+    let last = max(vec2<i32>(params.hiz.xy) >> vec2<u32>(level), vec2<i32>(1)) - 1;
+    let a = min(p0 >> vec2<u32>(level), last);
+    let b = min(p1 >> vec2<u32>(level), last);
+    var d = 0.0;
+    for (var y = a.y; y <= b.y; y++) {
+        for (var x = a.x; x <= b.x; x++) {
+            d = max(d, textureLoad(hiz, vec2<i32>(x, y), i32(level)).r);
+        }
+    }
+    return behind(z_near, d);
+}
+
+// Blades in patch `p` (the last patch may be short).
+fn patch_blades(p: u32) -> u32 {
+    return min(params.patch_size, params.blade_count - p * params.patch_size);
+}
+
+// Distance from the camera to the box (0 inside it).
+fn box_distance(bmin: vec3<f32>, bmax: vec3<f32>) -> f32 {
+    let c = params.camera_pos.xyz;
+    return length(max(max(bmin - c, c - bmax), vec3<f32>(0.0)));
+}
+
 @compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= params.blade_count {
+fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let p = gid.x;
+    if p >= params.patch_count {
         return;
     }
-    // Patches are a multiple of the workgroup size, so the whole workgroup tests one box.
+    let pbox = patches[p];
+    let n = patch_blades(p);
+    // The frustum test also drives the physics throttle, so it runs with patch culling off.
+    let in_view = box_in_frustum(pbox.min.xyz, pbox.max.xyz);
+    var visible_patch = true;
     if (params.tests & TEST_PATCH) != 0u {
-        let pbox = patches[i / params.patch_size];
-        if !box_in_frustum(pbox.min.xyz, pbox.max.xyz) {
-            atomicAdd(&args.culled_patch, 1u);
-            return;
+        if !in_view {
+            atomicAdd(&out.culled_patch, n);
+            visible_patch = false;
+        } else if (params.tests & TEST_OCCLUSION) != 0u && box_occluded(pbox.min.xyz, pbox.max.xyz) {
+            atomicAdd(&out.culled_occlusion, n);
+            atomicAdd(&out.culled_occlusion_patch, n);
+            visible_patch = false;
         }
+    }
+    if visible_patch {
+        let slot = atomicAdd(&out.visible_patches, 1u);
+        visible_patches[1u + slot] = p;
+    }
+    // Physics: patches in the frustum or near the camera every frame, the others in turn.
+    let throttle = max(params.physics_throttle, 1u);
+    let near = box_distance(pbox.min.xyz, pbox.max.xyz) <= params.physics_radius;
+    let every_frame = in_view || near || throttle == 1u;
+    if every_frame || (params.frame + p) % throttle == 0u {
+        let slot = atomicAdd(&out.updated_patches, 1u);
+        var entry = p;
+        if !every_frame {
+            entry |= THROTTLED;
+            atomicAdd(&out.throttled_patches, 1u);
+        }
+        updated_patches[1u + slot] = entry;
+    }
+}
+
+// A 2D dispatch of `groups` workgroups that stays under the per-dimension limit.
+fn split(groups: u32) -> vec3<u32> {
+    if groups == 0u {
+        return vec3<u32>(0u, 1u, 1u);
+    }
+    let x = min(groups, MAX_GROUPS);
+    return vec3<u32>(x, (groups + x - 1u) / x, 1u);
+}
+
+@compute @workgroup_size(1)
+fn finalize() {
+    let per_patch = params.patch_size / 64u;
+    let vis = atomicLoad(&out.visible_patches);
+    let upd = atomicLoad(&out.updated_patches);
+    visible_patches[0] = vis;
+    updated_patches[0] = upd;
+    let c = split(vis * per_patch);
+    dispatch.cull_x = c.x;
+    dispatch.cull_y = c.y;
+    dispatch.cull_z = 1u;
+    let u = split(upd * per_patch);
+    dispatch.update_x = u.x;
+    dispatch.update_y = u.y;
+    dispatch.update_z = 1u;
+}
+
+@compute @workgroup_size(64)
+fn main(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let per_patch = params.patch_size / 64u;
+    let flat = wid.y * groups.x + wid.x;
+    let slot = flat / per_patch;
+    if slot >= visible_patches[0] {
+        return;
+    }
+    let p = visible_patches[1u + slot];
+    let i = p * params.patch_size + (flat % per_patch) * 64u + lid;
+    if i >= params.blade_count {
+        return;
     }
     let blade = blades[i];
     let v0 = blade.v0_dir.xyz;
@@ -96,14 +310,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             view_dir = normalize(to_blade);
         }
         if abs(dot(view_dir, width_dir)) > params.orientation_threshold {
-            atomicAdd(&args.culled_orientation, 1u);
+            atomicAdd(&out.culled_orientation, 1u);
             return;
         }
     }
+    let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
     if (params.tests & TEST_FRUSTUM) != 0u {
-        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
         if !in_frustum(v0) && !in_frustum(m) && !in_frustum(v2) {
-            atomicAdd(&args.culled_frustum, 1u);
+            atomicAdd(&out.culled_frustum, 1u);
             return;
         }
     }
@@ -116,10 +330,17 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let n = max(params.distance_levels, 1u);
         let keep = floor(f32(n) * (1.0 - d_proj / params.max_distance));
         if f32(i % n) >= keep {
-            atomicAdd(&args.culled_distance, 1u);
+            atomicAdd(&out.culled_distance, 1u);
             return;
         }
     }
-    let slot = atomicAdd(&args.instance_count, 1u);
-    visible[slot] = i;
+    if (params.tests & TEST_OCCLUSION) != 0u {
+        if point_occluded(v0) && point_occluded(m) && point_occluded(v2) {
+            atomicAdd(&out.culled_occlusion, 1u);
+            return;
+        }
+    }
+    let level = lod_level(projected_height(v0, blade.v1_height.w, params), params);
+    let at = atomicAdd(&out.draws[level].instance_count, 1u);
+    visible[level * region() + at] = i;
 }

@@ -1,12 +1,24 @@
 // Grass draw: one instance per visible blade, geometry built in the vertex shader from the
 // blade buffer (Jahrmann & Wimmer Section 6.3): De Casteljau on the Bezier curve (Eq. 21),
 // the shape's interpolation parameter (Eq. 22), 3D displacement (Eq. 23) and width
-// correction (Eq. 24). The mesh has 3 columns (u = 0, 0.5, 1) and `segments + 1` rows.
+// correction (Eq. 24). The mesh has 3 columns (u = 0, 0.5, 1) and `segments + 1` rows,
+// where each level of detail has its own segment count (`CullParams::lod_segments`).
+//
+// Level changes do not pop: while a blade's projected height falls through the morph band
+// above its level's threshold, every vertex slides onto the coarser level's mesh (the
+// linear interpolation between the coarser rows around it), so at the threshold the finer
+// mesh has the coarser one's shape and the switch moves nothing.
 //!include common.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read> visible: array<u32>;
+@group(0) @binding(3) var<uniform> cull: CullParams;
+// x: this draw's level of detail, or FROM_INSTANCE with multi-draw (the level is then the
+// instance's region); y: slots per region.
+@group(0) @binding(4) var<uniform> draw_level: vec4<u32>;
+
+const FROM_INSTANCE: u32 = 0xffffffffu;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -53,19 +65,18 @@ fn to_screen(p: vec3<f32>) -> vec2<f32> {
     return (c.xy / max(c.w, 1e-4) * 0.5 + 0.5) * frame.viewport_time.xy;
 }
 
-@vertex
-fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
-    let index = visible[inst];
-    let blade = blades[index];
+struct BladePoint {
+    p: vec3<f32>,
+    n: vec3<f32>,
+}
+
+// The vertex at (u, v) of a blade: Eq. 21-24.
+fn blade_point(blade: Blade, u: f32, v: f32) -> BladePoint {
     let v0 = blade.v0_dir.xyz;
     let v1 = blade.v1_height.xyz;
     let v2 = blade.v2_width.xyz;
     let half_width = 0.5 * blade.v2_width.w;
     let up = blade.up_stiffness.xyz;
-    let segments = frame.shape.z;
-    let u = f32(vid % 3u) * 0.5;
-    let v = f32(vid / 3u) / segments;
-
     // Eq. 21: De Casteljau gives the curve point c and the tangent t0.
     let a = v0 + v * (v1 - v0);
     let b = v1 + v * (v2 - v1);
@@ -80,7 +91,8 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) 
     t0 = normalize(t0);
     let n = normalize(cross(t0, t1));
 
-    var t = shape_t(u32(frame.shape.x), u, v, frame.shape.y, segments);
+    // The dandelion's teeth follow the full mesh's rows at every level.
+    var t = shape_t(u32(frame.shape.x), u, v, frame.shape.y, frame.shape.z);
     // Eq. 24: thin far blades become quads so their tips do not break into pixel noise.
     // The paper prints t(1 - Phi) + u Phi^2; we blend linearly, which meets the same two
     // limits (Phi = 0: the shape, Phi = 1: the quad) without the dip in between.
@@ -95,21 +107,63 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) 
     if frame.shape.w > 0.5 {
         p += half_width * n * (0.5 - abs(u - 0.5) * (1.0 - v));
     }
+    // Bend the shading normal across the width so the blade reads as rounded.
+    return BladePoint(p, normalize(n + t1 * (u - 0.5) * 1.2));
+}
+
+// How far a blade drawn at `level` has morphed towards level + 1: 0 above the morph band,
+// 1 at the threshold where the cull pass hands it to the coarser level.
+fn morph_factor(level: u32, h_px: f32) -> f32 {
+    if level >= 2u || cull.lod.w <= 0.0 {
+        return 0.0;
+    }
+    let threshold = select(cull.lod.z, cull.lod.y, level == 0u);
+    return clamp(1.0 - (h_px - threshold) / (threshold * cull.lod.w), 0.0, 1.0);
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
+    var level = draw_level.x;
+    if level == FROM_INSTANCE {
+        level = min(inst / max(draw_level.y, 1u), 2u);
+    }
+    let index = visible[inst];
+    let blade = blades[index];
+    let v0 = blade.v0_dir.xyz;
+    let rows = max(cull.lod_segments[level], 1u);
+    let row = vid / 3u;
+    let u = f32(vid % 3u) * 0.5;
+    let v = f32(row) / f32(rows);
+    var point = blade_point(blade, u, v);
+
+    let h_px = projected_height(v0, blade.v1_height.w, cull);
+    let morph = morph_factor(level, h_px);
+    if morph > 0.0 {
+        // The coarser rows around this one, in exact integer arithmetic so rows the two
+        // levels share are recognised and left alone.
+        let coarse = max(cull.lod_segments[level + 1u], 1u);
+        let num = row * coarse;
+        let below = num / rows;
+        let rem = num % rows;
+        if rem != 0u {
+            let f = f32(rem) / f32(rows);
+            let a = blade_point(blade, u, f32(below) / f32(coarse));
+            let b = blade_point(blade, u, f32(below + 1u) / f32(coarse));
+            point.p = mix(point.p, mix(a.p, b.p, f), morph);
+            point.n = normalize(mix(point.n, normalize(mix(a.n, b.n, f)), morph));
+        }
+    }
 
     var out: VertexOut;
-    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
-    out.world = p;
-    // Bend the shading normal across the width so the blade reads as rounded.
-    out.normal = normalize(n + t1 * (u - 0.5) * 1.2);
+    out.clip = frame.view_proj * vec4<f32>(point.p, 1.0);
+    out.world = point.p;
+    out.normal = point.n;
     out.uv = vec2<f32>(u, v);
     out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
-    // Debug colours: the distance level of Eq. 20 (0 near .. n-1 at d_max), or the patch.
+    // Debug colours: the level of detail (with the morph towards the next), or the patch.
     let mode = u32(frame.debug.x);
     if mode == 1u {
-        let d = distance(v0, frame.camera_pos.xyz);
-        let n = max(frame.debug.y, 1.0);
-        let level = min(floor(n * d / max(frame.debug.z, 1e-3)), n - 1.0);
-        out.tint = vec4<f32>(level / max(n - 1.0, 1.0), 0.0, 0.0, 1.0);
+        out.tint = vec4<f32>((f32(level) + morph) / 2.0, 0.0, 0.0, 1.0);
     } else if mode == 2u {
         let patch_id = index / max(u32(frame.debug.w), 1u);
         out.tint = vec4<f32>(hash01(patch_id * 7u + 1u), hash01(patch_id * 13u + 5u), hash01(patch_id * 29u + 11u), 2.0);
@@ -118,7 +172,7 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) 
 }
 
 // The flat, lightly shaded colour of the debugging views: a green-to-red ramp over the
-// distance levels, or the patch's random colour.
+// levels of detail, or the patch's random colour.
 fn debug_color(tint: vec4<f32>, n: vec3<f32>, sun: vec3<f32>, v: f32) -> vec3<f32> {
     var c = tint.rgb;
     if tint.w < 1.5 {

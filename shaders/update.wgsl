@@ -1,5 +1,7 @@
-// Blade update, one invocation per blade, every frame (Jahrmann & Wimmer Eq. 1-16 and the
-// state validation Eq. 9-13). The twin of `reference::update_blade`.
+// Blade update, one invocation per blade of each patch on the update list the patch pass
+// wrote (Jahrmann & Wimmer Eq. 1-16 and the state validation Eq. 9-13), dispatched
+// indirectly. Throttled patches step with the longer Δt. The twin of
+// `reference::update_blade`.
 //!include common.wgsl
 //!include wind.wgsl
 
@@ -12,6 +14,10 @@ const COLLISION_ROUNDS: u32 = 4u;
 @group(0) @binding(3) var<storage, read> spheres: array<vec4<f32>>;
 // The fluid solver's velocity grid (one dummy cell when the fluid is off).
 @group(0) @binding(4) var<storage, read> wind_grid: array<vec2<f32>>;
+// [count, patch | THROTTLED?, ...] from the patch pass (`cull.wgsl`).
+@group(0) @binding(5) var<storage, read> updated_patches: array<u32>;
+
+const THROTTLED: u32 = 0x80000000u;
 
 const WIND_ANALYTIC: u32 = 1u;
 const WIND_FLUID: u32 = 2u;
@@ -95,8 +101,19 @@ fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>) -> vec4<f32> {
 }
 
 @compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
+fn main(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let per_patch = params.patch_size / 64u;
+    let flat = wid.y * groups.x + wid.x;
+    let slot = flat / per_patch;
+    if slot >= updated_patches[0] {
+        return;
+    }
+    let entry = updated_patches[1u + slot];
+    let i = (entry & ~THROTTLED) * params.patch_size + (flat % per_patch) * 64u + lid;
     if i >= params.blade_count {
         return;
     }
@@ -109,7 +126,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let stiffness = blade.up_stiffness.w * params.stiffness_scale;
     let rest = states[i].rest_eta.xyz;
     var eta = states[i].rest_eta.w;
-    let dt = params.dt;
+    let dt = select(params.dt, params.throttled_dt, (entry & THROTTLED) != 0u);
     let front = blade_frame(up, angle)[1];
 
     // Eq. 3: recovery, weakened while the blade is crippled by collisions.

@@ -30,6 +30,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{AdapterChoice, Gpu};
 use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
+use crate::render::timing;
 use crate::render::Renderer;
 use crate::scene::Scene;
 use crate::session::{check_blade_count, Session, MAX_BLADES};
@@ -200,6 +201,13 @@ impl Config {
         s.culling.orientation = on;
         s.culling.frustum = on;
         s.culling.distance = on;
+        s.culling.occlusion = on;
+        // Throttling the physics of unseen patches is culling too; the levels of detail are
+        // not (the paper's tessellation stays on with culling off) and stay as the scene
+        // says.
+        if !on {
+            s.culling.physics_throttle = 1;
+        }
         s
     }
 }
@@ -209,25 +217,44 @@ impl Config {
 pub struct BladeCounts {
     pub total: u64,
     pub drawn: u64,
-    /// Culled by any test; the four below add up to it (a blade counts for the first test
+    /// Drawn at each level of detail (near, middle, far).
+    pub drawn_per_level: [u64; 3],
+    /// Culled by any test; the five below add up to it (a blade counts for the first test
     /// that culls it).
     pub culled: u64,
     pub culled_patch: u64,
     pub culled_orientation: u64,
     pub culled_frustum: u64,
     pub culled_distance: u64,
+    /// By the occlusion test, of whole patches or blade by blade.
+    pub culled_occlusion: u64,
+    /// The part of `culled_occlusion` culled with its patch.
+    pub culled_occlusion_patch: u64,
+    /// Patches that passed the patch tests.
+    pub visible_patches: u64,
+    /// Blades the update stepped this frame (whole patches), and of those the ones
+    /// stepped at the throttled rate.
+    pub stepped: u64,
+    pub stepped_throttled: u64,
 }
 
 impl BladeCounts {
-    fn new(total: u32, c: &CullCounters) -> Self {
+    fn new(total: u32, patch_size: u32, c: &CullCounters) -> Self {
+        let blades = |patches: u32| (u64::from(patches) * u64::from(patch_size)).min(total.into());
         Self {
             total: total.into(),
             drawn: c.drawn().into(),
+            drawn_per_level: c.per_level().map(u64::from),
             culled: c.culled().into(),
             culled_patch: c.culled_patch.into(),
             culled_orientation: c.culled_orientation.into(),
             culled_frustum: c.culled_frustum.into(),
             culled_distance: c.culled_distance.into(),
+            culled_occlusion: c.culled_occlusion.into(),
+            culled_occlusion_patch: c.culled_occlusion_patch.into(),
+            visible_patches: c.visible_patches.into(),
+            stepped: blades(c.updated_patches),
+            stepped_throttled: blades(c.throttled_patches),
         }
     }
 
@@ -303,8 +330,15 @@ pub struct Ratios {
     /// in visible patches (total − culled by the patch test). The paper: "almost
     /// three-fourths of all blades of grass of visible patches are culled".
     pub culled_over_visible_patch_blades: Option<f64>,
-    /// All features: physics ms per blade ÷ rendering ms per drawn blade.
+    /// All features: physics ms per stepped blade ÷ rendering ms per drawn blade.
     pub physics_per_blade_over_rendering_per_drawn_blade: Option<f64>,
+    /// The last all-features frame against the last culling-off frame (same field, same
+    /// steps), with the snapshot test's measure: mean per-channel difference (0–255) and
+    /// share of pixels off by more than `compare::PIXEL_TOLERANCE`.
+    pub culled_vs_unculled_mean_difference: Option<f64>,
+    pub culled_vs_unculled_failing_pixels: Option<f64>,
+    /// Whether that difference is within the snapshot tolerance (no visible bare ground).
+    pub culled_render_within_snapshot_tolerance: Option<bool>,
 }
 
 /// One point of the sweep: the all-features configuration at another density.
@@ -344,6 +378,8 @@ struct Measured {
     gpu_ms: Option<GpuMs>,
     wall_ms: f64,
     gpu_bytes: (u64, u64),
+    /// The last frame, to compare the culled render with the unculled one.
+    image: image::RgbaImage,
 }
 
 impl Measured {
@@ -370,7 +406,7 @@ fn measure(
         COLOR_FORMAT,
     )?;
     let size = (target.width, target.height);
-    let mut passes = [0.0f64; 3];
+    let mut passes = [0.0f64; timing::PASSES.len()];
     let mut wind = 0.0f64;
     let mut timed = 0u32;
     let mut wall = 0.0f64;
@@ -405,21 +441,26 @@ fn measure(
     // means over the timed frames are still right then.
     let gpu_ms = (timed > 0).then(|| {
         let t = f64::from(timed);
-        let update = passes[0] / t;
+        let update = passes[timing::UPDATE] / t;
         let wind = wind / t;
         GpuMs {
             physics: update + wind,
             update,
             wind,
-            visibility: passes[1] / t,
-            rendering: passes[2] / t,
+            // The occluder depth pass only feeds the occlusion test: visibility work.
+            visibility: (passes[timing::OCCLUDERS]
+                + passes[timing::PATCHES]
+                + passes[timing::CULL])
+                / t,
+            rendering: passes[timing::DRAW] / t,
         }
     });
     Ok(Measured {
-        blades: BladeCounts::new(renderer.buffers.count, &last),
+        blades: BladeCounts::new(renderer.buffers.count, renderer.buffers.patch_size, &last),
         gpu_ms,
         wall_ms: wall / n,
         gpu_bytes: renderer.gpu_bytes(),
+        image: target.read_image(gpu)?,
     })
 }
 
@@ -512,6 +553,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
         session.field.patch_size
     );
     let mut configurations = Vec::new();
+    let mut images = Vec::new();
     for config in Config::COLUMNS {
         eprintln!(
             "bench: {} ({} warm-up + {} frames)",
@@ -539,8 +581,17 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             colliders: spheres,
             memory: memory(m.blades.total, m.gpu_bytes),
         });
+        images.push((config, m.image));
     }
-    let ratios = ratios(&configurations);
+    let mut ratios = ratios(&configurations);
+    let image = |c: Config| images.iter().find(|(k, _)| *k == c).map(|(_, i)| i);
+    if let (Some(all), Some(off)) = (image(Config::All), image(Config::NoCulling)) {
+        if let Some(d) = crate::compare::compare(all, off) {
+            ratios.culled_vs_unculled_mean_difference = Some(d.mean);
+            ratios.culled_vs_unculled_failing_pixels = Some(d.failing);
+            ratios.culled_render_within_snapshot_tolerance = Some(d.within_tolerance());
+        }
+    }
     let mut sweep = Vec::new();
     let base = Config::All.apply(&session.scene);
     drop(session);
@@ -599,10 +650,11 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
         culling_off_over_all_frame_time: ratio(off.frame_ms, all.frame_ms),
         culled_over_visible_patch_blades: ratio(per_blade as f64, b.in_visible_patches() as f64),
         physics_per_blade_over_rendering_per_drawn_blade: all.gpu_ms.and_then(|g| {
-            let physics = ratio(g.physics, b.total as f64)?;
+            let physics = ratio(g.physics, b.stepped as f64)?;
             let rendering = ratio(g.rendering, b.drawn as f64)?;
             ratio(physics, rendering)
         }),
+        ..Default::default()
     }
 }
 
@@ -692,6 +744,30 @@ pub fn format_report(r: &BenchReport) -> String {
     );
     row(&mut s, "    by view frustum", count(|b| b.culled_frustum));
     row(&mut s, "    by distance", count(|b| b.culled_distance));
+    row(&mut s, "    by occlusion", count(|b| b.culled_occlusion));
+    row(
+        &mut s,
+        "      of which with their patch",
+        count(|b| b.culled_occlusion_patch),
+    );
+    row(
+        &mut s,
+        "  drawn at LOD 0 (full mesh)",
+        count(|b| b.drawn_per_level[0]),
+    );
+    row(&mut s, "  drawn at LOD 1", count(|b| b.drawn_per_level[1]));
+    row(
+        &mut s,
+        "  drawn at LOD 2 (one segment)",
+        count(|b| b.drawn_per_level[2]),
+    );
+    row(&mut s, "  stepped by the physics", count(|b| b.stepped));
+    row(
+        &mut s,
+        "    of which throttled",
+        count(|b| b.stepped_throttled),
+    );
+    row(&mut s, "patches visible", count(|b| b.visible_patches));
     let gpu = |f: fn(&GpuMs) -> f64| each(&|x: &ConfigReport| ms(x.gpu_ms.as_ref().map(f)));
     let _ = writeln!(s, "GPU time (ms, mean)");
     row(
@@ -703,7 +779,7 @@ pub fn format_report(r: &BenchReport) -> String {
     row(&mut s, "    wind solver", gpu(|g| g.wind));
     row(
         &mut s,
-        "  visibility (cull, indirect args)",
+        "  visibility (occluders, patches, blade cull)",
         gpu(|g| g.visibility),
     );
     row(&mut s, "  rendering (draw)", gpu(|g| g.rendering));
@@ -749,9 +825,23 @@ pub fn format_report(r: &BenchReport) -> String {
     );
     let _ = writeln!(
         s,
-        "  physics ms per blade / rendering ms per drawn blade:          {}",
+        "  physics ms per stepped blade / rendering ms per drawn blade:  {}",
         ratio(r.ratios.physics_per_blade_over_rendering_per_drawn_blade, 4)
     );
+    if let (Some(mean), Some(failing), Some(ok)) = (
+        r.ratios.culled_vs_unculled_mean_difference,
+        r.ratios.culled_vs_unculled_failing_pixels,
+        r.ratios.culled_render_within_snapshot_tolerance,
+    ) {
+        let _ = writeln!(
+            s,
+            "  culled vs unculled frame: mean difference {mean:.3} (tolerance {}), failing pixels {:.3} % (tolerance {:.1} %): {}",
+            crate::compare::MEAN_TOLERANCE,
+            failing * 100.0,
+            crate::compare::MAX_FAILING * 100.0,
+            if ok { "within" } else { "OUTSIDE" }
+        );
+    }
     // A frame that takes far longer on the wall clock than its timed passes means the
     // timestamps missed work; say so rather than let the GPU rows pass for the whole truth.
     let missed: Vec<String> = c
@@ -982,6 +1072,8 @@ mod tests {
                     culled: culled + patch,
                     culled_patch: patch,
                     culled_orientation: culled,
+                    // The paper steps every blade every frame.
+                    stepped: 397_881,
                     ..Default::default()
                 },
                 gpu_ms: Some(GpuMs {

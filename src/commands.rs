@@ -111,7 +111,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     if o.wind_overlay {
         renderer.enable_overlay(&gpu, COLOR_FORMAT);
     }
-    let mut sums = [0.0f64; 3];
+    let mut sums = [0.0f64; PASSES.len()];
     let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
     let mut timed = 0u32;
     let mut last = None;
@@ -160,13 +160,15 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         let c = stats.counters;
         println!("adapter: {}", gpu.describe());
         println!(
-            "blades: {} total, {} drawn, culled: {} patch, {} orientation, {} frustum, {} distance",
+            "blades: {} total, {} drawn (LOD {:?}), culled: {} patch, {} orientation, {} frustum, {} distance, {} occlusion",
             renderer.buffers.count,
             c.drawn(),
+            c.per_level(),
             c.culled_patch,
             c.culled_orientation,
             c.culled_frustum,
-            c.culled_distance
+            c.culled_distance,
+            c.culled_occlusion
         );
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;

@@ -85,6 +85,8 @@ impl Gpu {
         }
         // The panel's wireframe view draws the grass as lines where the adapter can.
         features |= adapter.features() & wgpu::Features::POLYGON_MODE_LINE;
+        // With first-instance support the levels of detail draw in one multi-draw-indirect.
+        features |= adapter.features() & wgpu::Features::INDIRECT_FIRST_INSTANCE;
         // Ask for everything the adapter offers: large fields need its full buffer sizes.
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

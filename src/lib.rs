@@ -5,6 +5,7 @@
 pub mod app;
 pub mod bench;
 pub mod commands;
+pub mod compare;
 pub mod error;
 pub mod field;
 pub mod gpu;

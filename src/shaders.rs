@@ -8,6 +8,7 @@ const FILES: &[(&str, &str)] = &[
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
+    ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
     ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
     ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
@@ -52,6 +53,7 @@ const FILES: &[(&str, &str)] = &[
 pub const ENTRY_FILES: &[&str] = &[
     "update.wgsl",
     "cull.wgsl",
+    "hiz.wgsl",
     "grass.wgsl",
     "terrain.wgsl",
     "sky.wgsl",

@@ -81,10 +81,15 @@ fn three_configurations_on_the_same_field() {
         let b = |k: &str| u(c, &["blades", k]);
         assert_eq!(b("total"), total, "{name}: same field in every column");
         assert_eq!(b("drawn") + b("culled"), total, "{name}: drawn + culled");
+        let levels = &c["blades"]["drawn_per_level"];
+        let per_level: u64 = (0..3).map(|k| levels[k].as_u64().expect("count")).sum();
+        assert_eq!(per_level, b("drawn"), "{name}: the levels add up");
+        assert!(b("stepped") > 0 && b("stepped") <= total, "{name}: stepped");
         let per_test = b("culled_patch")
             + b("culled_orientation")
             + b("culled_frustum")
-            + b("culled_distance");
+            + b("culled_distance")
+            + b("culled_occlusion");
         assert_eq!(per_test, b("culled"), "{name}: the tests add up");
         for k in ["fps", "frame_ms", "wall_ms"] {
             let v = f(c, &[k]);
@@ -108,7 +113,7 @@ fn three_configurations_on_the_same_field() {
         }
         let m = &c["memory"];
         assert_eq!(u(m, &["bytes_per_blade"]), BYTES_PER_BLADE as u64);
-        assert_eq!(u(m, &["bytes_per_blade"]), 84);
+        assert_eq!(u(m, &["bytes_per_blade"]), 92);
         let measured = f(m, &["measured_bytes_per_blade"]);
         assert!(
             measured >= BYTES_PER_BLADE as f64,

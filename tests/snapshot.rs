@@ -1,7 +1,7 @@
 //! Snapshot test: a 256 × 144 render of `tests/scenes/snapshot.ron` after 30 frames against
 //! the committed reference `tests/snapshots/meadow_256x144.png`. Passes when the mean
-//! per-channel difference is under `MEAN_THRESHOLD` and at most `MAX_FAILING` of the pixels
-//! differ by more than `PIXEL_THRESHOLD` in some channel. On failure it writes `-actual`
+//! per-channel difference is under `MEAN_TOLERANCE` and at most `MAX_FAILING` of the pixels
+//! differ by more than `PIXEL_TOLERANCE` in some channel (`sward::compare`). On failure it writes `-actual`
 //! and `-diff` PNGs beside the reference. `UPDATE_SNAPSHOTS=1` rewrites the reference.
 
 mod common;
@@ -9,11 +9,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use sward::commands::{render, RenderOptions};
+use sward::compare::{compare, MAX_FAILING, MEAN_TOLERANCE};
 use sward::gpu::AdapterChoice;
-
-const MEAN_THRESHOLD: f64 = 2.0;
-const PIXEL_THRESHOLD: u8 = 48;
-const MAX_FAILING: f64 = 0.01;
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests")
@@ -50,24 +47,10 @@ fn meadow_render_matches_reference() {
         .to_rgba8();
     assert_eq!(actual.dimensions(), reference.dimensions());
 
-    let mut sum = 0u64;
-    let mut failing = 0usize;
-    let mut diff = image::RgbaImage::new(actual.width(), actual.height());
-    for (x, y, a) in actual.enumerate_pixels() {
-        let r = reference.get_pixel(x, y);
-        let d: Vec<u8> = (0..3).map(|c| a[c].abs_diff(r[c])).collect();
-        sum += d.iter().map(|&v| v as u64).sum::<u64>();
-        let worst = *d.iter().max().expect("3 channels");
-        if worst > PIXEL_THRESHOLD {
-            failing += 1;
-        }
-        diff.put_pixel(x, y, image::Rgba([worst.saturating_mul(4), 0, 0, 255]));
-    }
-    let pixels = (actual.width() * actual.height()) as f64;
-    let mean = sum as f64 / (pixels * 3.0);
-    let failing_fraction = failing as f64 / pixels;
-    println!("snapshot: mean difference {mean:.3} (max {MEAN_THRESHOLD}), failing pixels {:.3} % (max {:.1} %)", failing_fraction * 100.0, MAX_FAILING * 100.0);
-    if mean > MEAN_THRESHOLD || failing_fraction > MAX_FAILING {
+    let d = compare(&actual, &reference).expect("same size");
+    let (mean, failing_fraction, diff) = (d.mean, d.failing, d.image);
+    println!("snapshot: mean difference {mean:.3} (max {MEAN_TOLERANCE}), failing pixels {:.3} % (max {:.1} %)", failing_fraction * 100.0, MAX_FAILING * 100.0);
+    if mean > MEAN_TOLERANCE || failing_fraction > MAX_FAILING {
         actual
             .save(dir().join("snapshots/meadow_256x144-actual.png"))
             .expect("write actual");

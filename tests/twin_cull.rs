@@ -1,15 +1,15 @@
-//! The GPU cull pass against the CPU predicate: the same blades (read back after a frame),
-//! the same camera; the visible set and every counter must agree.
+//! The GPU cull passes against the CPU predicate: the same blades (read back after a frame),
+//! the same uniforms and depth pyramid; the visible set per level of detail, every counter
+//! and the physics update list must agree.
 
 mod common;
 
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
-use sward::scene::Scene;
+use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
-use sward::sim::layout::CullCounters;
-use sward::sim::params::cull_params;
-use sward::sim::reference::{cull_blade, CullOutcome};
+use sward::sim::layout::{CullCounters, LOD_LEVELS};
+use sward::sim::reference::{cull_blade, patch_update, CullOutcome, Pyramid};
 
 /// Blades whose outcome may differ between GPU and CPU: only those within float rounding
 /// of a threshold. Allowed: 1 in 1000, at least 2.
@@ -17,10 +17,18 @@ fn allowed_mismatch(n: usize) -> usize {
     (n / 1000).max(2)
 }
 
-fn run(scene: Scene, camera: CameraView) -> (usize, CullCounters) {
+const SIZE: (u32, u32) = (96, 64);
+
+/// `blades`: a flat field of that many blades, or `None` for the scene's own terrain.
+fn run(
+    scene: Scene,
+    blades: Option<usize>,
+    camera: impl Fn(&Session) -> CameraView,
+) -> CullCounters {
     let gpu = common::gpu();
-    let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
-    let target = Target::new(&gpu, 96, 64).expect("target");
+    let session = Session::new(scene, blades, Some(&gpu)).expect("field");
+    let camera = camera(&session);
+    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let mut r = common::stepped(&gpu, &session, 0, 0.0);
     r.frame(
         &gpu,
@@ -28,66 +36,111 @@ fn run(scene: Scene, camera: CameraView) -> (usize, CullCounters) {
         &camera,
         &target.color_view,
         &target.depth_view,
-        (96, 64),
+        SIZE,
     );
     let counters = r.cull.read_counters(&gpu).expect("counters");
-    let mut visible = r.cull.read_visible(&gpu, &r.buffers).expect("visible");
-    visible.sort_unstable();
+    if let Ok(path) = std::env::var("TWIN_CULL_PNG") {
+        let image = target.read_image(&gpu).expect("image");
+        sward::output::save_png(std::path::Path::new(&path), &image).expect("png");
+    }
+    let mut levels = r
+        .cull
+        .read_visible_levels(&gpu, &r.buffers)
+        .expect("visible");
+    for l in &mut levels {
+        l.sort_unstable();
+    }
     let (blades, _) = r.buffers.read(&gpu).expect("blades");
+    let cp = *r.last_cull_params();
+    let pyramid_levels: Option<Vec<Vec<f32>>> = (cp.hiz[3] == 1).then(|| {
+        let p = r.pyramid().expect("a pyramid when occlusion ran");
+        (0..p.levels())
+            .map(|k| p.read_level(&gpu, k).expect("pyramid level"))
+            .collect()
+    });
+    let pyramid = pyramid_levels.as_ref().map(|levels| Pyramid {
+        levels,
+        width: SIZE.0,
+        height: SIZE.1,
+    });
 
-    let cp = cull_params(
-        &r.scene.culling,
-        camera.view_proj(96.0 / 64.0),
-        camera.eye,
-        r.buffers.count,
-        r.buffers.patch_size,
-        r.scene.field.segments * 12,
-    );
     let mut cpu = CullCounters::default();
-    let mut cpu_visible = Vec::new();
+    let mut cpu_levels: [Vec<u32>; LOD_LEVELS] = Default::default();
     for (i, b) in blades.iter().enumerate() {
         let patch = &session.field.patches[i / session.field.patch_size as usize];
-        match cull_blade(i as u32, b, patch, &cp) {
-            CullOutcome::Drawn => cpu_visible.push(i as u32),
+        match cull_blade(i as u32, b, patch, &cp, pyramid.as_ref()) {
+            CullOutcome::Drawn(k) => cpu_levels[k as usize].push(i as u32),
             CullOutcome::Patch => cpu.culled_patch += 1,
             CullOutcome::Orientation => cpu.culled_orientation += 1,
             CullOutcome::Frustum => cpu.culled_frustum += 1,
             CullOutcome::Distance => cpu.culled_distance += 1,
+            CullOutcome::Occlusion => cpu.culled_occlusion += 1,
         }
     }
-    let differ = visible
-        .iter()
-        .filter(|i| cpu_visible.binary_search(i).is_err())
-        .count()
-        + cpu_visible
+    let mut differ = 0;
+    for (gpu_list, cpu_list) in levels.iter().zip(&cpu_levels) {
+        differ += gpu_list
             .iter()
-            .filter(|i| visible.binary_search(i).is_err())
+            .filter(|i| cpu_list.binary_search(i).is_err())
             .count();
+        differ += cpu_list
+            .iter()
+            .filter(|i| gpu_list.binary_search(i).is_err())
+            .count();
+    }
     println!(
-        "cull twin: gpu drawn {} / cpu drawn {}, gpu culled {:?} / cpu culled {:?}, visible sets differ in {differ}",
-        counters.drawn(),
-        cpu_visible.len(),
-        [counters.culled_patch, counters.culled_orientation, counters.culled_frustum, counters.culled_distance],
-        [cpu.culled_patch, cpu.culled_orientation, cpu.culled_frustum, cpu.culled_distance],
+        "cull twin: gpu drawn {:?} / cpu drawn {:?}, gpu culled {:?} / cpu culled {:?}, visible sets differ in {differ}",
+        counters.per_level(),
+        cpu_levels.each_ref().map(|l| l.len()),
+        [counters.culled_patch, counters.culled_orientation, counters.culled_frustum, counters.culled_distance, counters.culled_occlusion],
+        [cpu.culled_patch, cpu.culled_orientation, cpu.culled_frustum, cpu.culled_distance, cpu.culled_occlusion],
     );
-    assert_eq!(counters.drawn() as usize, visible.len());
+    for (k, (draw, list)) in counters.draws.iter().zip(&levels).enumerate() {
+        assert_eq!(draw.instance_count as usize, list.len());
+        assert_eq!(draw.first_index, cp.lod_first_index[k]);
+        assert_eq!(draw.index_count, cp.lod_index_count[k]);
+    }
     assert_eq!(
         counters.drawn() + counters.culled(),
         blades.len() as u32,
         "every blade is counted once"
     );
-    assert!(
-        differ <= allowed_mismatch(blades.len()),
-        "{differ} blades differ"
-    );
-    let close = |a: u32, b: u32| {
-        (a as i64 - b as i64).unsigned_abs() as usize <= allowed_mismatch(blades.len())
-    };
+    let n = blades.len();
+    assert!(differ <= allowed_mismatch(n), "{differ} blades differ");
+    let close =
+        |a: u32, b: u32| (a as i64 - b as i64).unsigned_abs() as usize <= allowed_mismatch(n);
     assert!(close(counters.culled_patch, cpu.culled_patch));
     assert!(close(counters.culled_orientation, cpu.culled_orientation));
     assert!(close(counters.culled_frustum, cpu.culled_frustum));
     assert!(close(counters.culled_distance, cpu.culled_distance));
-    (differ, counters)
+    assert!(close(counters.culled_occlusion, cpu.culled_occlusion));
+
+    // The physics list: which patches step this frame, and which of them throttled.
+    let mut stepped = 0;
+    let mut throttled = 0;
+    for (p, patch) in session.field.patches.iter().enumerate() {
+        match patch_update(p as u32, patch, &cp) {
+            Some(true) => {
+                stepped += 1;
+                throttled += 1;
+            }
+            Some(false) => stepped += 1,
+            None => {}
+        }
+    }
+    assert_eq!(counters.updated_patches, stepped);
+    assert_eq!(counters.throttled_patches, throttled);
+    counters
+}
+
+fn camera(eye: glam::Vec3, target: glam::Vec3) -> CameraView {
+    CameraView {
+        eye,
+        target,
+        fov_y: 50.0,
+        near: 0.05,
+        far: 100.0,
+    }
 }
 
 #[test]
@@ -95,17 +148,19 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
     let mut scene = Scene::default();
     scene.culling.max_distance = 6.0;
     scene.culling.distance_levels = 4;
+    scene.culling.physics_radius = 1.0;
+    // Small thresholds for a 64-pixel-high target, so all three levels occur.
+    scene.culling.lod_near_px = 20.0;
+    scene.culling.lod_far_px = 8.0;
     scene.field.patch_size = 256;
     // A camera in the middle of the field looking along +x: the patches behind it fail the
     // box test, blades at the sides the frustum test, far ones the distance test.
-    let camera = CameraView {
-        eye: glam::Vec3::new(0.0, 1.2, 0.0),
-        target: glam::Vec3::new(4.0, 0.0, 1.0),
-        fov_y: 50.0,
-        near: 0.05,
-        far: 100.0,
-    };
-    let (_, c) = run(scene, camera);
+    let c = run(scene, Some(8192), |_| {
+        camera(
+            glam::Vec3::new(0.0, 1.2, 0.0),
+            glam::Vec3::new(4.0, 0.0, 1.0),
+        )
+    });
     // Each test must have culled something here, or this test checks less than it says.
     assert!(
         c.culled_patch > 0
@@ -114,7 +169,40 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
             && c.culled_distance > 0,
         "{c:?}"
     );
-    assert!(c.drawn() > 0);
+    assert!(c.per_level().iter().all(|&n| n > 0), "{c:?}");
+    assert!(c.throttled_patches > 0, "{c:?}");
+}
+
+#[test]
+fn hills_hide_the_grass_behind_them() {
+    // Steep hills and a camera low in a valley looking along the ground: the occlusion test
+    // (patch boxes against the pyramid, then blades) must cull grass behind the hills, as
+    // the CPU twin does.
+    let mut scene = Scene::default();
+    scene.terrain.height = HeightSource::Noise {
+        seed: 3,
+        amplitude: 5.0,
+        wavelength: 8.0,
+        octaves: 2,
+    };
+    scene.terrain.size = 24.0;
+    scene.terrain.resolution = 97;
+    scene.field.density = 15.0;
+    scene.field.patch_size = 64;
+    scene.culling.max_distance = 100.0;
+    let c = run(scene, None, |s| {
+        let ground = |x: f32, z: f32| s.terrain.height(x, z);
+        // From the lowest point near the field's edge, level, across the field.
+        let x = (0..24)
+            .map(|i| -11.5 + i as f32 * 0.25)
+            .min_by(|a, b| ground(*a, 0.0).total_cmp(&ground(*b, 0.0)))
+            .expect("samples");
+        let eye = glam::Vec3::new(x, ground(x, 0.0) + 1.0, 0.0);
+        let target = eye + glam::Vec3::new(10.0, 0.0, 0.0);
+        camera(eye, target)
+    });
+    assert!(c.culled_occlusion > 0, "{c:?}");
+    assert!(c.culled_occlusion_patch > 0, "{c:?}");
 }
 
 #[test]
@@ -124,13 +212,12 @@ fn switching_every_test_off_draws_every_blade() {
     scene.culling.orientation = false;
     scene.culling.frustum = false;
     scene.culling.distance = false;
-    let camera = CameraView {
-        eye: glam::Vec3::new(-4.0, 1.2, 0.0),
-        target: glam::Vec3::new(0.0, 0.0, 1.0),
-        fov_y: 50.0,
-        near: 0.05,
-        far: 100.0,
-    };
-    let (_, c) = run(scene, camera);
+    scene.culling.occlusion = false;
+    let c = run(scene, Some(8192), |_| {
+        camera(
+            glam::Vec3::new(-4.0, 1.2, 0.0),
+            glam::Vec3::new(0.0, 0.0, 1.0),
+        )
+    });
     assert_eq!(c.culled(), 0);
 }

@@ -350,6 +350,30 @@ fn culling_section(ui: &mut Ui, app: &mut AppState) {
                 .logarithmic(true)
                 .text("d_max m"),
         );
+        ui.checkbox(&mut c.occlusion, "occlusion (depth pyramid)");
+        ui.add(egui::Slider::new(&mut c.occlusion_bias, 0.0..=0.2).text("occlusion bias"));
+        ui.separator();
+        ui.checkbox(&mut c.lod, "levels of detail");
+        ui.add(
+            egui::Slider::new(&mut c.lod_near_px, 1.0..=256.0)
+                .logarithmic(true)
+                .text("full mesh from px"),
+        );
+        ui.add(
+            egui::Slider::new(&mut c.lod_far_px, 1.0..=128.0)
+                .logarithmic(true)
+                .text("middle mesh from px"),
+        );
+        ui.add(egui::Slider::new(&mut c.lod_morph, 0.0..=1.0).text("morph band"));
+        // The middle level's morph band must end below the near threshold (the scene
+        // loader refuses such a file; the sliders push the near threshold up instead).
+        c.lod_near_px = c.lod_near_px.max(c.lod_far_px * (1.0 + c.lod_morph));
+        ui.separator();
+        ui.add(
+            egui::Slider::new(&mut c.physics_throttle, 1..=16)
+                .text("unseen patches step every n frames"),
+        );
+        ui.add(egui::Slider::new(&mut c.physics_radius, 0.0..=100.0).text("always step within m"));
         // A hand edit is the user's new ceiling for the frame budget.
         if *c != before {
             app.budget.rebase(&app.renderer.scene.culling);
@@ -468,13 +492,23 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
                 mean
             ));
             let c = &app.stats.counters;
+            let [l0, l1, l2] = c.per_level();
             ui.label(format!(
-                "blades {}   drawn {}",
-                app.renderer.buffers.count, c.draw.instance_count
+                "blades {}   drawn {} (LOD {l0} / {l1} / {l2})",
+                app.renderer.buffers.count,
+                c.drawn()
             ));
             ui.label(format!(
-                "culled: patch {}  orientation {}  frustum {}  distance {}",
-                c.culled_patch, c.culled_orientation, c.culled_frustum, c.culled_distance
+                "culled: patch {}  orientation {}  frustum {}  distance {}  occlusion {}",
+                c.culled_patch,
+                c.culled_orientation,
+                c.culled_frustum,
+                c.culled_distance,
+                c.culled_occlusion
+            ));
+            ui.label(format!(
+                "patches: {} visible, {} stepped ({} throttled)",
+                c.visible_patches, c.updated_patches, c.throttled_patches
             ));
             match app.stats.pass_ms {
                 Some(ms) => {

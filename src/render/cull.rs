@@ -1,21 +1,70 @@
-//! The cull pass (`shaders/cull.wgsl`): resets the indirect arguments, then tests every
-//! blade and appends the survivors to the visible list. Its counters can be read back.
+//! The cull passes (`shaders/cull.wgsl`): patch boxes first (frustum and depth pyramid),
+//! which also picks the patches the update steps and writes the indirect dispatches; then,
+//! dispatched indirectly over the visible patches only, every blade, whose survivors go
+//! into one visible list per level of detail with its own indirect draw.
 
 use crate::error::Result;
 use crate::gpu::{read_buffer, Gpu};
 use crate::shaders;
-use crate::sim::layout::{CullCounters, CullParams, WORKGROUP_SIZE};
+use crate::sim::layout::{CullCounters, CullParams, PatchDispatch, LOD_LEVELS, WORKGROUP_SIZE};
 use crate::sim::update::{compute_storage_entry, uniform_entry, BladeBuffers};
 
 /// Cull pipelines, their uniforms and the indirect-argument buffer the draw reads.
 pub struct CullPass {
     reset: wgpu::ComputePipeline,
+    patches: wgpu::ComputePipeline,
+    finalize: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
-    params: wgpu::Buffer,
-    /// `CullCounters`: draw_indexed_indirect arguments + per-test counters.
+    dispatch_group: wgpu::BindGroup,
+    /// The uniforms (the grass vertex shader reads them too, for its morph).
+    pub params: wgpu::Buffer,
+    /// `CullCounters`: one draw_indexed_indirect block per level + counters.
     pub args: wgpu::Buffer,
-    count: u32,
+    /// Bound in place of the depth pyramid when there is none.
+    no_pyramid: wgpu::TextureView,
+    patch_count: u32,
+}
+
+fn bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    args: &wgpu::Buffer,
+    buffers: &BladeBuffers,
+    pyramid: &wgpu::TextureView,
+) -> wgpu::BindGroup {
+    let buffer_entries = [
+        &buffers.blades,
+        &buffers.patches,
+        &buffers.visible,
+        args,
+        &buffers.visible_patches,
+        &buffers.updated_patches,
+    ];
+    let mut entries = vec![wgpu::BindGroupEntry {
+        binding: 0,
+        resource: params.as_entire_binding(),
+    }];
+    entries.extend(
+        buffer_entries
+            .iter()
+            .enumerate()
+            .map(|(k, b)| wgpu::BindGroupEntry {
+                binding: k as u32 + 1,
+                resource: b.as_entire_binding(),
+            }),
+    );
+    entries.push(wgpu::BindGroupEntry {
+        binding: 7,
+        resource: wgpu::BindingResource::TextureView(pyramid),
+    });
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sward.cull.bind_group"),
+        layout,
+        entries: &entries,
+    })
 }
 
 impl CullPass {
@@ -30,7 +79,25 @@ impl CullPass {
                 compute_storage_entry(2, true),
                 compute_storage_entry(3, false),
                 compute_storage_entry(4, false),
+                compute_storage_entry(5, false),
+                compute_storage_entry(6, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
+        });
+        // The dispatch arguments are written by the patch pass only: the blade cull uses
+        // the same buffer as its indirect argument, which may not be bound at the same time.
+        let dispatch_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.cull.dispatch_layout"),
+            entries: &[compute_storage_entry(0, false)],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.cull.params"),
@@ -46,41 +113,45 @@ impl CullPass {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sward.cull.bind_group"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: params.as_entire_binding(),
+        let no_pyramid = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("sward.cull.no_pyramid"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
                 },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: buffers.blades.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: buffers.patches.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: buffers.visible.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: args.as_entire_binding(),
-                },
-            ],
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let bind_group = bind_group(device, &layout, &params, &args, buffers, &no_pyramid);
+        let dispatch_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.cull.dispatch_group"),
+            layout: &dispatch_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffers.dispatch.as_entire_binding(),
+            }],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        let blade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.cull.pipeline_layout"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let make = |entry: &str, label: &str| {
+        let patch_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.cull.patch_pipeline_layout"),
+            bind_group_layouts: &[Some(&layout), Some(&dispatch_layout)],
+            immediate_size: 0,
+        });
+        let make = |entry: &str, label: &str, layout: &wgpu::PipelineLayout| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(label),
-                layout: Some(&pipeline_layout),
+                layout: Some(layout),
                 module: &module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
@@ -88,13 +159,37 @@ impl CullPass {
             })
         };
         Self {
-            reset: make("reset", "sward.cull.reset"),
-            cull: make("main", "sward.cull.pipeline"),
+            reset: make("reset", "sward.cull.reset", &blade_layout),
+            patches: make("patches_main", "sward.cull.patches", &patch_layout),
+            finalize: make("finalize", "sward.cull.finalize", &patch_layout),
+            cull: make("main", "sward.cull.pipeline", &blade_layout),
+            layout,
             bind_group,
+            dispatch_group,
             params,
             args,
-            count: buffers.count,
+            no_pyramid,
+            patch_count: buffers.patch_count,
         }
+    }
+
+    /// Binds a depth pyramid (all mips of an R32Float texture) for the occlusion test, or
+    /// none; call when the pyramid is created or resized.
+    pub fn set_pyramid(
+        &mut self,
+        device: &wgpu::Device,
+        buffers: &BladeBuffers,
+        pyramid: Option<&wgpu::TextureView>,
+    ) {
+        let view = pyramid.unwrap_or(&self.no_pyramid);
+        self.bind_group = bind_group(
+            device,
+            &self.layout,
+            &self.params,
+            &self.args,
+            buffers,
+            view,
+        );
     }
 
     /// Writes this frame's camera and thresholds.
@@ -102,24 +197,44 @@ impl CullPass {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
-    /// Records the reset and the cull dispatch in one compute pass (the reset runs first:
-    /// wgpu orders dispatches in a pass that write the same buffer).
-    pub fn encode(
+    /// Records the patch step: reset, patch tests, then the indirect arguments. Must come
+    /// before the update (which it picks the patches for) and the blade cull.
+    pub fn encode_patches(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sward.cull"),
+            label: Some("sward.cull.patches"),
             timestamp_writes: timestamps,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(1, &self.dispatch_group, &[]);
         pass.set_pipeline(&self.reset);
         pass.dispatch_workgroups(1, 1, 1);
-        if self.count > 0 {
-            pass.set_pipeline(&self.cull);
-            pass.dispatch_workgroups(self.count.div_ceil(WORKGROUP_SIZE), 1, 1);
+        if self.patch_count > 0 {
+            pass.set_pipeline(&self.patches);
+            pass.dispatch_workgroups(self.patch_count.div_ceil(WORKGROUP_SIZE), 1, 1);
         }
+        pass.set_pipeline(&self.finalize);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    /// Records the blade cull, dispatched indirectly over the visible patches.
+    pub fn encode_blades(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        dispatch: &wgpu::Buffer,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.cull.blades"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_pipeline(&self.cull);
+        let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
+        pass.dispatch_workgroups_indirect(dispatch, offset);
     }
 
     /// Reads the counters of the last frame back (blocking).
@@ -128,14 +243,24 @@ impl CullPass {
         Ok(bytemuck::pod_read_unaligned(&bytes))
     }
 
-    /// Reads the visible blade indices of the last frame back (blocking).
-    pub fn read_visible(&self, gpu: &Gpu, buffers: &BladeBuffers) -> Result<Vec<u32>> {
+    /// Reads the visible blade indices of the last frame back, per level (blocking).
+    pub fn read_visible_levels(
+        &self,
+        gpu: &Gpu,
+        buffers: &BladeBuffers,
+    ) -> Result<[Vec<u32>; LOD_LEVELS]> {
         let counters = self.read_counters(gpu)?;
-        let n = counters.drawn() as u64;
-        if n == 0 {
-            return Ok(Vec::new());
-        }
-        let bytes = read_buffer(gpu, &buffers.visible, n * 4)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        let bytes = read_buffer(gpu, &buffers.visible, buffers.visible.size())?;
+        let all: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        let region = buffers.region as usize;
+        Ok(std::array::from_fn(|k| {
+            let n = counters.draws[k].instance_count as usize;
+            all[k * region..k * region + n].to_vec()
+        }))
+    }
+
+    /// Reads the visible blade indices of the last frame back, all levels (blocking).
+    pub fn read_visible(&self, gpu: &Gpu, buffers: &BladeBuffers) -> Result<Vec<u32>> {
+        Ok(self.read_visible_levels(gpu, buffers)?.concat())
     }
 }

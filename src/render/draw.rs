@@ -1,13 +1,15 @@
-//! The draw pass: sky, terrain, colliders and the grass (one indexed indirect draw whose
-//! instance count the cull pass wrote), depth tested, into any colour view.
+//! The draw pass: sky, terrain, colliders and the grass (one indexed indirect draw per level
+//! of detail, whose instance counts the cull pass wrote; one multi-draw where the adapter
+//! has first-instance support), depth tested, into any colour view. Before it, a depth-only
+//! pass of the opaque objects (terrain, colliders) feeds the occlusion test's pyramid.
 
 use wgpu::util::DeviceExt;
 
-use super::mesh::{blade_indices, sphere_mesh, terrain_mesh, TerrainVertex};
+use super::mesh::{sphere_mesh, terrain_mesh, LodMeshes, TerrainVertex};
 use crate::field::HeightField;
 use crate::gpu::Gpu;
 use crate::shaders;
-use crate::sim::layout::FrameUniforms;
+use crate::sim::layout::{FrameUniforms, LOD_LEVELS};
 use crate::sim::update::{uniform_entry, BladeBuffers};
 
 /// Depth format of every pass.
@@ -23,11 +25,16 @@ struct Mesh {
 pub struct DrawPass {
     frame: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
-    grass_group: wgpu::BindGroup,
+    /// One group per level (each binds its region of the visible list), or one for all
+    /// levels with multi-draw.
+    grass_groups: Vec<wgpu::BindGroup>,
     spheres_group: wgpu::BindGroup,
     sky: wgpu::RenderPipeline,
     terrain: wgpu::RenderPipeline,
     spheres: wgpu::RenderPipeline,
+    /// Depth-only terrain and colliders (the occluder pass).
+    terrain_depth: wgpu::RenderPipeline,
+    spheres_depth: wgpu::RenderPipeline,
     grass: wgpu::RenderPipeline,
     /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
     grass_lines: Option<wgpu::RenderPipeline>,
@@ -35,6 +42,9 @@ pub struct DrawPass {
     sphere_mesh: Mesh,
     blade_indices: wgpu::Buffer,
 }
+
+/// Value of `draw_level.x` that makes the grass shader take the level from the instance.
+const LEVEL_FROM_INSTANCE: u32 = u32::MAX;
 
 pub(crate) fn read_storage(
     binding: u32,
@@ -60,6 +70,8 @@ struct PipelineSpec<'a> {
     depth_write: bool,
     cull_back: bool,
     lines: bool,
+    /// Without colour output (the occluder depth pass).
+    depth_only: bool,
 }
 
 fn pipeline(
@@ -100,18 +112,16 @@ fn pipeline(
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(spec.depth_write),
-            // Without depth writes (the sky) only the pixels nothing else covered pass: the
-            // sky sits at depth 1, the cleared value.
-            depth_compare: Some(if spec.depth_write {
-                wgpu::CompareFunction::Less
-            } else {
-                wgpu::CompareFunction::LessEqual
-            }),
+            // LessEqual: the opaque objects pass again over their own depth from the
+            // occluder pass (their clip position is @invariant), and the sky (no depth
+            // writes) passes only where nothing was drawn: it sits at depth 1, the cleared
+            // value.
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
             stencil: Default::default(),
             bias: Default::default(),
         }),
         multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
+        fragment: (!spec.depth_only).then_some(wgpu::FragmentState {
             module: &module,
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
@@ -127,11 +137,16 @@ fn pipeline(
 }
 
 impl DrawPass {
+    /// `cull_params` is the cull pass's uniform buffer (the grass morph reads it);
+    /// `multi_draw` draws all levels with one multi-draw-indirect (the device must have
+    /// `INDIRECT_FIRST_INSTANCE`, and the cull pass must write first instances).
     pub fn new(
         gpu: &Gpu,
         buffers: &BladeBuffers,
         terrain: &HeightField,
-        segments: u32,
+        lod: &LodMeshes,
+        cull_params: &wgpu::Buffer,
+        multi_draw: bool,
         format: wgpu::TextureFormat,
     ) -> Self {
         let device = &gpu.device;
@@ -152,6 +167,8 @@ impl DrawPass {
                 uniform_entry(0, vf),
                 read_storage(1, wgpu::ShaderStages::VERTEX),
                 read_storage(2, wgpu::ShaderStages::VERTEX),
+                uniform_entry(3, wgpu::ShaderStages::VERTEX),
+                uniform_entry(4, wgpu::ShaderStages::VERTEX),
             ],
         });
         let spheres_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -169,24 +186,54 @@ impl DrawPass {
                 resource: frame.as_entire_binding(),
             }],
         });
-        let grass_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sward.draw.grass_group"),
-            layout: &grass_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: frame.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: buffers.blades.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: buffers.visible.as_entire_binding(),
-                },
-            ],
-        });
+        // Without multi-draw each level binds its own region of the visible list (regions
+        // are 256-byte aligned) and counts instances from 0.
+        let region_bytes = buffers.region as u64 * 4;
+        let levels: Vec<(u32, u64, Option<u64>)> = if multi_draw {
+            vec![(LEVEL_FROM_INSTANCE, 0, None)]
+        } else {
+            (0..LOD_LEVELS as u32)
+                .map(|k| (k, k as u64 * region_bytes, Some(region_bytes)))
+                .collect()
+        };
+        let mut grass_groups = Vec::new();
+        for (level, offset, size) in levels {
+            let level_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sward.draw.grass_level"),
+                contents: bytemuck::cast_slice(&[level, buffers.region, 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            grass_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sward.draw.grass_group"),
+                layout: &grass_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: frame.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: buffers.blades.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &buffers.visible,
+                            offset,
+                            size: size.and_then(wgpu::BufferSize::new),
+                        }),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: cull_params.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: level_buffer.as_entire_binding(),
+                    },
+                ],
+            }));
+        }
         let spheres_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.draw.spheres_group"),
             layout: &spheres_layout,
@@ -225,6 +272,7 @@ impl DrawPass {
                 depth_write: false,
                 cull_back: false,
                 lines: false,
+                depth_only: false,
             },
         );
         let terrain_pipeline = pipeline(
@@ -238,6 +286,7 @@ impl DrawPass {
                 depth_write: true,
                 cull_back: false,
                 lines: false,
+                depth_only: false,
             },
         );
         let spheres = pipeline(
@@ -251,7 +300,36 @@ impl DrawPass {
                 depth_write: true,
                 cull_back: false,
                 lines: false,
+                depth_only: false,
             },
+        );
+        let depth_only = |label, shader, layout, buffers| {
+            pipeline(
+                device,
+                format,
+                PipelineSpec {
+                    label,
+                    shader,
+                    layout,
+                    buffers,
+                    depth_write: true,
+                    cull_back: false,
+                    lines: false,
+                    depth_only: true,
+                },
+            )
+        };
+        let terrain_depth = depth_only(
+            "sward.draw.terrain_depth",
+            "terrain.wgsl",
+            &frame_layout,
+            &terrain_buffers,
+        );
+        let spheres_depth = depth_only(
+            "sward.draw.spheres_depth",
+            "spheres.wgsl",
+            &spheres_layout,
+            &sphere_buffers,
         );
         // Blades have no back: both sides are drawn and lit (two-sided lighting).
         let grass = pipeline(
@@ -265,6 +343,7 @@ impl DrawPass {
                 depth_write: true,
                 cull_back: false,
                 lines: false,
+                depth_only: false,
             },
         );
 
@@ -284,6 +363,7 @@ impl DrawPass {
                         depth_write: true,
                         cull_back: false,
                         lines: true,
+                        depth_only: false,
                     },
                 )
             });
@@ -318,17 +398,19 @@ impl DrawPass {
         };
         let blade_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sward.blade.indices"),
-            contents: bytemuck::cast_slice(&blade_indices(segments)),
+            contents: bytemuck::cast_slice(&lod.indices),
             usage: wgpu::BufferUsages::INDEX,
         });
         Self {
             frame,
             frame_group,
-            grass_group,
+            grass_groups,
             spheres_group,
             sky,
             terrain: terrain_pipeline,
             spheres,
+            terrain_depth,
+            spheres_depth,
             grass,
             grass_lines,
             terrain_mesh,
@@ -367,13 +449,67 @@ impl DrawPass {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
     }
 
-    /// Records the render pass into `color` with `depth`.
+    fn draw_terrain<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
+        pass.set_index_buffer(
+            self.terrain_mesh.indices.slice(..),
+            wgpu::IndexFormat::Uint32,
+        );
+        pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
+    }
+
+    fn draw_spheres<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, sphere_count: u32) {
+        pass.set_bind_group(0, &self.spheres_group, &[]);
+        pass.set_vertex_buffer(0, self.sphere_mesh.vertices.slice(..));
+        pass.set_index_buffer(
+            self.sphere_mesh.indices.slice(..),
+            wgpu::IndexFormat::Uint32,
+        );
+        pass.draw_indexed(0..self.sphere_mesh.count, 0, 0..sphere_count);
+    }
+
+    /// Records the occluder pass: the opaque objects' depth only, into `depth` (cleared),
+    /// which the depth pyramid is then built from.
+    pub fn encode_occluders(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        sphere_count: u32,
+        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.draw.occluders"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        if sphere_count > 0 {
+            pass.set_pipeline(&self.spheres_depth);
+            self.draw_spheres(&mut pass, sphere_count);
+        }
+        pass.set_pipeline(&self.terrain_depth);
+        self.draw_terrain(&mut pass);
+    }
+
+    /// Records the render pass into `color` with `depth`; `depth_loaded` keeps the depth
+    /// of the occluder pass instead of clearing it.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
+        depth_loaded: bool,
         indirect: &wgpu::Buffer,
         sphere_count: u32,
         wireframe: bool,
@@ -393,7 +529,11 @@ impl DrawPass {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: if depth_loaded {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(1.0)
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
@@ -404,13 +544,7 @@ impl DrawPass {
         });
         if sphere_count > 0 {
             pass.set_pipeline(&self.spheres);
-            pass.set_bind_group(0, &self.spheres_group, &[]);
-            pass.set_vertex_buffer(0, self.sphere_mesh.vertices.slice(..));
-            pass.set_index_buffer(
-                self.sphere_mesh.indices.slice(..),
-                wgpu::IndexFormat::Uint32,
-            );
-            pass.draw_indexed(0..self.sphere_mesh.count, 0, 0..sphere_count);
+            self.draw_spheres(&mut pass, sphere_count);
         }
 
         let grass = match (&self.grass_lines, wireframe) {
@@ -418,20 +552,22 @@ impl DrawPass {
             _ => &self.grass,
         };
         pass.set_pipeline(grass);
-        pass.set_bind_group(0, &self.grass_group, &[]);
         pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed_indirect(indirect, 0);
+        let stride = std::mem::size_of::<crate::sim::layout::DrawIndexedIndirect>() as u64;
+        if let [all] = self.grass_groups.as_slice() {
+            pass.set_bind_group(0, all, &[]);
+            pass.multi_draw_indexed_indirect(indirect, 0, LOD_LEVELS as u32);
+        } else {
+            for (k, group) in self.grass_groups.iter().enumerate() {
+                pass.set_bind_group(0, group, &[]);
+                pass.draw_indexed_indirect(indirect, k as u64 * stride);
+            }
+        }
 
         // Front to back: what the grass covers of the ground and what the ground covers of
         // the sky is rejected by the depth test before it is shaded.
         pass.set_pipeline(&self.terrain);
-        pass.set_bind_group(0, &self.frame_group, &[]);
-        pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
-        pass.set_index_buffer(
-            self.terrain_mesh.indices.slice(..),
-            wgpu::IndexFormat::Uint32,
-        );
-        pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
+        self.draw_terrain(&mut pass);
 
         pass.set_pipeline(&self.sky);
         pass.set_bind_group(0, &self.frame_group, &[]);

@@ -4,6 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::field::HeightField;
+use crate::sim::layout::LOD_LEVELS;
 
 /// Terrain vertex: position and normal.
 #[repr(C)]
@@ -83,6 +84,43 @@ pub fn blade_indices(segments: u32) -> Vec<u32> {
     indices
 }
 
+/// The blade meshes of the levels of detail, one after the other in one index buffer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LodMeshes {
+    /// Segments of each level: the scene's count, about half of it, and one.
+    pub segments: [u32; LOD_LEVELS],
+    pub index_count: [u32; LOD_LEVELS],
+    pub first_index: [u32; LOD_LEVELS],
+    pub indices: Vec<u32>,
+}
+
+/// Segments per level of detail for a full mesh of `segments`: every coarser level keeps the
+/// root and the tip rows, so all of them lie on the same curve.
+pub fn lod_segments(segments: u32) -> [u32; LOD_LEVELS] {
+    let s = segments.max(1);
+    [s, s.div_ceil(2), 1]
+}
+
+/// Index lists of all levels of detail, concatenated.
+pub fn lod_meshes(segments: u32) -> LodMeshes {
+    let segments = lod_segments(segments);
+    let mut indices = Vec::new();
+    let mut index_count = [0; LOD_LEVELS];
+    let mut first_index = [0; LOD_LEVELS];
+    for (k, &s) in segments.iter().enumerate() {
+        first_index[k] = indices.len() as u32;
+        let level = blade_indices(s);
+        index_count[k] = level.len() as u32;
+        indices.extend(level);
+    }
+    LodMeshes {
+        segments,
+        index_count,
+        first_index,
+        indices,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,6 +135,25 @@ mod tests {
         for v in 0..=max {
             assert!(idx.contains(&v), "vertex {v} unused");
         }
+    }
+
+    #[test]
+    fn lod_meshes_are_concatenated_and_coarser_each_level() {
+        let m = lod_meshes(6);
+        assert_eq!(m.segments, [6, 3, 1]);
+        assert_eq!(m.index_count, [72, 36, 12]);
+        assert_eq!(m.first_index, [0, 72, 108]);
+        assert_eq!(m.indices.len(), 120);
+        // Vertices per blade: 21, 12, 6 (3 columns × rows).
+        for k in 0..LOD_LEVELS {
+            let a = m.first_index[k] as usize;
+            let level = &m.indices[a..a + m.index_count[k] as usize];
+            assert_eq!(
+                level.iter().max().map(|v| v + 1),
+                Some((m.segments[k] + 1) * 3)
+            );
+        }
+        assert_eq!(lod_segments(1), [1, 1, 1]);
     }
 
     #[test]

@@ -1,10 +1,13 @@
-//! Rendering: one frame is update → cull → draw on one command encoder, into any colour
-//! view (an off-screen texture here, a window surface later), with per-pass GPU times.
+//! Rendering: one frame on one command encoder, into any colour view (an off-screen texture
+//! or a window surface), with per-pass GPU times:
+//! occluder depth → depth pyramid → patch culling (+ which patches the physics steps) →
+//! wind → blade update (indirect) → blade culling into levels of detail (indirect) → draw.
 
 pub mod arrows;
 pub mod camera;
 pub mod cull;
 pub mod draw;
+pub mod hiz;
 pub mod mesh;
 pub mod overlay;
 pub mod target;
@@ -19,21 +22,23 @@ use crate::scene::Scene;
 use crate::sim::agc;
 use crate::sim::colliders::spheres_at;
 use crate::sim::fluid::{FluidConfig, FluidSolver};
-use crate::sim::layout::{CullCounters, FrameUniforms};
-use crate::sim::params::{cull_params, sim_params};
+use crate::sim::layout::{CullCounters, CullParams, FrameUniforms};
+use crate::sim::params::{cull_params, sim_params, throttled_dt, CullInputs};
 use crate::sim::update::{BladeBuffers, UpdatePass};
 use crate::sim::wind_layout::{ObstacleGpu, MAX_OBSTACLES};
 use camera::CameraView;
 use cull::CullPass;
 use draw::DrawPass;
+use hiz::DepthPyramid;
+use mesh::LodMeshes;
 use timing::GpuTimer;
 
 /// What one frame did, read back from the GPU.
 #[derive(Clone, Debug, Default)]
 pub struct FrameStats {
     pub counters: CullCounters,
-    /// GPU milliseconds of update, cull and draw (`timing::PASSES`), when timestamps exist.
-    pub pass_ms: Option<[f64; 3]>,
+    /// GPU milliseconds of each pass of `timing::PASSES`, when timestamps exist.
+    pub pass_ms: Option<[f64; timing::PASSES.len()]>,
     /// GPU milliseconds of each wind-solver pass, when the fluid runs and timestamps exist.
     pub wind_ms: Option<Vec<(&'static str, f64)>>,
 }
@@ -64,7 +69,15 @@ pub struct Renderer {
     /// Simulated seconds since the start.
     pub time: f32,
     sphere_count: u32,
-    index_count: u32,
+    lod: LodMeshes,
+    /// Whether the levels of detail draw with one multi-draw (first-instance support).
+    multi_draw: bool,
+    /// The occlusion test's depth pyramid, sized to the last target.
+    pyramid: Option<DepthPyramid>,
+    /// Frames drawn, for the physics throttle's round robin.
+    frame_count: u32,
+    /// The cull uniforms of the last frame drawn (tests replay them on the CPU twin).
+    last_cull: CullParams,
     /// Spheres added to the scene's colliders each step (see [`DynamicSphere`]).
     pub dynamic_spheres: Vec<DynamicSphere>,
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
@@ -117,8 +130,20 @@ impl Renderer {
         let buffers = BladeBuffers::new(gpu, field)?;
         let update = UpdatePass::new(gpu, &buffers, grid);
         let cull = CullPass::new(gpu, &buffers);
-        let segments = scene.field.segments.max(1);
-        let draw = DrawPass::new(gpu, &buffers, &terrain, segments, format);
+        let lod = mesh::lod_meshes(scene.field.segments);
+        let multi_draw = gpu
+            .device
+            .features()
+            .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+        let draw = DrawPass::new(
+            gpu,
+            &buffers,
+            &terrain,
+            &lod,
+            &cull.params,
+            multi_draw,
+            format,
+        );
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(
                 "{} ran out of memory for a field of {} blades: {e}",
@@ -138,7 +163,11 @@ impl Renderer {
             terrain,
             time: 0.0,
             sphere_count: 0,
-            index_count: segments * 12,
+            lod,
+            multi_draw,
+            pyramid: None,
+            frame_count: 0,
+            last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),
             cull_camera: None,
             format,
@@ -157,12 +186,17 @@ impl Renderer {
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
     }
 
-    /// Advances the clock by `dt` (clamped to the scene's Δt limit), moves the colliders and
-    /// records the blade update.
-    fn encode_update(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, dt: f32) {
+    /// Advances the clock by `dt` (clamped to the scene's Δt limit) and moves the colliders;
+    /// returns the clamped Δt.
+    fn advance(&mut self, gpu: &Gpu, dt: f32) -> f32 {
         let dt = dt.clamp(0.0, self.scene.physics.max_dt);
         self.time += dt;
         self.upload_colliders(gpu);
+        dt
+    }
+
+    /// Records the wind step and the blade update over the patches the patch pass picked.
+    fn encode_update(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, dt: f32) {
         // The wind moves first; the blades then read this step's air velocity.
         if let Some(fluid) = &mut self.fluid {
             let mut forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
@@ -178,7 +212,7 @@ impl Renderer {
             fluid.prepare(&gpu.queue, dt, &forces);
             fluid.encode(encoder);
         }
-        let params = sim_params(
+        let mut params = sim_params(
             &self.scene.physics,
             &self.scene.wind,
             self.scene.terrain.size,
@@ -187,18 +221,65 @@ impl Renderer {
             self.buffers.count,
             self.sphere_count,
         );
+        params.patch_size = self.buffers.patch_size;
+        params.throttled_dt = throttled_dt(
+            dt,
+            self.scene.culling.physics_throttle,
+            self.scene.physics.max_dt,
+        );
         self.update.prepare(&gpu.queue, &params);
-        self.update
-            .encode(encoder, self.timer.as_ref().map(|t| t.compute(0)));
+        self.update.encode(
+            encoder,
+            self.timer.as_ref().map(|t| t.compute(timing::UPDATE)),
+        );
     }
 
-    /// One simulation step without drawing (`sward simulate`).
+    /// Cull uniforms for a camera and viewport; `hiz` describes the depth pyramid (zeros:
+    /// no occlusion test).
+    fn cull_uniforms(&self, camera: &CameraView, size: (u32, u32), hiz: [u32; 4]) -> CullParams {
+        let mut p = cull_params(
+            &self.scene.culling,
+            &CullInputs {
+                view_proj: camera.view_proj(size.0 as f32 / size.1.max(1) as f32),
+                camera: camera.eye,
+                fov_y: camera.fov_y,
+                near: camera.near,
+                far: camera.far,
+                viewport_height: size.1,
+                blade_count: self.buffers.count,
+                patch_size: self.buffers.patch_size,
+                patch_count: self.buffers.patch_count,
+                lod_segments: self.lod.segments,
+                lod_index_count: self.lod.index_count,
+                lod_first_index: self.lod.first_index,
+                frame: self.frame_count,
+                hiz,
+            },
+        );
+        // With multi-draw each level's instances start at its region of the visible list.
+        p.lod_index_count[3] = if self.multi_draw {
+            self.buffers.region
+        } else {
+            0
+        };
+        p
+    }
+
+    /// One simulation step without drawing (`sward simulate`): every patch is stepped.
     pub fn step(&mut self, gpu: &Gpu, dt: f32) {
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("sward.step"),
             });
+        let dt = self.advance(gpu, dt);
+        // No camera: no patch is culled and none is throttled.
+        let camera = CameraView::from_scene(&self.scene.camera);
+        let mut cp = self.cull_uniforms(&camera, (16, 9), [0; 4]);
+        cp.tests = 0;
+        cp.physics_throttle = 1;
+        self.cull.prepare(&gpu.queue, &cp);
+        self.cull.encode_patches(&mut encoder, None);
         self.encode_update(gpu, &mut encoder, dt);
         gpu.queue.submit([encoder.finish()]);
     }
@@ -237,45 +318,6 @@ impl Renderer {
                 self.scene.culling.max_distance,
                 self.buffers.patch_size as f32,
             ],
-        }
-    }
-
-    /// Records cull + draw for a camera into `color` / `depth` (no update).
-    fn encode_view(
-        &self,
-        gpu: &Gpu,
-        encoder: &mut wgpu::CommandEncoder,
-        camera: &CameraView,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-        size: (u32, u32),
-    ) {
-        let cull_camera = self.cull_camera.as_ref().unwrap_or(camera);
-        let view_proj = cull_camera.view_proj(size.0 as f32 / size.1.max(1) as f32);
-        let cp = cull_params(
-            &self.scene.culling,
-            view_proj,
-            cull_camera.eye,
-            self.buffers.count,
-            self.buffers.patch_size,
-            self.index_count,
-        );
-        self.cull.prepare(&gpu.queue, &cp);
-        self.draw
-            .prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
-        self.cull
-            .encode(encoder, self.timer.as_ref().map(|t| t.compute(1)));
-        self.draw.encode(
-            encoder,
-            color,
-            depth,
-            &self.cull.args,
-            self.sphere_count,
-            self.scene.render.wireframe,
-            self.timer.as_ref().map(|t| t.render(2)),
-        );
-        if let Some(o) = &self.overlay {
-            o.encode(encoder, color);
         }
     }
 
@@ -352,18 +394,49 @@ impl Renderer {
     /// uniforms are a few hundred KiB and counted in the total.
     pub fn gpu_bytes(&self) -> (u64, u64) {
         let b = &self.buffers;
-        let blades = [&b.blades, &b.states, &b.patches, &b.spheres, &b.visible]
-            .iter()
-            .map(|x| x.size())
-            .sum::<u64>()
+        let blades = [
+            &b.blades,
+            &b.states,
+            &b.patches,
+            &b.spheres,
+            &b.visible,
+            &b.visible_patches,
+            &b.updated_patches,
+            &b.dispatch,
+        ]
+        .iter()
+        .map(|x| x.size())
+        .sum::<u64>()
             + self.cull.args.size();
         let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
-        (blades, blades + fluid + self.draw.gpu_bytes())
+        let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes());
+        (blades, blades + fluid + pyramid + self.draw.gpu_bytes())
     }
 
     /// Whether the grass can be drawn as lines on this adapter.
     pub fn has_wireframe(&self) -> bool {
         self.draw.has_wireframe()
+    }
+
+    /// The cull uniforms of the last frame drawn.
+    pub fn last_cull_params(&self) -> &CullParams {
+        &self.last_cull
+    }
+
+    /// The occlusion test's depth pyramid of the last frame, if occlusion ran.
+    pub fn pyramid(&self) -> Option<&DepthPyramid> {
+        self.pyramid.as_ref()
+    }
+
+    /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull.
+    fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32)) {
+        if self.pyramid.as_ref().is_some_and(|p| p.size() == size) {
+            return;
+        }
+        let pyramid = DepthPyramid::new(gpu, size.0, size.1);
+        self.cull
+            .set_pyramid(&gpu.device, &self.buffers, Some(pyramid.view()));
+        self.pyramid = Some(pyramid);
     }
 
     /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
@@ -379,8 +452,57 @@ impl Renderer {
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
+        let dt = self.advance(gpu, dt);
+        self.frame_count = self.frame_count.wrapping_add(1);
+        // A frozen culling camera sees other depths than the drawn view: no occlusion then.
+        let occlusion = self.scene.culling.occlusion && self.cull_camera.is_none();
+        let hiz = if occlusion {
+            self.ensure_pyramid(gpu, size);
+            let p = self.pyramid.as_ref().map_or((0, 0, 0), |p| {
+                let (w, h) = p.size();
+                (w, h, p.levels())
+            });
+            [p.0, p.1, p.2, 1]
+        } else {
+            [0; 4]
+        };
+        let cull_camera = self.cull_camera.unwrap_or(*camera);
+        let cp = self.cull_uniforms(&cull_camera, size, hiz);
+        self.cull.prepare(&gpu.queue, &cp);
+        self.last_cull = cp;
+        self.draw
+            .prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
+        let ts = |i| self.timer.as_ref().map(|t| t.render(i));
+        if occlusion {
+            self.draw
+                .encode_occluders(encoder, depth, self.sphere_count, ts(timing::OCCLUDERS));
+            if let Some(p) = &self.pyramid {
+                p.encode(&gpu.device, encoder, depth);
+            }
+        }
+        self.cull.encode_patches(
+            encoder,
+            self.timer.as_ref().map(|t| t.compute(timing::PATCHES)),
+        );
         self.encode_update(gpu, encoder, dt);
-        self.encode_view(gpu, encoder, camera, color, depth, size);
+        self.cull.encode_blades(
+            encoder,
+            &self.buffers.dispatch,
+            self.timer.as_ref().map(|t| t.compute(timing::CULL)),
+        );
+        self.draw.encode(
+            encoder,
+            color,
+            depth,
+            occlusion,
+            &self.cull.args,
+            self.sphere_count,
+            self.scene.render.wireframe,
+            self.timer.as_ref().map(|t| t.render(timing::DRAW)),
+        );
+        if let Some(o) = &self.overlay {
+            o.encode(encoder, color);
+        }
         if let Some(t) = &self.timer {
             t.resolve(encoder);
         }

@@ -4,8 +4,15 @@
 use crate::error::Result;
 use crate::gpu::{map_and_read, Gpu};
 
-/// The passes that are timed, in the order of their query pairs.
-pub const PASSES: [&str; 3] = ["update", "cull", "draw"];
+/// The passes that are timed, in the order of their query pairs: the occluders' depth
+/// pass, the patch pass, the blade update, the blade cull and the draw.
+pub const PASSES: [&str; 5] = ["occluders", "patches", "update", "cull", "draw"];
+/// Indices into [`PASSES`].
+pub const OCCLUDERS: usize = 0;
+pub const PATCHES: usize = 1;
+pub const UPDATE: usize = 2;
+pub const CULL: usize = 3;
+pub const DRAW: usize = 4;
 
 /// Timestamp query set and its read-back buffers.
 pub struct GpuTimer {

@@ -457,6 +457,26 @@ pub struct Culling {
     pub distance_levels: u32,
     /// d_max of Eq. 20 in metres.
     pub max_distance: f32,
+    /// Occlusion test against a depth pyramid of the opaque objects (terrain, colliders).
+    pub occlusion: bool,
+    /// Depth bias of the occlusion test, as a fraction of the view distance.
+    pub occlusion_bias: f32,
+    /// Levels of detail: off draws every blade with the full mesh.
+    pub lod: bool,
+    /// Projected blade height in pixels at and above which the full mesh draws.
+    pub lod_near_px: f32,
+    /// Projected blade height in pixels at and above which the middle mesh draws (below:
+    /// the one-segment mesh).
+    pub lod_far_px: f32,
+    /// Width of the morph band above each threshold, as a fraction of it: blades morph
+    /// towards the coarser mesh across it, so a level change moves no vertex.
+    pub lod_morph: f32,
+    /// Patches outside the view and beyond `physics_radius` update every this many frames
+    /// with a Δt that many times longer (capped at `physics.max_dt`); 1 updates every patch
+    /// every frame.
+    pub physics_throttle: u32,
+    /// Metres around the camera in which every patch updates every frame.
+    pub physics_radius: f32,
 }
 
 impl Default for Culling {
@@ -470,6 +490,14 @@ impl Default for Culling {
             distance: true,
             distance_levels: 8,
             max_distance: 60.0,
+            occlusion: true,
+            occlusion_bias: 0.02,
+            lod: true,
+            lod_near_px: 24.0,
+            lod_far_px: 8.0,
+            lod_morph: 0.3,
+            physics_throttle: 4,
+            physics_radius: 8.0,
         }
     }
 }

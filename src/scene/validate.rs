@@ -50,6 +50,11 @@
 //! | `culling.frustum_tolerance` | 0 ≤ frustum_tolerance ≤ 10 |
 //! | `culling.distance_levels` | 1 ≤ distance_levels ≤ 64 |
 //! | `culling.max_distance` | > 0 m |
+//! | `culling.occlusion_bias` | 0 ≤ occlusion_bias ≤ 1 |
+//! | `culling.lod_near_px`, `lod_far_px` | 0 – 4096 px, near ≥ far × (1 + lod_morph) |
+//! | `culling.lod_morph` | 0 ≤ lod_morph ≤ 1 |
+//! | `culling.physics_throttle` | 1 – 64 frames |
+//! | `culling.physics_radius` | 0 – 10⁴ m |
 //! | `camera` | eye and target finite and distinct, 1 < fov_y < 179 degrees, 0 < near < far m |
 //! | `render.sun_direction` | non-zero |
 //! | `render.width_min_px`, `width_span_px` | ≥ 0 px |
@@ -448,7 +453,34 @@ fn culling(check: &Checker, culling: &Culling) -> Result<()> {
         "",
     )?;
     let max_distance = Allowed::above(0.0, "m");
-    check.real("culling.max_distance", culling.max_distance, max_distance)
+    check.real("culling.max_distance", culling.max_distance, max_distance)?;
+    let bias = Allowed::closed(0.0, 1.0, "");
+    check.real("culling.occlusion_bias", culling.occlusion_bias, bias)?;
+    let pixels = Allowed::closed(0.0, 4096.0, "px");
+    check.real("culling.lod_near_px", culling.lod_near_px, pixels)?;
+    check.real("culling.lod_far_px", culling.lod_far_px, pixels)?;
+    let morph = Allowed::closed(0.0, 1.0, "");
+    check.real("culling.lod_morph", culling.lod_morph, morph)?;
+    // The middle level's morph band must end below the near threshold, or a blade would
+    // enter level 0 while its middle mesh is still part-way morphed and jump.
+    let band_top = culling.lod_far_px * (1.0 + culling.lod_morph);
+    if culling.lod_near_px < band_top {
+        let message = format!(
+            "culling.lod_near_px = {} is below lod_far_px × (1 + lod_morph) = {band_top}: \
+             allowed lod_near_px >= {band_top}",
+            culling.lod_near_px
+        );
+        return Err(check.error("culling.lod_near_px", message));
+    }
+    check.integer(
+        "culling.physics_throttle",
+        culling.physics_throttle,
+        1,
+        64,
+        "frames",
+    )?;
+    let radius = Allowed::closed(0.0, 1.0e4, "m");
+    check.real("culling.physics_radius", culling.physics_radius, radius)
 }
 
 fn camera(check: &Checker, camera: &Camera) -> Result<()> {

@@ -69,19 +69,27 @@ pub struct SimParams {
     pub max_eta: f32,
     /// Multiplies every blade's stiffness (the panel's "stiffness scale").
     pub stiffness_scale: f32,
-    pub _pad: f32,
+    /// Δt of a throttled patch's update (it runs every `physics_throttle` frames).
+    pub throttled_dt: f32,
     /// Wind grid: x, z of its corner, cell size, response (force per m/s of air speed).
     pub fluid_grid: [f32; 4],
     /// Wind grid: resolution, source mask (`WIND_ANALYTIC | WIND_FLUID`), 1 = per-cell
     /// sampling (CWD-Sim grouping), unused.
     pub fluid_info: [u32; 4],
+    /// Blades per patch (the update walks the patch list).
+    pub patch_size: u32,
+    pub _pad: [u32; 3],
 }
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.
 pub const WIND_ANALYTIC: u32 = 1;
 pub const WIND_FLUID: u32 = 2;
 
-/// Uniforms of the cull pass (`shaders/cull.wgsl`).
+/// Number of level-of-detail buckets the cull pass sorts visible blades into.
+pub const LOD_LEVELS: usize = 3;
+
+/// Uniforms of the patch and cull passes (`shaders/cull.wgsl`), read by the grass vertex
+/// shader too (its level-of-detail morph uses the same camera and thresholds).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct CullParams {
@@ -90,44 +98,104 @@ pub struct CullParams {
     pub camera_pos: [f32; 4],
     pub blade_count: u32,
     pub patch_size: u32,
-    /// Bit 0 patches, 1 orientation, 2 frustum, 3 distance.
+    /// `TEST_*` bits.
     pub tests: u32,
     pub distance_levels: u32,
     pub orientation_threshold: f32,
     pub frustum_tolerance: f32,
     pub max_distance: f32,
-    /// Indices per blade in the grass mesh (written into the indirect arguments).
-    pub index_count: u32,
+    pub patch_count: u32,
+    /// Indices of each level's blade mesh (near, middle, far).
+    pub lod_index_count: [u32; 4],
+    /// First index of each level's mesh in the shared blade index buffer.
+    pub lod_first_index: [u32; 4],
+    /// Segments (rows of quads) of each level's mesh.
+    pub lod_segments: [u32; 4],
+    /// x: pixels per metre at 1 m (viewport height / (2 tan(fov/2))), y: projected blade
+    /// height in pixels at and above which level 0 draws, z: the same for level 1, w: the
+    /// morph band as a fraction of a threshold (a blade morphs towards the coarser mesh
+    /// while its projected height falls from `threshold * (1 + w)` to `threshold`).
+    pub lod: [f32; 4],
+    /// Patches outside the view and beyond `physics_radius` are updated every
+    /// `physics_throttle` frames (0 or 1: every frame).
+    pub physics_throttle: u32,
+    /// Frame number, picks which throttled patches update this frame.
+    pub frame: u32,
+    /// Metres around the camera where every patch updates every frame.
+    pub physics_radius: f32,
+    /// Occlusion bias as a fraction of the view distance.
+    pub occlusion_bias: f32,
+    /// Depth pyramid: width, height, mip levels, 1 = valid this frame.
+    pub hiz: [u32; 4],
+    /// x: near plane, y: far plane of the culling camera.
+    pub clip: [f32; 4],
 }
 
 pub const TEST_PATCH: u32 = 1;
 pub const TEST_ORIENTATION: u32 = 2;
 pub const TEST_FRUSTUM: u32 = 4;
 pub const TEST_DISTANCE: u32 = 8;
+pub const TEST_OCCLUSION: u32 = 16;
 
-/// The cull pass's output buffer: the `draw_indexed_indirect` arguments followed by the
-/// per-test cull counters, all written with atomics (`DrawArgs` in `cull.wgsl`). The
-/// instance count is the number of blades drawn.
+/// `dispatch_workgroups_indirect` arguments.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct DispatchIndirect {
+    pub x: u32,
+    pub y: u32,
+    pub z: u32,
+}
+
+/// The cull pass's output buffer: one `draw_indexed_indirect` argument block per level of
+/// detail followed by the counters, all written with atomics (`CullOutput` in
+/// `cull.wgsl`). The instance counts sum to the number of blades drawn.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct CullCounters {
-    pub draw: DrawIndexedIndirect,
+    pub draws: [DrawIndexedIndirect; LOD_LEVELS],
+    /// Patches that passed the frustum and occlusion tests.
+    pub visible_patches: u32,
+    /// Patches whose blades were updated this frame (visible, near or on their turn).
+    pub updated_patches: u32,
+    /// Of those, patches updated at the throttled rate.
+    pub throttled_patches: u32,
     pub culled_patch: u32,
     pub culled_orientation: u32,
     pub culled_frustum: u32,
     pub culled_distance: u32,
-    pub _pad: [u32; 7],
+    pub culled_occlusion: u32,
+    /// Blades in patches culled by occlusion (part of `culled_occlusion`).
+    pub culled_occlusion_patch: u32,
+    pub _pad: [u32; 8],
 }
 
 impl CullCounters {
     /// Blades that passed every test.
     pub fn drawn(&self) -> u32 {
-        self.draw.instance_count
+        self.draws.iter().map(|d| d.instance_count).sum()
+    }
+    /// Blades drawn at each level of detail.
+    pub fn per_level(&self) -> [u32; LOD_LEVELS] {
+        std::array::from_fn(|k| self.draws[k].instance_count)
     }
     /// Blades culled by any test.
     pub fn culled(&self) -> u32 {
-        self.culled_patch + self.culled_orientation + self.culled_frustum + self.culled_distance
+        self.culled_patch
+            + self.culled_orientation
+            + self.culled_frustum
+            + self.culled_distance
+            + self.culled_occlusion
     }
+}
+
+/// The patch pass's indirect dispatches: the blade cull over visible patches and the
+/// update over updated patches (2D, so that no dimension passes the 65,535 limit).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct PatchDispatch {
+    pub cull: DispatchIndirect,
+    pub update: DispatchIndirect,
+    pub _pad: [u32; 2],
 }
 
 /// Uniforms of every draw pass (`shaders/common.wgsl` `Frame`).
@@ -164,12 +232,15 @@ pub struct DrawIndexedIndirect {
 const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
-const _: () = assert!(std::mem::size_of::<SimParams>() == 176);
-const _: () = assert!(std::mem::size_of::<CullParams>() == 112);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 64);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 192);
+const _: () = assert!(std::mem::size_of::<CullParams>() == 224);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 128);
+const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
-/// GPU bytes per blade: the blade, its state and its slot in the visible-index list.
-pub const BYTES_PER_BLADE: usize =
-    std::mem::size_of::<Blade>() + std::mem::size_of::<BladeState>() + std::mem::size_of::<u32>();
+/// GPU bytes per blade: the blade, its state and its slot in each level's visible-index
+/// list.
+pub const BYTES_PER_BLADE: usize = std::mem::size_of::<Blade>()
+    + std::mem::size_of::<BladeState>()
+    + LOD_LEVELS * std::mem::size_of::<u32>();

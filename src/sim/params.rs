@@ -4,8 +4,8 @@
 use glam::{Mat4, Vec3};
 
 use super::layout::{
-    CullParams, SimParams, TEST_DISTANCE, TEST_FRUSTUM, TEST_ORIENTATION, TEST_PATCH,
-    WIND_ANALYTIC, WIND_FLUID,
+    CullParams, SimParams, LOD_LEVELS, TEST_DISTANCE, TEST_FRUSTUM, TEST_OCCLUSION,
+    TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
 };
 use crate::scene::{Culling, Physics, Wind, WindSource};
 
@@ -86,28 +86,81 @@ pub fn cull_tests(culling: &Culling) -> u32 {
     if culling.distance {
         t |= TEST_DISTANCE;
     }
+    if culling.occlusion {
+        t |= TEST_OCCLUSION;
+    }
     t
 }
 
+/// What the cull uniforms need besides the scene's settings: the culling camera, the
+/// viewport, the field's layout, the level-of-detail meshes and the depth pyramid.
+#[derive(Clone, Copy, Debug)]
+pub struct CullInputs {
+    pub view_proj: Mat4,
+    pub camera: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y: f32,
+    pub near: f32,
+    pub far: f32,
+    pub viewport_height: u32,
+    pub blade_count: u32,
+    pub patch_size: u32,
+    pub patch_count: u32,
+    /// Segments of each level's blade mesh (near, middle, far).
+    pub lod_segments: [u32; LOD_LEVELS],
+    /// Index count and first index of each level's mesh in the shared index buffer.
+    pub lod_index_count: [u32; LOD_LEVELS],
+    pub lod_first_index: [u32; LOD_LEVELS],
+    pub frame: u32,
+    /// Depth pyramid: width, height, levels, 1 = built this frame (0 turns the test off).
+    pub hiz: [u32; 4],
+}
+
+fn pad4(a: [u32; LOD_LEVELS]) -> [u32; 4] {
+    [a[0], a[1], a[2], 0]
+}
+
 /// Cull uniforms for a camera.
-pub fn cull_params(
-    culling: &Culling,
-    view_proj: Mat4,
-    camera: Vec3,
-    blade_count: u32,
-    patch_size: u32,
-    index_count: u32,
-) -> CullParams {
+pub fn cull_params(culling: &Culling, inputs: &CullInputs) -> CullParams {
+    let mut tests = cull_tests(culling);
+    if inputs.hiz[3] == 0 {
+        tests &= !TEST_OCCLUSION;
+    }
+    let half_fov = (inputs.fov_y.to_radians() * 0.5).max(1e-4);
+    let px_per_m = inputs.viewport_height as f32 / (2.0 * half_fov.tan());
+    // Without levels of detail every blade is "near": thresholds of 0 pixels.
+    let (near_px, far_px) = if culling.lod {
+        (culling.lod_near_px, culling.lod_far_px)
+    } else {
+        (0.0, 0.0)
+    };
+    let c = inputs.camera;
     CullParams {
-        view_proj: view_proj.to_cols_array_2d(),
-        camera_pos: [camera.x, camera.y, camera.z, 1.0],
-        blade_count,
-        patch_size,
-        tests: cull_tests(culling),
+        view_proj: inputs.view_proj.to_cols_array_2d(),
+        camera_pos: [c.x, c.y, c.z, 1.0],
+        blade_count: inputs.blade_count,
+        patch_size: inputs.patch_size,
+        tests,
         distance_levels: culling.distance_levels,
         orientation_threshold: culling.orientation_threshold,
         frustum_tolerance: culling.frustum_tolerance,
         max_distance: culling.max_distance,
-        index_count,
+        patch_count: inputs.patch_count,
+        lod_index_count: pad4(inputs.lod_index_count),
+        lod_first_index: pad4(inputs.lod_first_index),
+        lod_segments: pad4(inputs.lod_segments),
+        lod: [px_per_m, near_px, far_px, culling.lod_morph],
+        physics_throttle: culling.physics_throttle.max(1),
+        frame: inputs.frame,
+        physics_radius: culling.physics_radius,
+        occlusion_bias: culling.occlusion_bias,
+        hiz: inputs.hiz,
+        clip: [inputs.near, inputs.far, 0.0, 0.0],
     }
+}
+
+/// Δt of a throttled patch's step: `throttle` frames' worth, capped at `max_dt` so that
+/// the explicit step stays stable (the patch then runs a little slow while out of view).
+pub fn throttled_dt(dt: f32, throttle: u32, max_dt: f32) -> f32 {
+    (dt * throttle.max(1) as f32).min(max_dt.max(dt))
 }

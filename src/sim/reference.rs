@@ -7,7 +7,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::layout::{
     Blade, BladeState, CullParams, PatchBox, SimParams, TEST_DISTANCE, TEST_FRUSTUM,
-    TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
+    TEST_OCCLUSION, TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
 };
 
 /// The blade's width direction and front direction (perpendicular to width and up), from
@@ -278,14 +278,32 @@ pub fn update_all(
     }
 }
 
-/// Why a blade was culled, or that it is drawn. The twin of the cull shader's outcome.
+/// Why a blade was culled, or the level of detail it is drawn at. The twin of the cull
+/// shader's outcome.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CullOutcome {
-    Drawn,
+    Drawn(u32),
     Patch,
     Orientation,
     Frustum,
     Distance,
+    Occlusion,
+}
+
+/// The depth pyramid as the cull reads it: levels row-major, level 0 first
+/// (`hiz::build_pyramid`), of a `width` × `height` target.
+#[derive(Clone, Copy, Debug)]
+pub struct Pyramid<'a> {
+    pub levels: &'a [Vec<f32>],
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Pyramid<'_> {
+    fn texel(&self, level: u32, x: i32, y: i32) -> f32 {
+        let (w, _) = hiz::level_size(self.width, self.height, level);
+        self.levels[level as usize][(y as u32 * w + x as u32) as usize]
+    }
 }
 
 fn point_in_frustum(view_proj: Mat4, p: Vec3, tolerance: f32) -> bool {
@@ -318,14 +336,166 @@ pub fn box_in_frustum(view_proj: Mat4, min: Vec3, max: Vec3) -> bool {
     })
 }
 
-/// The cull predicate for blade `index` (Eq. 17–20 after the patch test).
-pub fn cull_blade(index: u32, blade: &Blade, patch: &PatchBox, params: &CullParams) -> CullOutcome {
+/// View distance of a depth-buffer value (perspective, depth 0 at near, 1 at far).
+fn occluder_distance(d: f32, params: &CullParams) -> f32 {
+    let (n, f) = (params.clip[0], params.clip[1]);
+    n * f / (f - d * (f - n)).max(1e-6)
+}
+
+/// Whether a point at view distance `z` lies behind the opaque depth `d` by more than the
+/// bias (a fraction of `z`).
+fn behind(z: f32, d: f32, params: &CullParams) -> bool {
+    z - occluder_distance(d, params) > params.occlusion_bias * z
+}
+
+fn to_pixel(ndc: Vec2, params: &CullParams) -> (i32, i32) {
+    let (w, h) = (params.hiz[0] as f32, params.hiz[1] as f32);
+    let px = Vec2::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * Vec2::new(w, h);
+    (
+        (px.x.floor() as i32).clamp(0, params.hiz[0] as i32 - 1),
+        (px.y.floor() as i32).clamp(0, params.hiz[1] as i32 - 1),
+    )
+}
+
+/// A point is occluded when it projects inside the screen, in front of the camera, and
+/// behind the opaque depth at its pixel.
+pub fn point_occluded(p: Vec3, params: &CullParams, pyramid: &Pyramid) -> bool {
     let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
-    if params.tests & TEST_PATCH != 0
-        && !box_in_frustum(view_proj, v4(patch.min).xyz(), v4(patch.max).xyz())
+    let c = view_proj * p.extend(1.0);
+    if c.w <= params.clip[0] {
+        return false;
+    }
+    let ndc = c.xy() / c.w;
+    if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 {
+        return false;
+    }
+    let (x, y) = to_pixel(ndc, params);
+    behind(c.w, pyramid.texel(0, x, y), params)
+}
+
+/// The box's screen rectangle against the pyramid level where it spans at most 2 × 2
+/// texels: occluded when its nearest corner is behind the farthest depth there.
+pub fn box_occluded(min: Vec3, max: Vec3, params: &CullParams, pyramid: &Pyramid) -> bool {
+    let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
+    let mut lo = Vec2::splat(1e30);
+    let mut hi = Vec2::splat(-1e30);
+    let mut z_near = 1e30f32;
+    for k in 0..8 {
+        let corner = Vec3::new(
+            if k & 1 != 0 { max.x } else { min.x },
+            if k & 2 != 0 { max.y } else { min.y },
+            if k & 4 != 0 { max.z } else { min.z },
+        );
+        let c = view_proj * corner.extend(1.0);
+        if c.w <= params.clip[0] {
+            return false;
+        }
+        let ndc = c.xy() / c.w;
+        lo = lo.min(ndc);
+        hi = hi.max(ndc);
+        z_near = z_near.min(c.w);
+    }
+    if hi.x < -1.0 || lo.x > 1.0 || hi.y < -1.0 || lo.y > 1.0 {
+        return false;
+    }
+    let p0 = to_pixel(Vec2::new(lo.x, hi.y), params);
+    let p1 = to_pixel(Vec2::new(hi.x, lo.y), params);
+    let top = params.hiz[2] - 1;
+    let mut level = 0;
+    while level < top
+        && ((p1.0 >> level) - (p0.0 >> level) > 1 || (p1.1 >> level) - (p0.1 >> level) > 1)
     {
+        level += 1;
+    }
+    let (lw, lh) = hiz::level_size(params.hiz[0], params.hiz[1], level);
+    let a = (
+        (p0.0 >> level).min(lw as i32 - 1),
+        (p0.1 >> level).min(lh as i32 - 1),
+    );
+    let b = (
+        (p1.0 >> level).min(lw as i32 - 1),
+        (p1.1 >> level).min(lh as i32 - 1),
+    );
+    let mut d = 0.0f32;
+    for y in a.1..=b.1 {
+        for x in a.0..=b.0 {
+            d = d.max(pyramid.texel(level, x, y));
+        }
+    }
+    behind(z_near, d, params)
+}
+
+/// Projected height in pixels of a blade (the level-of-detail measure).
+pub fn projected_height(v0: Vec3, height: f32, params: &CullParams) -> f32 {
+    let d = v0.distance(v4(params.camera_pos).xyz()).max(1e-3);
+    height * params.lod[0] / d
+}
+
+/// Level of detail for a projected height: 0 at and above `lod[1]` px, 1 at and above
+/// `lod[2]`, else 2.
+pub fn lod_level(h_px: f32, params: &CullParams) -> u32 {
+    if h_px >= params.lod[1] {
+        0
+    } else if h_px >= params.lod[2] {
+        1
+    } else {
+        2
+    }
+}
+
+/// The patch step for one patch: culled by the frustum (`Patch`), by occlusion
+/// (`Occlusion`), or visible (`Drawn(0)`: its blades go on to `cull_blade`).
+pub fn cull_patch(patch: &PatchBox, params: &CullParams, pyramid: Option<&Pyramid>) -> CullOutcome {
+    if params.tests & TEST_PATCH == 0 {
+        return CullOutcome::Drawn(0);
+    }
+    let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
+    let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
+    if !box_in_frustum(view_proj, min, max) {
         return CullOutcome::Patch;
     }
+    if let Some(p) = pyramid.filter(|_| params.tests & TEST_OCCLUSION != 0) {
+        if box_occluded(min, max, params, p) {
+            return CullOutcome::Occlusion;
+        }
+    }
+    CullOutcome::Drawn(0)
+}
+
+/// Whether the patch step puts patch `p` on this frame's update list, and whether at the
+/// throttled rate: `None` (skipped this frame), `Some(false)` (every frame), `Some(true)`.
+pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<bool> {
+    let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
+    let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
+    let in_view = box_in_frustum(view_proj, min, max);
+    let c = v4(params.camera_pos).xyz();
+    let distance = (min - c).max(c - max).max(Vec3::ZERO).length();
+    let throttle = params.physics_throttle.max(1);
+    let every_frame = in_view || distance <= params.physics_radius || throttle == 1;
+    if every_frame {
+        Some(false)
+    } else if params.frame.wrapping_add(p).is_multiple_of(throttle) {
+        Some(true)
+    } else {
+        None
+    }
+}
+
+/// The cull predicate for blade `index`: the patch step (frustum and occlusion of its
+/// patch box), then Eq. 17–20 and the occlusion of v0 / m / v2; a drawn blade gets its
+/// level of detail.
+pub fn cull_blade(
+    index: u32,
+    blade: &Blade,
+    patch: &PatchBox,
+    params: &CullParams,
+    pyramid: Option<&Pyramid>,
+) -> CullOutcome {
+    let patch_outcome = cull_patch(patch, params, pyramid);
+    if patch_outcome != CullOutcome::Drawn(0) {
+        return patch_outcome;
+    }
+    let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
     let v0 = v4(blade.v0_dir).xyz();
     let v1 = v4(blade.v1_height).xyz();
     let v2 = v4(blade.v2_width).xyz();
@@ -339,8 +509,8 @@ pub fn cull_blade(index: u32, blade: &Blade, patch: &PatchBox, params: &CullPara
             return CullOutcome::Orientation;
         }
     }
+    let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
     if params.tests & TEST_FRUSTUM != 0 {
-        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
         let t = params.frustum_tolerance;
         if !point_in_frustum(view_proj, v0, t)
             && !point_in_frustum(view_proj, m, t)
@@ -360,7 +530,19 @@ pub fn cull_blade(index: u32, blade: &Blade, patch: &PatchBox, params: &CullPara
             return CullOutcome::Distance;
         }
     }
-    CullOutcome::Drawn
+    if let Some(p) = pyramid.filter(|_| params.tests & TEST_OCCLUSION != 0) {
+        if point_occluded(v0, params, p)
+            && point_occluded(m, params, p)
+            && point_occluded(v2, params, p)
+        {
+            return CullOutcome::Occlusion;
+        }
+    }
+    CullOutcome::Drawn(lod_level(
+        projected_height(v0, blade.v1_height[3], params),
+        params,
+    ))
 }
 
 pub mod fluid;
+pub mod hiz;

@@ -3,7 +3,9 @@
 
 use wgpu::util::DeviceExt;
 
-use super::layout::{Blade, BladeState, PatchBox, SimParams, MAX_SPHERES, WORKGROUP_SIZE};
+use super::layout::{
+    Blade, BladeState, PatchBox, PatchDispatch, SimParams, LOD_LEVELS, MAX_SPHERES, WORKGROUP_SIZE,
+};
 use crate::error::{Error, Result};
 use crate::field::GeneratedField;
 use crate::gpu::{read_buffer, Gpu};
@@ -16,18 +18,31 @@ pub struct BladeBuffers {
     pub patches: wgpu::Buffer,
     /// `vec4(centre, radius)` per collider, `MAX_SPHERES` slots.
     pub spheres: wgpu::Buffer,
-    /// Visible blade indices written by the cull pass.
+    /// Visible blade indices written by the cull pass: `LOD_LEVELS` regions of `region`
+    /// slots, one per level of detail.
     pub visible: wgpu::Buffer,
+    /// `[count, patch, ...]`: patches that passed the patch tests (the blade cull's list).
+    pub visible_patches: wgpu::Buffer,
+    /// `[count, patch | throttled bit, ...]`: patches the update steps this frame.
+    pub updated_patches: wgpu::Buffer,
+    /// `PatchDispatch`: indirect dispatches of the blade cull and of the update.
+    pub dispatch: wgpu::Buffer,
     pub count: u32,
     pub patch_size: u32,
+    pub patch_count: u32,
+    /// Slots per level-of-detail region of `visible`: the blade count rounded up to 64, so
+    /// every region starts at a 256-byte-aligned offset (bindable on its own).
+    pub region: u32,
 }
 
 impl BladeBuffers {
     /// Bytes of GPU memory the blade buffers take for `count` blades and `patches` patches.
     pub fn bytes_for(count: u64, patches: u64) -> u64 {
         count * super::layout::BYTES_PER_BLADE as u64
-            + patches * std::mem::size_of::<PatchBox>() as u64
+            + patches * (std::mem::size_of::<PatchBox>() as u64 + 8)
             + (MAX_SPHERES * 16) as u64
+            + 8
+            + std::mem::size_of::<PatchDispatch>() as u64
     }
 
     /// Uploads a generated field after checking that it fits the device.
@@ -37,9 +52,16 @@ impl BladeBuffers {
             &format!("a field of {count} blades"),
             count * std::mem::size_of::<Blade>() as u64,
         )?;
+        // Blades are dispatched in 2D (no per-dimension limit); patches in one dimension.
+        let patch_count = field.patches.len() as u32;
         gpu.check_dispatch(
-            &format!("a field of {count} blades"),
-            (count as u32).div_ceil(WORKGROUP_SIZE),
+            &format!("a field of {patch_count} patches"),
+            patch_count.div_ceil(WORKGROUP_SIZE),
+        )?;
+        let region = (count as u32).max(1).div_ceil(WORKGROUP_SIZE) * WORKGROUP_SIZE;
+        gpu.check_storage(
+            &format!("the visible lists of {count} blades"),
+            LOD_LEVELS as u64 * region as u64 * 4,
         )?;
         let device = &gpu.device;
         let storage = wgpu::BufferUsages::STORAGE
@@ -89,8 +111,24 @@ impl BladeBuffers {
         });
         let visible = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.visible"),
-            size: count.max(1) * 4,
+            size: LOD_LEVELS as u64 * region as u64 * 4,
             usage: storage,
+            mapped_at_creation: false,
+        });
+        let list = |label: &str| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (patch_count as u64 + 1) * 4,
+                usage: storage,
+                mapped_at_creation: false,
+            })
+        };
+        let visible_patches = list("sward.visible_patches");
+        let updated_patches = list("sward.updated_patches");
+        let dispatch = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.patch_dispatch"),
+            size: std::mem::size_of::<PatchDispatch>() as u64,
+            usage: storage | wgpu::BufferUsages::INDIRECT,
             mapped_at_creation: false,
         });
         Ok(Self {
@@ -99,8 +137,13 @@ impl BladeBuffers {
             patches,
             spheres,
             visible,
+            visible_patches,
+            updated_patches,
+            dispatch,
             count: count as u32,
             patch_size: field.patch_size.max(1),
+            patch_count,
+            region,
         })
     }
 
@@ -163,6 +206,8 @@ pub struct UpdatePass {
     pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
+    /// The patch pass's `PatchDispatch` (the update's arguments follow the cull's).
+    dispatch: wgpu::Buffer,
     count: u32,
 }
 
@@ -211,6 +256,7 @@ impl UpdatePass {
                 storage_entry(2, false),
                 storage_entry(3, true),
                 storage_entry(4, true),
+                storage_entry(5, true),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -243,6 +289,10 @@ impl UpdatePass {
                     binding: 4,
                     resource: wind_grid.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: buffers.updated_patches.as_entire_binding(),
+                },
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -262,6 +312,7 @@ impl UpdatePass {
             pipeline,
             bind_group,
             params,
+            dispatch: buffers.dispatch.clone(),
             count: buffers.count,
         }
     }
@@ -271,7 +322,8 @@ impl UpdatePass {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
-    /// Records the update dispatch.
+    /// Records the update, dispatched indirectly over the patch pass's update list (the
+    /// patch pass must be recorded before).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -286,6 +338,7 @@ impl UpdatePass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        pass.dispatch_workgroups(self.count.div_ceil(WORKGROUP_SIZE), 1, 1);
+        let offset = std::mem::offset_of!(PatchDispatch, update) as u64;
+        pass.dispatch_workgroups_indirect(&self.dispatch, offset);
     }
 }

@@ -1,0 +1,51 @@
+// Hierarchical depth pyramid ("Hi-Z") for occlusion culling, built by
+// `render::hiz::DepthPyramid`. Depth runs 0 (near) to 1 (far), so every texel keeps the MAX
+// (farthest) depth of the pixels it covers: a blade nearer than that texel somewhere is
+// possibly visible, one behind it everywhere is hidden. CPU twin: `reference::hiz`.
+//
+// `copy_depth` writes level 0 from the depth buffer (a storage texture cannot be a depth
+// format, and textureLoad on r32float is core); `downsample` writes level k from level k-1,
+// one dispatch per level. The two entry points use disjoint bindings except `dst`, so each
+// gets its own bind group layout.
+
+@group(0) @binding(0) var depth: texture_depth_2d;
+@group(0) @binding(1) var src: texture_2d<f32>;
+@group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn copy_depth(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(dst);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let d = textureLoad(depth, vec2<i32>(gid.xy), 0);
+    textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(d, 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn downsample(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(dst);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let src_size = textureDimensions(src);
+    // The 2x2 texels below, and for the last column/row of an odd-sized level the extra
+    // one too (3 wide): mip sizes round down, so without it that column would be dropped
+    // and the pyramid would no longer be conservative. A 1-texel-wide source (the other
+    // axis still halving) gives a 1-wide footprint.
+    let start = gid.xy * 2u;
+    var end = min(start + vec2<u32>(2u), src_size);
+    if gid.x == size.x - 1u {
+        end.x = src_size.x;
+    }
+    if gid.y == size.y - 1u {
+        end.y = src_size.y;
+    }
+    var far = 0.0;
+    for (var y = start.y; y < end.y; y++) {
+        for (var x = start.x; x < end.x; x++) {
+            far = max(far, textureLoad(src, vec2<i32>(vec2<u32>(x, y)), 0).x);
+        }
+    }
+    textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
+}

@@ -1,0 +1,266 @@
+//! The GPU depth pyramid against its CPU twin: a real depth buffer (triangles rendered at
+//! known depths, at odd and even sizes) goes through `DepthPyramid`; level 0 must equal the
+//! depth read-back, every level must equal `build_pyramid` exactly (max does not round),
+//! and every level must cover the depths below it.
+
+mod common;
+
+use sward::gpu::{map_and_read, Gpu};
+use sward::render::hiz::DepthPyramid;
+use sward::render::target::depth_view;
+use sward::sim::reference::hiz::{build_pyramid, level_size};
+
+/// A sloped quad over the whole screen (depth 0.6 top-left .. 0.95 bottom-right, so the
+/// farthest pixels sit in the last row and column: the ones an odd size folds in) and two
+/// nearer triangles in front of it.
+const SCENE_WGSL: &str = r"
+const POSITIONS = array<vec3<f32>, 12>(
+    vec3(-1.0, -1.0, 0.75), vec3(1.0, -1.0, 0.95), vec3(1.0, 1.0, 0.8),
+    vec3(-1.0, -1.0, 0.75), vec3(1.0, 1.0, 0.8), vec3(-1.0, 1.0, 0.6),
+    vec3(-0.8, -0.6, 0.2), vec3(0.1, -0.7, 0.3), vec3(-0.3, 0.5, 0.25),
+    vec3(0.2, 0.1, 0.45), vec3(0.95, 0.3, 0.4), vec3(0.5, 0.9, 0.5),
+);
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    var positions = POSITIONS;
+    return vec4(positions[i], 1.0);
+}
+";
+
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+fn depth_pipeline(gpu: &Gpu) -> wgpu::RenderPipeline {
+    let module = gpu
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("sward.test.hiz_scene"),
+            source: wgpu::ShaderSource::Wgsl(SCENE_WGSL.into()),
+        });
+    gpu.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("sward.test.hiz_scene"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            // Depth only: no colour target, no fragment stage.
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        })
+}
+
+/// Clears `depth` to 1 (far) and draws the scene into it.
+fn render(gpu: &Gpu, pipeline: &wgpu::RenderPipeline, depth: &wgpu::TextureView) {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.test.hiz_scene"),
+        });
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.test.hiz_scene"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.draw(0..12, 0..1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+}
+
+/// Copies a Depth32Float texture back, row-major (blocking).
+fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Vec<f32> {
+    let (width, height) = (texture.width(), texture.height());
+    let row = width * 4;
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.test.depth_readback"),
+        size: padded as u64 * height as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.test.depth_readback"),
+        });
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::DepthOnly,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &staging,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        texture.size(),
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let data = map_and_read(gpu, &staging).expect("depth read-back");
+    (0..height as usize)
+        .flat_map(|y| {
+            let start = y * padded as usize;
+            bytemuck::pod_collect_to_vec::<u8, f32>(&data[start..start + row as usize])
+        })
+        .collect()
+}
+
+fn build(gpu: &Gpu, pyramid: &DepthPyramid, depth: &wgpu::TextureView) -> Vec<Vec<f32>> {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.test.hiz"),
+        });
+    pyramid.encode(&gpu.device, &mut encoder, depth);
+    gpu.queue.submit([encoder.finish()]);
+    (0..pyramid.levels())
+        .map(|level| pyramid.read_level(gpu, level).expect("pyramid read-back"))
+        .collect()
+}
+
+/// Renders the scene at `width` x `height`, builds the pyramid, checks it against the twin.
+fn check(gpu: &Gpu, pipeline: &wgpu::RenderPipeline, width: u32, height: u32) {
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("sward.test.hiz_depth"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    render(gpu, pipeline, &view);
+    let depth = read_depth(gpu, &texture);
+    let at = format!("{width}x{height}");
+    // The scene must reach the pyramid: several distinct depths, none left at the clear.
+    assert!(depth.iter().all(|&d| d < 1.0), "{at}: quad does not cover");
+    if width >= 8 && height >= 8 {
+        assert!(
+            depth.iter().any(|&d| d < 0.55),
+            "{at}: near triangles missing"
+        );
+    }
+
+    let pyramid = DepthPyramid::new(gpu, width, height);
+    assert_eq!(pyramid.size(), (width, height));
+    let expected_levels = 32 - width.max(height).leading_zeros();
+    assert_eq!(pyramid.levels(), expected_levels, "{at}");
+    let bytes: u64 = (0..expected_levels)
+        .map(|k| {
+            let (w, h) = level_size(width, height, k);
+            w as u64 * h as u64 * 4
+        })
+        .sum();
+    assert_eq!(pyramid.gpu_bytes(), bytes, "{at}");
+
+    let gpu_levels = build(gpu, &pyramid, &view);
+    // (a) Level 0 is the depth buffer, bit for bit.
+    assert_eq!(
+        gpu_levels[0], depth,
+        "{at}: level 0 is not the depth buffer"
+    );
+
+    // (b) Every level equals the twin exactly.
+    let cpu_levels = build_pyramid(&gpu_levels[0], width, height);
+    assert_eq!(cpu_levels.len(), gpu_levels.len(), "{at}");
+    for (k, (g, c)) in gpu_levels.iter().zip(&cpu_levels).enumerate() {
+        let (w, h) = level_size(width, height, k as u32);
+        assert_eq!(g.len(), (w * h) as usize, "{at}: level {k} size");
+        if let Some(i) = (0..g.len()).find(|&i| g[i] != c[i]) {
+            panic!(
+                "{at}: level {k} ({w}x{h}) texel ({}, {}): GPU {} CPU {}",
+                i as u32 % w,
+                i as u32 / w,
+                g[i],
+                c[i]
+            );
+        }
+    }
+
+    // (c) Conservative: each level's texel over a pixel is at least that pixel's depth.
+    for (k, level) in gpu_levels.iter().enumerate() {
+        let (w, h) = level_size(width, height, k as u32);
+        for y in 0..height {
+            for x in 0..width {
+                let (tx, ty) = ((x >> k).min(w - 1), (y >> k).min(h - 1));
+                let d = depth[(y * width + x) as usize];
+                let t = level[(ty * w + tx) as usize];
+                assert!(
+                    t >= d,
+                    "{at}: level {k} texel ({tx}, {ty}) = {t} < depth {d} at ({x}, {y})"
+                );
+            }
+        }
+    }
+
+    // (d) The 1x1 top is the farthest depth of all.
+    let far = depth.iter().copied().fold(0.0, f32::max);
+    assert_eq!(gpu_levels.last().expect("levels"), &vec![far], "{at}");
+
+    // The renderer's own depth buffer (`target::depth_view`) is bindable, and the same
+    // pyramid rebuilt from another view (level 0's bind group is per call) sees it.
+    let target_depth = depth_view(&gpu.device, width, height);
+    render(gpu, pipeline, &target_depth);
+    assert_eq!(
+        build(gpu, &pyramid, &target_depth),
+        gpu_levels,
+        "{at}: pyramid of target::depth_view differs"
+    );
+}
+
+#[test]
+fn pyramid_matches_twin_and_covers_the_depths() {
+    let gpu = common::gpu();
+    let pipeline = depth_pipeline(&gpu);
+    // Odd in both axes, even (a clean halving), tall and thin, and a single pixel.
+    for (w, h) in [(37, 23), (16, 8), (3, 29), (1, 1)] {
+        check(&gpu, &pipeline, w, h);
+    }
+}
+
+#[test]
+fn reading_a_missing_level_is_an_error() {
+    let gpu = common::gpu();
+    let pyramid = DepthPyramid::new(&gpu, 8, 4);
+    assert_eq!(pyramid.levels(), 4);
+    assert!(pyramid.read_level(&gpu, 4).is_err());
+}
