@@ -57,6 +57,8 @@ fn bench(c: &mut Criterion) {
             lod_first_index: lod.first_index,
             frame: 0,
             hiz: [0; 4],
+            sphere_count: 0,
+            collisions: false,
         },
     );
     c.bench_function("cpu cull 16k blades", |b| {

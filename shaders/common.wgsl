@@ -39,7 +39,7 @@ struct SimParams {
     fluid_grid: vec4<f32>,
     fluid_info: vec4<u32>,
     patch_size: u32,
-    pad_a: u32,
+    patch_count: u32,
     pad_b: u32,
     pad_c: u32,
 }
@@ -68,7 +68,14 @@ struct CullParams {
     hiz: vec4<u32>,
     // x: near, y: far.
     clip: vec4<f32>,
+    // Collision broad phase: x sphere count, y 1 = collisions on.
+    collide: vec4<u32>,
 }
+
+// Slots per patch in the broad phase's sphere lists (count + indices) and the count of a
+// patch whose list overflowed (it tests every sphere). PATCH_SPHERE_STRIDE in Rust.
+const PATCH_SPHERE_STRIDE: u32 = 64u;
+const SPHERES_ALL: u32 = 0xffffffffu;
 
 // Projected height in pixels of a blade of `height` whose root is at `v0`: the measure the
 // level of detail is chosen by (cull) and morphed by (grass vertex shader).

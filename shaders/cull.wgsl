@@ -33,7 +33,9 @@ struct CullOutput {
     culled_distance: atomic<u32>,
     culled_occlusion: atomic<u32>,
     culled_occlusion_patch: atomic<u32>,
-    pad: array<u32, 8>,
+    patch_sphere_pairs: atomic<u32>,
+    pad: array<u32, 7>,
+    spheres_used: array<atomic<u32>, 32>,
 }
 
 // PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
@@ -64,13 +66,21 @@ const MAX_GROUPS: u32 = 65535u;
 // Three regions of `region` slots, one per level of detail.
 @group(0) @binding(3) var<storage, read_write> visible: array<u32>;
 @group(0) @binding(4) var<storage, read_write> out: CullOutput;
-// [count, patch, patch, ...]: the patches that passed the patch tests.
-@group(0) @binding(5) var<storage, read_write> visible_patches: array<u32>;
-// [count, patch | THROTTLED?, ...]: the patches the update steps this frame.
-@group(0) @binding(6) var<storage, read_write> updated_patches: array<u32>;
+// Two lists of patch_count + 1 slots: [count, patch, ...], the patches that passed the
+// patch tests; then [count, patch | THROTTLED?, ...], the patches the update steps.
+@group(0) @binding(5) var<storage, read_write> patch_lists: array<u32>;
 // Max-depth pyramid of the opaque objects (level 0 = the depth buffer).
 @group(0) @binding(7) var hiz: texture_2d<f32>;
+// Written by the patch step only (the blade cull reads `dispatch` as its indirect
+// argument, which may not be bound at the same time).
 @group(1) @binding(0) var<storage, read_write> dispatch: PatchDispatch;
+@group(1) @binding(1) var<storage, read> spheres: array<vec4<f32>>;
+// Collision broad phase: per patch [count or SPHERES_ALL, sphere, ...].
+@group(1) @binding(2) var<storage, read_write> patch_spheres: array<u32>;
+
+fn update_list() -> u32 {
+    return params.patch_count + 1u;
+}
 
 // Slots per level-of-detail list.
 fn region() -> u32 {
@@ -98,6 +108,10 @@ fn reset() {
     atomicStore(&out.culled_distance, 0u);
     atomicStore(&out.culled_occlusion, 0u);
     atomicStore(&out.culled_occlusion_patch, 0u);
+    atomicStore(&out.patch_sphere_pairs, 0u);
+    for (var w = 0u; w < 32u; w++) {
+        atomicStore(&out.spheres_used[w], 0u);
+    }
 }
 
 fn in_frustum(p: vec3<f32>) -> bool {
@@ -236,7 +250,7 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if visible_patch {
         let slot = atomicAdd(&out.visible_patches, 1u);
-        visible_patches[1u + slot] = p;
+        patch_lists[1u + slot] = p;
     }
     // Physics: patches in the frustum or near the camera every frame, the others in turn.
     let throttle = max(params.physics_throttle, 1u);
@@ -249,8 +263,47 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             entry |= THROTTLED;
             atomicAdd(&out.throttled_patches, 1u);
         }
-        updated_patches[1u + slot] = entry;
+        patch_lists[update_list() + 1u + slot] = entry;
+        broad_phase(p, pbox, n);
     }
+}
+
+fn mark_used(s: u32) {
+    atomicOr(&out.spheres_used[s / 32u], 1u << (s % 32u));
+}
+
+// The spheres a stepped patch's blades are tested against: those within one radius of the
+// patch box (which holds every pose of its blades). The extra radius keeps the list exact
+// in practice: a push by an earlier sphere moves a tip by at most that sphere's radius
+// (four times that through the midpoint, which is rarer), before validation pulls it back.
+fn broad_phase(p: u32, pbox: PatchBox, n: u32) {
+    let base = p * PATCH_SPHERE_STRIDE;
+    if params.collide.y == 0u {
+        patch_spheres[base] = 0u;
+        return;
+    }
+    var count = 0u;
+    for (var s = 0u; s < params.collide.x; s++) {
+        let sphere = spheres[s];
+        let q = clamp(sphere.xyz, pbox.min.xyz, pbox.max.xyz);
+        if distance(q, sphere.xyz) < 2.0 * sphere.w {
+            if count < PATCH_SPHERE_STRIDE - 1u {
+                patch_spheres[base + 1u + count] = s;
+                mark_used(s);
+            }
+            count++;
+        }
+    }
+    if count > PATCH_SPHERE_STRIDE - 1u {
+        patch_spheres[base] = SPHERES_ALL;
+        for (var s = 0u; s < params.collide.x; s++) {
+            mark_used(s);
+        }
+        count = params.collide.x;
+    } else {
+        patch_spheres[base] = count;
+    }
+    atomicAdd(&out.patch_sphere_pairs, count);
 }
 
 // A 2D dispatch of `groups` workgroups that stays under the per-dimension limit.
@@ -267,8 +320,8 @@ fn finalize() {
     let per_patch = params.patch_size / 64u;
     let vis = atomicLoad(&out.visible_patches);
     let upd = atomicLoad(&out.updated_patches);
-    visible_patches[0] = vis;
-    updated_patches[0] = upd;
+    patch_lists[0] = vis;
+    patch_lists[update_list()] = upd;
     let c = split(vis * per_patch);
     dispatch.cull_x = c.x;
     dispatch.cull_y = c.y;
@@ -288,10 +341,10 @@ fn main(
     let per_patch = params.patch_size / 64u;
     let flat = wid.y * groups.x + wid.x;
     let slot = flat / per_patch;
-    if slot >= visible_patches[0] {
+    if slot >= patch_lists[0] {
         return;
     }
-    let p = visible_patches[1u + slot];
+    let p = patch_lists[1u + slot];
     let i = p * params.patch_size + (flat % per_patch) * 64u + lid;
     if i >= params.blade_count {
         return;

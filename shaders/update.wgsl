@@ -14,8 +14,11 @@ const COLLISION_ROUNDS: u32 = 4u;
 @group(0) @binding(3) var<storage, read> spheres: array<vec4<f32>>;
 // The fluid solver's velocity grid (one dummy cell when the fluid is off).
 @group(0) @binding(4) var<storage, read> wind_grid: array<vec2<f32>>;
-// [count, patch | THROTTLED?, ...] from the patch pass (`cull.wgsl`).
-@group(0) @binding(5) var<storage, read> updated_patches: array<u32>;
+// The patch pass's lists (`cull.wgsl`): the update list [count, patch | THROTTLED?, ...]
+// starts at patch_count + 1.
+@group(0) @binding(5) var<storage, read> patch_lists: array<u32>;
+// The broad phase's sphere list per patch: [count or SPHERES_ALL, sphere, ...].
+@group(0) @binding(6) var<storage, read> patch_spheres: array<u32>;
 
 const THROTTLED: u32 = 0x80000000u;
 
@@ -72,13 +75,18 @@ fn validate(v0: vec3<f32>, v2_in: vec3<f32>, up: vec3<f32>, height: f32) -> arra
     return array<vec3<f32>, 2>(v1c, v2c);
 }
 
-// Eq. 14-16: every sphere against v2 and against the curve midpoint m (the push on m moves
+// Eq. 14-16: the spheres on the patch's broad-phase list (in index order, like the CPU twin
+// that tests all of them) against v2 and against the curve midpoint m (the push on m moves
 // v2 four times as far). Returns the new v2 and the added collision strength.
-fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>) -> vec4<f32> {
+fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, patch_id: u32) -> vec4<f32> {
     var v2 = v2_in;
     var added = 0.0;
-    for (var s = 0u; s < params.sphere_count; s++) {
-        let sphere = spheres[s];
+    let base = patch_id * PATCH_SPHERE_STRIDE;
+    let listed = patch_spheres[base];
+    let all = listed == SPHERES_ALL;
+    let n = select(listed, params.sphere_count, all);
+    for (var k = 0u; k < n; k++) {
+        let sphere = spheres[select(patch_spheres[base + 1u + k], k, all)];
         let c = sphere.xyz;
         let r = sphere.w;
         let to_c = c - v2;
@@ -109,11 +117,13 @@ fn main(
     let per_patch = params.patch_size / 64u;
     let flat = wid.y * groups.x + wid.x;
     let slot = flat / per_patch;
-    if slot >= updated_patches[0] {
+    let list = params.patch_count + 1u;
+    if slot >= patch_lists[list] {
         return;
     }
-    let entry = updated_patches[1u + slot];
-    let i = (entry & ~THROTTLED) * params.patch_size + (flat % per_patch) * 64u + lid;
+    let entry = patch_lists[list + 1u + slot];
+    let patch_id = entry & ~THROTTLED;
+    let i = patch_id * params.patch_size + (flat % per_patch) * 64u + lid;
     if i >= params.blade_count {
         return;
     }
@@ -164,7 +174,7 @@ fn main(
     var corrected = validate(v0, v2, up, height);
     if params.collisions != 0u {
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
-            let c = collide(v0, corrected[0], corrected[1]);
+            let c = collide(v0, corrected[0], corrected[1], patch_id);
             if c.w <= 0.0 {
                 break;
             }

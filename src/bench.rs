@@ -315,8 +315,13 @@ pub struct ConfigReport {
     pub blades: BladeCounts,
     /// `None` without timestamp queries.
     pub gpu_ms: Option<GpuMs>,
-    /// Spheres each blade is tested against (0 with collisions off).
+    /// Colliding spheres in the scene (0 with collisions off).
     pub colliders: u64,
+    /// Spheres on at least one stepped patch's broad-phase list in the last frame: the
+    /// paper's "collision spheres considered".
+    pub colliders_considered: u64,
+    /// Blade-sphere tests of the last frame per stepped blade.
+    pub sphere_tests_per_blade: f64,
     pub memory: Memory,
 }
 
@@ -380,6 +385,9 @@ struct Measured {
     gpu_bytes: (u64, u64),
     /// The last frame, to compare the culled render with the unculled one.
     image: image::RgbaImage,
+    /// Broad phase of the last frame: spheres on some list, blade-sphere tests.
+    spheres_considered: u64,
+    sphere_tests: u64,
 }
 
 impl Measured {
@@ -461,6 +469,8 @@ fn measure(
         wall_ms: wall / n,
         gpu_bytes: renderer.gpu_bytes(),
         image: target.read_image(gpu)?,
+        spheres_considered: last.spheres_considered().into(),
+        sphere_tests: u64::from(last.patch_sphere_pairs) * u64::from(renderer.buffers.patch_size),
     })
 }
 
@@ -514,7 +524,7 @@ pub fn sweep_scene(base: &Scene, count: usize) -> (Scene, usize) {
     (scene, total(patch))
 }
 
-/// Colliders the update tests each blade against.
+/// Colliders in the scene that collide (0 with collisions off).
 fn colliders(scene: &Scene) -> u64 {
     if scene.physics.collisions {
         scene.colliders.len().min(MAX_SPHERES) as u64
@@ -579,6 +589,12 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             blades: m.blades,
             gpu_ms: m.gpu_ms,
             colliders: spheres,
+            colliders_considered: m.spheres_considered,
+            sphere_tests_per_blade: if m.blades.stepped > 0 {
+                m.sphere_tests as f64 / m.blades.stepped as f64
+            } else {
+                0.0
+            },
             memory: memory(m.blades.total, m.gpu_bytes),
         });
         images.push((config, m.image));
@@ -785,8 +801,18 @@ pub fn format_report(r: &BenchReport) -> String {
     row(&mut s, "  rendering (draw)", gpu(|g| g.rendering));
     row(
         &mut s,
-        "collision spheres considered",
+        "collision spheres in the scene",
         each(&|x| thousands(x.colliders)),
+    );
+    row(
+        &mut s,
+        "collision spheres considered (broad phase)",
+        each(&|x| thousands(x.colliders_considered)),
+    );
+    row(
+        &mut s,
+        "  sphere tests per stepped blade",
+        each(&|x| format!("{:.2}", x.sphere_tests_per_blade)),
     );
     let _ = writeln!(s, "memory");
     row(
@@ -1026,6 +1052,8 @@ mod tests {
             },
             gpu_ms: None,
             colliders: 0,
+            colliders_considered: 0,
+            sphere_tests_per_blade: 0.0,
             memory: memory(1024, (90_000, 200_000)),
         };
         let configurations: Vec<_> = Config::COLUMNS.iter().map(|c| column(c.name())).collect();
@@ -1083,7 +1111,9 @@ mod tests {
                     visibility: 1.401,
                     rendering: 2.057,
                 }),
-                colliders: 183,
+                colliders: 1000,
+                colliders_considered: 183,
+                sphere_tests_per_blade: 0.0,
                 memory: Memory::default(),
             };
         let patch = 397_881 - 168_333;

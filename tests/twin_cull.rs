@@ -9,7 +9,7 @@ use sward::render::target::Target;
 use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
 use sward::sim::layout::{CullCounters, LOD_LEVELS};
-use sward::sim::reference::{cull_blade, patch_update, CullOutcome, Pyramid};
+use sward::sim::reference::{cull_blade, patch_spheres, patch_update, CullOutcome, Pyramid};
 
 /// Blades whose outcome may differ between GPU and CPU: only those within float rounding
 /// of a threshold. Allowed: 1 in 1000, at least 2.
@@ -115,21 +115,29 @@ fn run(
     assert!(close(counters.culled_distance, cpu.culled_distance));
     assert!(close(counters.culled_occlusion, cpu.culled_occlusion));
 
-    // The physics list: which patches step this frame, and which of them throttled.
+    // The physics list: which patches step this frame, and which of them throttled; and
+    // the broad phase's sphere list of each stepped patch.
+    let spheres = r.frame_spheres();
+    let gpu_lists = r
+        .cull
+        .read_patch_spheres(&gpu, &r.buffers)
+        .expect("patch spheres");
     let mut stepped = 0;
     let mut throttled = 0;
+    let mut pairs = 0;
     for (p, patch) in session.field.patches.iter().enumerate() {
-        match patch_update(p as u32, patch, &cp) {
-            Some(true) => {
-                stepped += 1;
-                throttled += 1;
-            }
-            Some(false) => stepped += 1,
-            None => {}
-        }
+        let Some(slow) = patch_update(p as u32, patch, &cp) else {
+            continue;
+        };
+        stepped += 1;
+        throttled += slow as u32;
+        let list = patch_spheres(patch, &cp, &spheres);
+        assert_eq!(gpu_lists[p], list, "patch {p}: broad-phase list");
+        pairs += list.map_or(cp.collide[0], |l| l.len() as u32);
     }
     assert_eq!(counters.updated_patches, stepped);
     assert_eq!(counters.throttled_patches, throttled);
+    assert_eq!(counters.patch_sphere_pairs, pairs);
     counters
 }
 
@@ -153,6 +161,10 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
     scene.culling.lod_near_px = 20.0;
     scene.culling.lod_far_px = 8.0;
     scene.field.patch_size = 256;
+    // Spheres along the view for the broad phase: some patches list a few, none all.
+    scene.colliders = (0..12)
+        .map(|k| common::rolling_sphere(-3.0 + k as f32, 0.3, 0.35, 0.0))
+        .collect();
     // A camera in the middle of the field looking along +x: the patches behind it fail the
     // box test, blades at the sides the frustum test, far ones the distance test.
     let c = run(scene, Some(8192), |_| {
@@ -171,6 +183,11 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
     );
     assert!(c.per_level().iter().all(|&n| n > 0), "{c:?}");
     assert!(c.throttled_patches > 0, "{c:?}");
+    assert!(
+        c.patch_sphere_pairs > 0 && c.spheres_considered() > 0,
+        "{c:?}"
+    );
+    assert!(c.spheres_considered() <= 12, "{c:?}");
 }
 
 #[test]

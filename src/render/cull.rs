@@ -6,7 +6,10 @@
 use crate::error::Result;
 use crate::gpu::{read_buffer, Gpu};
 use crate::shaders;
-use crate::sim::layout::{CullCounters, CullParams, PatchDispatch, LOD_LEVELS, WORKGROUP_SIZE};
+use crate::sim::layout::{
+    CullCounters, CullParams, PatchDispatch, LOD_LEVELS, PATCH_SPHERE_STRIDE, SPHERES_ALL,
+    WORKGROUP_SIZE,
+};
 use crate::sim::update::{compute_storage_entry, uniform_entry, BladeBuffers};
 
 /// Cull pipelines, their uniforms and the indirect-argument buffer the draw reads.
@@ -40,8 +43,7 @@ fn bind_group(
         &buffers.patches,
         &buffers.visible,
         args,
-        &buffers.visible_patches,
-        &buffers.updated_patches,
+        &buffers.patch_lists,
     ];
     let mut entries = vec![wgpu::BindGroupEntry {
         binding: 0,
@@ -80,7 +82,6 @@ impl CullPass {
                 compute_storage_entry(3, false),
                 compute_storage_entry(4, false),
                 compute_storage_entry(5, false),
-                compute_storage_entry(6, false),
                 wgpu::BindGroupLayoutEntry {
                     binding: 7,
                     visibility: wgpu::ShaderStages::COMPUTE,
@@ -95,9 +96,15 @@ impl CullPass {
         });
         // The dispatch arguments are written by the patch pass only: the blade cull uses
         // the same buffer as its indirect argument, which may not be bound at the same time.
+        // The broad phase's spheres ride along (8 storage buffers per stage in all, the
+        // WebGPU default limit).
         let dispatch_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.cull.dispatch_layout"),
-            entries: &[compute_storage_entry(0, false)],
+            entries: &[
+                compute_storage_entry(0, false),
+                compute_storage_entry(1, true),
+                compute_storage_entry(2, false),
+            ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.cull.params"),
@@ -133,10 +140,20 @@ impl CullPass {
         let dispatch_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.cull.dispatch_group"),
             layout: &dispatch_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffers.dispatch.as_entire_binding(),
-            }],
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffers.dispatch.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: buffers.spheres.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: buffers.patch_spheres.as_entire_binding(),
+                },
+            ],
         });
         let blade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.cull.pipeline_layout"),
@@ -257,6 +274,26 @@ impl CullPass {
             let n = counters.draws[k].instance_count as usize;
             all[k * region..k * region + n].to_vec()
         }))
+    }
+
+    /// Reads the broad phase's sphere list of every patch back (blocking): `None` where the
+    /// list overflowed and the patch tests every sphere. Lists of patches not stepped in the
+    /// last frame are stale.
+    pub fn read_patch_spheres(
+        &self,
+        gpu: &Gpu,
+        buffers: &BladeBuffers,
+    ) -> Result<Vec<Option<Vec<u32>>>> {
+        let bytes = read_buffer(gpu, &buffers.patch_spheres, buffers.patch_spheres.size())?;
+        let all: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        Ok(all
+            .chunks(PATCH_SPHERE_STRIDE as usize)
+            .take(buffers.patch_count as usize)
+            .map(|c| match c[0] {
+                SPHERES_ALL => None,
+                n => Some(c[1..1 + n as usize].to_vec()),
+            })
+            .collect())
     }
 
     /// Reads the visible blade indices of the last frame back, all levels (blocking).

@@ -40,6 +40,10 @@ pub struct DrawPass {
     grass_lines: Option<wgpu::RenderPipeline>,
     terrain_mesh: Mesh,
     sphere_mesh: Mesh,
+    /// A coarse sphere for the occluder pass: its vertices lie on the sphere, so it is
+    /// inside it and occludes no more than the sphere does (and the colour pass's finer
+    /// sphere, in front of it, still passes the depth test).
+    occluder_sphere: Mesh,
     blade_indices: wgpu::Buffer,
 }
 
@@ -382,20 +386,24 @@ impl DrawPass {
             }),
             count: ti.len() as u32,
         };
-        let (sv, si) = sphere_mesh(16, 24);
-        let sphere_mesh = Mesh {
-            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward.sphere.vertices"),
-                contents: bytemuck::cast_slice(&sv),
-                usage: wgpu::BufferUsages::VERTEX,
-            }),
-            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward.sphere.indices"),
-                contents: bytemuck::cast_slice(&si),
-                usage: wgpu::BufferUsages::INDEX,
-            }),
-            count: si.len() as u32,
+        let sphere = |rings, sectors, label: &str| {
+            let (sv, si) = sphere_mesh(rings, sectors);
+            Mesh {
+                vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&format!("{label}.vertices")),
+                    contents: bytemuck::cast_slice(&sv),
+                    usage: wgpu::BufferUsages::VERTEX,
+                }),
+                indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&format!("{label}.indices")),
+                    contents: bytemuck::cast_slice(&si),
+                    usage: wgpu::BufferUsages::INDEX,
+                }),
+                count: si.len() as u32,
+            }
         };
+        let sphere_mesh = sphere(16, 24, "sward.sphere");
+        let occluder_sphere = sphere(6, 8, "sward.sphere_occluder");
         let blade_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sward.blade.indices"),
             contents: bytemuck::cast_slice(&lod.indices),
@@ -415,6 +423,7 @@ impl DrawPass {
             grass_lines,
             terrain_mesh,
             sphere_mesh,
+            occluder_sphere,
             blade_indices,
         }
     }
@@ -427,6 +436,8 @@ impl DrawPass {
             &self.terrain_mesh.indices,
             &self.sphere_mesh.vertices,
             &self.sphere_mesh.indices,
+            &self.occluder_sphere.vertices,
+            &self.occluder_sphere.indices,
             &self.blade_indices,
         ]
         .iter()
@@ -459,14 +470,11 @@ impl DrawPass {
         pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
     }
 
-    fn draw_spheres<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, sphere_count: u32) {
+    fn draw_spheres<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, mesh: &'a Mesh, count: u32) {
         pass.set_bind_group(0, &self.spheres_group, &[]);
-        pass.set_vertex_buffer(0, self.sphere_mesh.vertices.slice(..));
-        pass.set_index_buffer(
-            self.sphere_mesh.indices.slice(..),
-            wgpu::IndexFormat::Uint32,
-        );
-        pass.draw_indexed(0..self.sphere_mesh.count, 0, 0..sphere_count);
+        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..mesh.count, 0, 0..count);
     }
 
     /// Records the occluder pass: the opaque objects' depth only, into `depth` (cleared),
@@ -495,7 +503,7 @@ impl DrawPass {
         });
         if sphere_count > 0 {
             pass.set_pipeline(&self.spheres_depth);
-            self.draw_spheres(&mut pass, sphere_count);
+            self.draw_spheres(&mut pass, &self.occluder_sphere, sphere_count);
         }
         pass.set_pipeline(&self.terrain_depth);
         self.draw_terrain(&mut pass);
@@ -544,7 +552,7 @@ impl DrawPass {
         });
         if sphere_count > 0 {
             pass.set_pipeline(&self.spheres);
-            self.draw_spheres(&mut pass, sphere_count);
+            self.draw_spheres(&mut pass, &self.sphere_mesh, sphere_count);
         }
 
         let grass = match (&self.grass_lines, wireframe) {

@@ -176,13 +176,20 @@ impl Renderer {
         Ok(r)
     }
 
-    fn upload_colliders(&mut self, gpu: &Gpu) {
+    /// The spheres of the current step: the scene's colliders at this time, then the
+    /// dynamic ones (what `upload_colliders` sends).
+    pub fn frame_spheres(&self) -> Vec<[f32; 4]> {
         let mut spheres = spheres_at(&self.scene.colliders, &self.terrain, self.time);
         spheres.extend(
             self.dynamic_spheres
                 .iter()
                 .map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
         );
+        spheres
+    }
+
+    fn upload_colliders(&mut self, gpu: &Gpu) {
+        let spheres = self.frame_spheres();
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
     }
 
@@ -222,6 +229,7 @@ impl Renderer {
             self.sphere_count,
         );
         params.patch_size = self.buffers.patch_size;
+        params.patch_count = self.buffers.patch_count;
         params.throttled_dt = throttled_dt(
             dt,
             self.scene.culling.physics_throttle,
@@ -254,6 +262,8 @@ impl Renderer {
                 lod_first_index: self.lod.first_index,
                 frame: self.frame_count,
                 hiz,
+                sphere_count: self.sphere_count,
+                collisions: self.scene.physics.collisions,
             },
         );
         // With multi-draw each level's instances start at its region of the visible list.
@@ -400,8 +410,8 @@ impl Renderer {
             &b.patches,
             &b.spheres,
             &b.visible,
-            &b.visible_patches,
-            &b.updated_patches,
+            &b.patch_lists,
+            &b.patch_spheres,
             &b.dispatch,
         ]
         .iter()

@@ -7,6 +7,11 @@ use bytemuck::{Pod, Zeroable};
 pub const WORKGROUP_SIZE: u32 = 64;
 /// Upper bound on sphere colliders uploaded per frame.
 pub const MAX_SPHERES: usize = 1024;
+/// u32 slots per patch in the collision broad phase's lists: a count, then up to
+/// `PATCH_SPHERE_STRIDE - 1` sphere indices (more: `SPHERES_ALL`, the patch tests them all).
+pub const PATCH_SPHERE_STRIDE: u32 = 64;
+/// Count value of a patch whose spheres did not fit its list.
+pub const SPHERES_ALL: u32 = u32::MAX;
 
 /// One blade of grass: the paper's four 4D vectors (Section 4).
 #[repr(C)]
@@ -78,7 +83,9 @@ pub struct SimParams {
     pub fluid_info: [u32; 4],
     /// Blades per patch (the update walks the patch list).
     pub patch_size: u32,
-    pub _pad: [u32; 3],
+    /// Patches in the field (the update list starts at `patch_count + 1`).
+    pub patch_count: u32,
+    pub _pad: [u32; 2],
 }
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.
@@ -129,6 +136,8 @@ pub struct CullParams {
     pub hiz: [u32; 4],
     /// x: near plane, y: far plane of the culling camera.
     pub clip: [f32; 4],
+    /// Collision broad phase: sphere count, 1 = collisions on, unused ×2.
+    pub collide: [u32; 4],
 }
 
 pub const TEST_PATCH: u32 = 1;
@@ -166,7 +175,12 @@ pub struct CullCounters {
     pub culled_occlusion: u32,
     /// Blades in patches culled by occlusion (part of `culled_occlusion`).
     pub culled_occlusion_patch: u32,
-    pub _pad: [u32; 8],
+    /// Patch-sphere pairs the update tests this frame, after the per-patch broad phase
+    /// (times the patch size: blade-sphere tests).
+    pub patch_sphere_pairs: u32,
+    pub _pad: [u32; 7],
+    /// Bit s set: sphere s is on some stepped patch's list.
+    pub spheres_used: [u32; MAX_SPHERES / 32],
 }
 
 impl CullCounters {
@@ -177,6 +191,10 @@ impl CullCounters {
     /// Blades drawn at each level of detail.
     pub fn per_level(&self) -> [u32; LOD_LEVELS] {
         std::array::from_fn(|k| self.draws[k].instance_count)
+    }
+    /// Spheres on at least one stepped patch's collision list.
+    pub fn spheres_considered(&self) -> u32 {
+        self.spheres_used.iter().map(|w| w.count_ones()).sum()
     }
     /// Blades culled by any test.
     pub fn culled(&self) -> u32 {
@@ -233,8 +251,8 @@ const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 192);
-const _: () = assert!(std::mem::size_of::<CullParams>() == 224);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 128);
+const _: () = assert!(std::mem::size_of::<CullParams>() == 240);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 256);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);

@@ -114,6 +114,9 @@ pub struct CullInputs {
     pub frame: u32,
     /// Depth pyramid: width, height, levels, 1 = built this frame (0 turns the test off).
     pub hiz: [u32; 4],
+    /// Spheres uploaded this frame, and whether collisions are on (the broad phase).
+    pub sphere_count: u32,
+    pub collisions: bool,
 }
 
 fn pad4(a: [u32; LOD_LEVELS]) -> [u32; 4] {
@@ -156,6 +159,7 @@ pub fn cull_params(culling: &Culling, inputs: &CullInputs) -> CullParams {
         occlusion_bias: culling.occlusion_bias,
         hiz: inputs.hiz,
         clip: [inputs.near, inputs.far, 0.0, 0.0],
+        collide: [inputs.sphere_count, inputs.collisions as u32, 0, 0],
     }
 }
 

@@ -6,8 +6,8 @@
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::layout::{
-    Blade, BladeState, CullParams, PatchBox, SimParams, TEST_DISTANCE, TEST_FRUSTUM,
-    TEST_OCCLUSION, TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
+    Blade, BladeState, CullParams, PatchBox, SimParams, PATCH_SPHERE_STRIDE, TEST_DISTANCE,
+    TEST_FRUSTUM, TEST_OCCLUSION, TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
 };
 
 /// The blade's width direction and front direction (perpendicular to width and up), from
@@ -479,6 +479,31 @@ pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<boo
     } else {
         None
     }
+}
+
+/// The collision broad phase of a stepped patch: the indices of the spheres within one
+/// radius of its box, in order; `None` when more than `PATCH_SPHERE_STRIDE - 1` qualify (the
+/// patch then tests every sphere). Empty with collisions off.
+pub fn patch_spheres(
+    patch: &PatchBox,
+    params: &CullParams,
+    spheres: &[[f32; 4]],
+) -> Option<Vec<u32>> {
+    if params.collide[1] == 0 {
+        return Some(Vec::new());
+    }
+    let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
+    let listed: Vec<u32> = spheres
+        .iter()
+        .take(params.collide[0] as usize)
+        .enumerate()
+        .filter(|(_, s)| {
+            let c = Vec3::new(s[0], s[1], s[2]);
+            c.clamp(min, max).distance(c) < 2.0 * s[3]
+        })
+        .map(|(k, _)| k as u32)
+        .collect();
+    (listed.len() < PATCH_SPHERE_STRIDE as usize).then_some(listed)
 }
 
 /// The cull predicate for blade `index`: the patch step (frustum and occlusion of its

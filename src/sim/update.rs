@@ -4,7 +4,8 @@
 use wgpu::util::DeviceExt;
 
 use super::layout::{
-    Blade, BladeState, PatchBox, PatchDispatch, SimParams, LOD_LEVELS, MAX_SPHERES, WORKGROUP_SIZE,
+    Blade, BladeState, PatchBox, PatchDispatch, SimParams, LOD_LEVELS, MAX_SPHERES,
+    PATCH_SPHERE_STRIDE, WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
 use crate::field::GeneratedField;
@@ -21,10 +22,12 @@ pub struct BladeBuffers {
     /// Visible blade indices written by the cull pass: `LOD_LEVELS` regions of `region`
     /// slots, one per level of detail.
     pub visible: wgpu::Buffer,
-    /// `[count, patch, ...]`: patches that passed the patch tests (the blade cull's list).
-    pub visible_patches: wgpu::Buffer,
-    /// `[count, patch | throttled bit, ...]`: patches the update steps this frame.
-    pub updated_patches: wgpu::Buffer,
+    /// Two lists of `patch_count + 1` slots: `[count, patch, ...]`, the patches that passed
+    /// the patch tests (the blade cull's list), then `[count, patch | throttled bit, ...]`,
+    /// the patches the update steps this frame.
+    pub patch_lists: wgpu::Buffer,
+    /// Collision broad phase: `PATCH_SPHERE_STRIDE` slots per patch, `[count, sphere, ...]`.
+    pub patch_spheres: wgpu::Buffer,
     /// `PatchDispatch`: indirect dispatches of the blade cull and of the update.
     pub dispatch: wgpu::Buffer,
     pub count: u32,
@@ -39,7 +42,8 @@ impl BladeBuffers {
     /// Bytes of GPU memory the blade buffers take for `count` blades and `patches` patches.
     pub fn bytes_for(count: u64, patches: u64) -> u64 {
         count * super::layout::BYTES_PER_BLADE as u64
-            + patches * (std::mem::size_of::<PatchBox>() as u64 + 8)
+            + patches
+                * (std::mem::size_of::<PatchBox>() as u64 + 8 + PATCH_SPHERE_STRIDE as u64 * 4)
             + (MAX_SPHERES * 16) as u64
             + 8
             + std::mem::size_of::<PatchDispatch>() as u64
@@ -115,16 +119,18 @@ impl BladeBuffers {
             usage: storage,
             mapped_at_creation: false,
         });
-        let list = |label: &str| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: (patch_count as u64 + 1) * 4,
-                usage: storage,
-                mapped_at_creation: false,
-            })
-        };
-        let visible_patches = list("sward.visible_patches");
-        let updated_patches = list("sward.updated_patches");
+        let patch_lists = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.patch_lists"),
+            size: 2 * (patch_count as u64 + 1) * 4,
+            usage: storage,
+            mapped_at_creation: false,
+        });
+        let patch_spheres = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.patch_spheres"),
+            size: patch_count.max(1) as u64 * PATCH_SPHERE_STRIDE as u64 * 4,
+            usage: storage,
+            mapped_at_creation: false,
+        });
         let dispatch = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.patch_dispatch"),
             size: std::mem::size_of::<PatchDispatch>() as u64,
@@ -137,8 +143,8 @@ impl BladeBuffers {
             patches,
             spheres,
             visible,
-            visible_patches,
-            updated_patches,
+            patch_lists,
+            patch_spheres,
             dispatch,
             count: count as u32,
             patch_size: field.patch_size.max(1),
@@ -257,6 +263,7 @@ impl UpdatePass {
                 storage_entry(3, true),
                 storage_entry(4, true),
                 storage_entry(5, true),
+                storage_entry(6, true),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -291,7 +298,11 @@ impl UpdatePass {
                 },
                 wgpu::BindGroupEntry {
                     binding: 5,
-                    resource: buffers.updated_patches.as_entire_binding(),
+                    resource: buffers.patch_lists.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: buffers.patch_spheres.as_entire_binding(),
                 },
             ],
         });
