@@ -1,6 +1,6 @@
 //! The GPU cull passes against the CPU predicate: the same blades (read back after a frame),
 //! the same uniforms and depth pyramid; the visible set per level of detail, every counter
-//! and the physics update list must agree.
+//! and the physics update list must agree. `TWIN_CULL_PNG=path` saves the frame to look at.
 
 mod common;
 

@@ -353,3 +353,18 @@ impl UpdatePass {
         pass.dispatch_workgroups_indirect(&self.dispatch, offset);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seven_million_blades_fit_in_one_gib() {
+        // The bar (CWD-Sim's 7,000,000 blades): every per-blade and per-patch
+        // buffer at the smallest patch size (64 blades, the most patches).
+        let blades = 7_000_000u64;
+        let bytes = BladeBuffers::bytes_for(blades, blades.div_ceil(64));
+        assert!(bytes < 1 << 30, "{bytes} bytes");
+        assert_eq!(crate::sim::layout::BYTES_PER_BLADE, 92);
+    }
+}
