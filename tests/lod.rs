@@ -1,0 +1,81 @@
+//! Level-of-detail transitions do not pop: a blade drawn at level L, fully morphed, has the
+//! shape of level L + 1. Three renders of the same blades from the same camera:
+//! B every blade at level 1; A every blade at level 0 with the morph at (almost) 1; C every
+//! blade at level 0 with no morph. A must match B far better than C does, and within the
+//! snapshot tolerance.
+
+mod common;
+
+use sward::compare::compare;
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::scene::Culling;
+use sward::session::Session;
+
+const SIZE: (u32, u32) = (160, 96);
+
+fn render(culling: impl Fn(&mut Culling)) -> image::RgbaImage {
+    let gpu = common::gpu();
+    let mut scene = common::still_scene();
+    culling(&mut scene.culling);
+    // Fewer segments make the coarse levels far from the full mesh: 8 / 4 / 1.
+    scene.field.segments = 8;
+    let session = Session::new(scene, Some(4096), Some(&gpu)).expect("field");
+    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+    let mut r = common::stepped(&gpu, &session, 0, 0.0);
+    let camera = CameraView {
+        eye: glam::Vec3::new(-2.5, 0.6, 0.0),
+        target: glam::Vec3::new(0.0, 0.2, 0.0),
+        fov_y: 50.0,
+        near: 0.05,
+        far: 100.0,
+    };
+    r.frame(
+        &gpu,
+        0.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        SIZE,
+    );
+    let c = r.cull.read_counters(&gpu).expect("counters");
+    assert!(c.drawn() > 100, "{c:?}");
+    target.read_image(&gpu).expect("image")
+}
+
+#[test]
+fn a_fully_morphed_level_has_the_next_levels_shape() {
+    let level1 = render(|c| {
+        c.lod_near_px = 1e9;
+        c.lod_far_px = 0.0;
+        c.lod_morph = 0.0;
+    });
+    // Level 0 everywhere; the morph band is so wide that every blade is at its bottom.
+    let morphed = render(|c| {
+        c.lod_near_px = 1e-3;
+        c.lod_far_px = 0.0;
+        c.lod_morph = 1e9;
+    });
+    let unmorphed = render(|c| {
+        c.lod_near_px = 1e-3;
+        c.lod_far_px = 0.0;
+        c.lod_morph = 0.0;
+    });
+    let with = compare(&morphed, &level1).expect("same size");
+    let without = compare(&unmorphed, &level1).expect("same size");
+    println!(
+        "level 0 → 1 switch: mean difference {:.3} with the morph, {:.3} without",
+        with.mean, without.mean
+    );
+    assert!(
+        without.mean > 0.5,
+        "the levels must differ to test anything"
+    );
+    assert!(
+        with.mean < 0.1 * without.mean,
+        "{} vs {}",
+        with.mean,
+        without.mean
+    );
+    assert!(with.within_tolerance(), "mean {}", with.mean);
+}
