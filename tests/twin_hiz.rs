@@ -5,9 +5,9 @@
 
 mod common;
 
-use sward::gpu::{map_and_read, Gpu};
+use sward::gpu::Gpu;
 use sward::render::hiz::DepthPyramid;
-use sward::render::target::depth_view;
+use sward::render::target::{depth_view, read_texels};
 use sward::sim::reference::hiz::{build_pyramid, level_size};
 
 /// A sloped quad over the whole screen (depth 0.6 top-left .. 0.95 bottom-right, so the
@@ -94,46 +94,19 @@ fn render(gpu: &Gpu, pipeline: &wgpu::RenderPipeline, depth: &wgpu::TextureView)
 
 /// Copies a Depth32Float texture back, row-major (blocking).
 fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Vec<f32> {
-    let (width, height) = (texture.width(), texture.height());
-    let row = width * 4;
-    let padded =
-        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sward.test.depth_readback"),
-        size: padded as u64 * height as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("sward.test.depth_readback"),
-        });
-    encoder.copy_texture_to_buffer(
+    let bytes = read_texels(
+        gpu,
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
             origin: wgpu::Origin3d::ZERO,
             aspect: wgpu::TextureAspect::DepthOnly,
         },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(height),
-            },
-        },
-        texture.size(),
-    );
-    gpu.queue.submit([encoder.finish()]);
-    let data = map_and_read(gpu, &staging).expect("depth read-back");
-    (0..height as usize)
-        .flat_map(|y| {
-            let start = y * padded as usize;
-            bytemuck::pod_collect_to_vec::<u8, f32>(&data[start..start + row as usize])
-        })
-        .collect()
+        (texture.width(), texture.height()),
+        "sward.test.depth_readback",
+    )
+    .expect("depth read-back");
+    bytemuck::pod_collect_to_vec(&bytes)
 }
 
 fn build(gpu: &Gpu, pyramid: &DepthPyramid, depth: &wgpu::TextureView) -> Vec<Vec<f32>> {

@@ -25,8 +25,6 @@ pub struct CullPass {
     pub params: wgpu::Buffer,
     /// `CullCounters`: one draw_indexed_indirect block per level + counters.
     pub args: wgpu::Buffer,
-    /// Bound in place of the depth pyramid when there is none.
-    no_pyramid: wgpu::TextureView,
     patch_count: u32,
 }
 
@@ -120,6 +118,7 @@ impl CullPass {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        // Bound in place of the depth pyramid until `set_pyramid` (the test is off then).
         let no_pyramid = device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some("sward.cull.no_pyramid"),
@@ -185,27 +184,25 @@ impl CullPass {
             dispatch_group,
             params,
             args,
-            no_pyramid,
             patch_count: buffers.patch_count,
         }
     }
 
-    /// Binds a depth pyramid (all mips of an R32Float texture) for the occlusion test, or
-    /// none; call when the pyramid is created or resized.
+    /// Binds a depth pyramid (all mips of an R32Float texture) for the occlusion test; call
+    /// when the pyramid is created or resized.
     pub fn set_pyramid(
         &mut self,
         device: &wgpu::Device,
         buffers: &BladeBuffers,
-        pyramid: Option<&wgpu::TextureView>,
+        pyramid: &wgpu::TextureView,
     ) {
-        let view = pyramid.unwrap_or(&self.no_pyramid);
         self.bind_group = bind_group(
             device,
             &self.layout,
             &self.params,
             &self.args,
             buffers,
-            view,
+            pyramid,
         );
     }
 

@@ -5,7 +5,7 @@
 //! [`crate::sim::reference::hiz`].
 
 use crate::error::{Error, Result};
-use crate::gpu::{map_and_read, Gpu};
+use crate::gpu::Gpu;
 use crate::shaders;
 
 /// Threads per workgroup along x and y (`@workgroup_size(8, 8)` in WGSL).
@@ -225,53 +225,18 @@ impl DepthPyramid {
                 self.levels()
             )));
         }
-        let (width, height) = self.level_size(level);
-        let row = width * 4;
-        // Buffer rows must be 256-byte aligned for texture copies.
-        let padded =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward.hiz.readback"),
-            size: padded as u64 * height as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("sward.hiz.readback"),
-            });
-        encoder.copy_texture_to_buffer(
+        let bytes = super::target::read_texels(
+            gpu,
             wgpu::TexelCopyTextureInfo {
                 texture: &self.texture,
                 mip_level: level,
                 origin: wgpu::Origin3d::ZERO,
                 aspect: wgpu::TextureAspect::All,
             },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &staging,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
-        gpu.queue.submit([encoder.finish()]);
-        let data = map_and_read(gpu, &staging)?;
-        let mut out = Vec::with_capacity((width * height) as usize);
-        for y in 0..height as usize {
-            let start = y * padded as usize;
-            out.extend(bytemuck::pod_collect_to_vec::<u8, f32>(
-                &data[start..start + row as usize],
-            ));
-        }
-        Ok(out)
+            self.level_size(level),
+            "sward.hiz.readback",
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
     /// GPU memory of the pyramid (all levels, 4 bytes a texel).

@@ -324,8 +324,8 @@ impl Renderer {
             ],
             debug: [
                 self.scene.render.color_mode.id() as f32,
-                self.scene.culling.distance_levels as f32,
-                self.scene.culling.max_distance,
+                0.0,
+                0.0,
                 self.buffers.patch_size as f32,
             ],
         }
@@ -445,7 +445,7 @@ impl Renderer {
         }
         let pyramid = DepthPyramid::new(gpu, size.0, size.1);
         self.cull
-            .set_pyramid(&gpu.device, &self.buffers, Some(pyramid.view()));
+            .set_pyramid(&gpu.device, &self.buffers, pyramid.view());
         self.pyramid = Some(pyramid);
     }
 
@@ -482,10 +482,13 @@ impl Renderer {
         self.last_cull = cp;
         self.draw
             .prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
-        let ts = |i| self.timer.as_ref().map(|t| t.render(i));
         if occlusion {
-            self.draw
-                .encode_occluders(encoder, depth, self.sphere_count, ts(timing::OCCLUDERS));
+            self.draw.encode_occluders(
+                encoder,
+                depth,
+                self.sphere_count,
+                self.timer.as_ref().map(|t| t.render(timing::OCCLUDERS)),
+            );
             if let Some(p) = &self.pyramid {
                 p.encode(&gpu.device, encoder, depth);
             }

@@ -72,38 +72,30 @@ impl Target {
     }
 }
 
-/// Copies an 8-bit RGBA or BGRA colour texture (with COPY_SRC usage) back into an RGBA
-/// image, blocking. The window uses it for `--screenshot` on its surface texture, which is
-/// often BGRA.
-pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage> {
-    use wgpu::TextureFormat as F;
-    let bgra = match texture.format() {
-        F::Rgba8Unorm | F::Rgba8UnormSrgb => false,
-        F::Bgra8Unorm | F::Bgra8UnormSrgb => true,
-        other => {
-            return Err(crate::Error::Gpu(format!(
-                "cannot read back a texture of format {other:?}: only 8-bit RGBA/BGRA"
-            )))
-        }
-    };
-    let (width, height) = (texture.width(), texture.height());
+/// Copies one 4-byte-per-texel image of a texture (a mip level, an aspect) back, row-major
+/// and tightly packed, blocking: the copy goes through a staging buffer whose rows are
+/// padded to wgpu's 256-byte alignment, and the padding is dropped.
+pub fn read_texels(
+    gpu: &Gpu,
+    source: wgpu::TexelCopyTextureInfo,
+    (width, height): (u32, u32),
+    label: &str,
+) -> Result<Vec<u8>> {
     let row = width * 4;
     // Buffer rows must be 256-byte aligned for texture copies.
     let padded =
         row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sward.target.readback"),
+        label: Some(label),
         size: padded as u64 * height as u64,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
     let mut encoder = gpu
         .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("sward.target.readback"),
-        });
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        source,
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
             layout: wgpu::TexelCopyBufferLayout {
@@ -120,11 +112,35 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaIma
     );
     gpu.queue.submit([encoder.finish()]);
     let data = map_and_read(gpu, &staging)?;
-    let mut pixels = Vec::with_capacity((row * height) as usize);
+    let mut out = Vec::with_capacity((row * height) as usize);
     for y in 0..height as usize {
         let start = y * padded as usize;
-        pixels.extend_from_slice(&data[start..start + row as usize]);
+        out.extend_from_slice(&data[start..start + row as usize]);
     }
+    Ok(out)
+}
+
+/// Copies an 8-bit RGBA or BGRA colour texture (with COPY_SRC usage) back into an RGBA
+/// image, blocking. The window uses it for `--screenshot` on its surface texture, which is
+/// often BGRA.
+pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage> {
+    use wgpu::TextureFormat as F;
+    let bgra = match texture.format() {
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => false,
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => true,
+        other => {
+            return Err(crate::Error::Gpu(format!(
+                "cannot read back a texture of format {other:?}: only 8-bit RGBA/BGRA"
+            )))
+        }
+    };
+    let (width, height) = (texture.width(), texture.height());
+    let mut pixels = read_texels(
+        gpu,
+        texture.as_image_copy(),
+        (width, height),
+        "sward.target.readback",
+    )?;
     if bgra {
         for px in pixels.chunks_exact_mut(4) {
             px.swap(0, 2);

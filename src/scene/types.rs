@@ -548,7 +548,8 @@ pub struct Render {
 pub enum ColorMode {
     #[default]
     Natural,
-    /// The distance level of Eq. 20 each blade falls in (green near, red at d_max).
+    /// The level of detail each blade is drawn at, with its morph towards the next (green
+    /// full mesh, yellow middle, red one segment).
     Lod,
     /// One colour per patch (the unit of patch culling).
     Patch,

@@ -231,8 +231,8 @@ pub struct FrameUniforms {
     pub shape: [f32; 4],
     /// x: w_min, y: w_span (0 = off), z: terrain size.
     pub width_correction: [f32; 4],
-    /// x: blade colour mode (0 natural, 1 by distance level, 2 by patch), y: distance
-    /// levels n, z: d_max, w: blades per patch.
+    /// x: blade colour mode (0 natural, 1 by level of detail, 2 by patch), y, z: unused,
+    /// w: blades per patch.
     pub debug: [f32; 4],
 }
 
