@@ -64,6 +64,9 @@ pub struct BenchOptions {
     /// Blade counts of the sweep, increasing; empty for no sweep.
     pub sweep: Vec<usize>,
     pub adapter: AdapterChoice,
+    /// Folder to save the last all-features frame, the last culling-off frame and their
+    /// difference in (`all.png`, `unculled.png`, `difference.png`).
+    pub images: Option<PathBuf>,
 }
 
 impl BenchOptions {
@@ -89,7 +92,22 @@ impl BenchOptions {
                 None => Vec::new(),
             },
             adapter,
+            images: None,
         })
+    }
+
+    /// `--images DIR`: where to save the compared frames; the folder must exist.
+    pub fn with_images(mut self, dir: Option<PathBuf>) -> Result<Self> {
+        if let Some(d) = &dir {
+            if !d.is_dir() {
+                return Err(Error::Invalid(format!(
+                    "--images {}: not an existing folder",
+                    d.display()
+                )));
+            }
+        }
+        self.images = dir;
+        Ok(self)
     }
 }
 
@@ -191,8 +209,10 @@ impl Config {
         }
     }
 
-    /// The scene of this configuration. "All features" switches on what the scene file may
-    /// have switched off, so that the columns compare like with like whatever the file says.
+    /// The scene of this configuration. "All features" switches on every test that keeps
+    /// the picture, whatever the file says, so that the columns compare like with like.
+    /// The distance test (Eq. 20) thins far grass on purpose, which shows; it stays as the
+    /// scene says (off by default) and is off with culling off.
     pub fn apply(self, scene: &Scene) -> Scene {
         let mut s = scene.clone();
         let on = self != Config::NoCulling;
@@ -200,8 +220,9 @@ impl Config {
         s.culling.patches = on;
         s.culling.orientation = on;
         s.culling.frustum = on;
-        s.culling.distance = on;
+        s.culling.distance = on && scene.culling.distance;
         s.culling.occlusion = on;
+        s.culling.grass_occlusion = on;
         // Throttling the physics of unseen patches is culling too; the levels of detail are
         // not (the paper's tessellation stays on with culling off) and stay as the scene
         // says.
@@ -230,6 +251,10 @@ pub struct BladeCounts {
     pub culled_occlusion: u64,
     /// The part of `culled_occlusion` culled with its patch.
     pub culled_occlusion_patch: u64,
+    /// The part of `culled_occlusion` hidden by grass drawn early (the late test).
+    pub culled_occlusion_grass: u64,
+    /// Drawn by the late draw (not seen last frame, not hidden now).
+    pub drawn_late: u64,
     /// Patches that passed the patch tests.
     pub visible_patches: u64,
     /// Blades the update stepped this frame (whole patches), and of those the ones
@@ -252,6 +277,8 @@ impl BladeCounts {
             culled_distance: c.culled_distance.into(),
             culled_occlusion: c.culled_occlusion.into(),
             culled_occlusion_patch: c.culled_occlusion_patch.into(),
+            culled_occlusion_grass: c.culled_occlusion_grass.into(),
+            drawn_late: c.drawn_late().into(),
             visible_patches: c.visible_patches.into(),
             stepped: blades(c.updated_patches),
             stepped_throttled: blades(c.throttled_patches),
@@ -272,9 +299,11 @@ pub struct GpuMs {
     pub update: f64,
     /// All passes of the wind solver (0 when the scene's wind is analytic only).
     pub wind: f64,
-    /// The paper's "visibility": the cull pass (tests, visible list, indirect arguments).
+    /// The paper's "visibility": the occluders' depth, the depth pyramids, the patch pass
+    /// and the blade culls (early and late).
     pub visibility: f64,
-    /// The paper's "rendering": the draw pass (terrain, colliders, grass, sky).
+    /// The paper's "rendering": the draw passes (terrain, colliders, grass, sky; the late
+    /// grass).
     pub rendering: f64,
 }
 
@@ -455,12 +484,21 @@ fn measure(
             physics: update + wind,
             update,
             wind,
-            // The occluder depth pass only feeds the occlusion test: visibility work.
-            visibility: (passes[timing::OCCLUDERS]
-                + passes[timing::PATCHES]
-                + passes[timing::CULL])
+            // The occluder depth pass and the pyramids only feed the occlusion tests:
+            // visibility work.
+            visibility: [
+                timing::OCCLUDERS,
+                timing::PYRAMID,
+                timing::PATCHES,
+                timing::CULL,
+                timing::LATE_PYRAMID,
+                timing::LATE_CULL,
+            ]
+            .iter()
+            .map(|&k| passes[k])
+            .sum::<f64>()
                 / t,
-            rendering: passes[timing::DRAW] / t,
+            rendering: (passes[timing::DRAW] + passes[timing::LATE_DRAW]) / t,
         }
     });
     Ok(Measured {
@@ -603,6 +641,11 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
     let image = |c: Config| images.iter().find(|(k, _)| *k == c).map(|(_, i)| i);
     if let (Some(all), Some(off)) = (image(Config::All), image(Config::NoCulling)) {
         if let Some(d) = crate::compare::compare(all, off) {
+            if let Some(dir) = &o.images {
+                crate::output::save_png(&dir.join("all.png"), all)?;
+                crate::output::save_png(&dir.join("unculled.png"), off)?;
+                crate::output::save_png(&dir.join("difference.png"), &d.image)?;
+            }
             ratios.culled_vs_unculled_mean_difference = Some(d.mean);
             ratios.culled_vs_unculled_failing_pixels = Some(d.failing);
             ratios.culled_render_within_snapshot_tolerance = Some(d.within_tolerance());
@@ -768,6 +811,11 @@ pub fn format_report(r: &BenchReport) -> String {
     );
     row(
         &mut s,
+        "      of which hidden by grass",
+        count(|b| b.culled_occlusion_grass),
+    );
+    row(
+        &mut s,
         "  drawn at LOD 0 (full mesh)",
         count(|b| b.drawn_per_level[0]),
     );
@@ -776,6 +824,11 @@ pub fn format_report(r: &BenchReport) -> String {
         &mut s,
         "  drawn at LOD 2 (one segment)",
         count(|b| b.drawn_per_level[2]),
+    );
+    row(
+        &mut s,
+        "  drawn late (not seen last frame)",
+        count(|b| b.drawn_late),
     );
     row(&mut s, "  stepped by the physics", count(|b| b.stepped));
     row(
@@ -795,7 +848,7 @@ pub fn format_report(r: &BenchReport) -> String {
     row(&mut s, "    wind solver", gpu(|g| g.wind));
     row(
         &mut s,
-        "  visibility (occluders, patches, blade cull)",
+        "  visibility (occluders, pyramids, patches, culls)",
         gpu(|g| g.visibility),
     );
     row(&mut s, "  rendering (draw)", gpu(|g| g.rendering));
@@ -1007,16 +1060,23 @@ mod tests {
     #[test]
     fn configurations_switch_one_feature() {
         let mut scene = Scene::default();
-        scene.culling.distance = false;
+        scene.culling.orientation = false;
+        scene.culling.grass_occlusion = false;
         scene.physics.collisions = false;
         let all = Config::All.apply(&scene);
-        assert!(all.physics.collisions && all.culling.distance && all.culling.patches);
+        let c = &all.culling;
+        assert!(all.physics.collisions && c.orientation && c.patches && c.grass_occlusion);
+        // The distance test is the scene's choice in both culling columns.
+        assert!(!c.distance);
+        scene.culling.distance = true;
+        let all = Config::All.apply(&scene);
+        assert!(all.culling.distance);
         let nc = Config::NoCollisions.apply(&scene);
         assert!(!nc.physics.collisions && nc.culling.frustum && nc.culling.distance);
         let off = Config::NoCulling.apply(&scene);
         let c = &off.culling;
         assert!(off.physics.collisions);
-        assert!(!(c.patches || c.orientation || c.frustum || c.distance));
+        assert!(!(c.patches || c.orientation || c.frustum || c.distance || c.occlusion));
     }
 
     #[test]

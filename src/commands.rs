@@ -160,15 +160,17 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         let c = stats.counters;
         println!("adapter: {}", gpu.describe());
         println!(
-            "blades: {} total, {} drawn (LOD {:?}), culled: {} patch, {} orientation, {} frustum, {} distance, {} occlusion",
+            "blades: {} total, {} drawn (LOD {:?}, {} late), culled: {} patch, {} orientation, {} frustum, {} distance, {} occlusion ({} by grass)",
             renderer.buffers.count,
             c.drawn(),
             c.per_level(),
+            c.drawn_late(),
             c.culled_patch,
             c.culled_orientation,
             c.culled_frustum,
             c.culled_distance,
-            c.culled_occlusion
+            c.culled_occlusion,
+            c.culled_occlusion_grass
         );
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;

@@ -165,6 +165,10 @@ enum Command {
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
+        /// Save the last all-features frame, the last culling-off frame and their
+        /// difference (worst channel ×4, red) as PNGs in this existing folder.
+        #[arg(long)]
+        images: Option<PathBuf>,
     },
 }
 
@@ -273,6 +277,7 @@ fn main() -> ExitCode {
             warmup,
             sweep,
             json,
+            images,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -282,6 +287,7 @@ fn main() -> ExitCode {
             json,
             adapter,
         )
+        .and_then(|o| o.with_images(images))
         .and_then(|o| bench(&o)),
     };
     match result {

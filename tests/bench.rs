@@ -113,7 +113,7 @@ fn three_configurations_on_the_same_field() {
         }
         let m = &c["memory"];
         assert_eq!(u(m, &["bytes_per_blade"]), BYTES_PER_BLADE as u64);
-        assert_eq!(u(m, &["bytes_per_blade"]), 92);
+        assert_eq!(u(m, &["bytes_per_blade"]), 96);
         let measured = f(m, &["measured_bytes_per_blade"]);
         assert!(
             measured >= BYTES_PER_BLADE as f64,
@@ -186,8 +186,20 @@ fn sweep_blade_counts_follow_the_request() {
 
 #[test]
 fn table_names_the_configurations_and_the_adapter() {
+    let dir = std::env::temp_dir().join(format!("sward_bench_images_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
     let out = sward(&[
-        "bench", "--scene", SCENE, "--frames", "1", "--warmup", "0", "--size", "64x36",
+        "bench",
+        "--scene",
+        SCENE,
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--size",
+        "64x36",
+        "--images",
+        dir.to_str().expect("utf-8 temp path"),
     ]);
     assert!(
         out.status.success(),
@@ -214,9 +226,18 @@ fn table_names_the_configurations_and_the_adapter() {
         "culling off / all features",
         "blades in visible patches",
         "rendering ms per drawn blade",
+        "hidden by grass",
+        "drawn late",
+        "culled vs unculled frame",
     ] {
         assert!(table.contains(needle), "no {needle:?} in:\n{table}");
     }
+    // --images: the two frames compared and their difference, at the bench's size.
+    for name in ["all.png", "unculled.png", "difference.png"] {
+        let image = image::open(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!((image.width(), image.height()), (64, 36), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A bad invocation: exit status 1, an `error:` line naming `flag` and `range`, no panic,
@@ -260,6 +281,11 @@ fn bad_flags_are_refused() {
     refused(&["--sweep", "2000,,4000"], "--sweep", sweep_range);
     refused(&["--sweep", "2k"], "--sweep", sweep_range);
     refused(&["--sweep", "60000000"], "--sweep", sweep_range);
+    refused(
+        &["--images", "no/such/folder"],
+        "--images",
+        "not an existing folder",
+    );
 }
 
 /// A count the adapter cannot hold is refused before anything is allocated or measured,

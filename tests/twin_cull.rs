@@ -1,6 +1,8 @@
 //! The GPU cull passes against the CPU predicate: the same blades (read back after a frame),
 //! the same uniforms and depth pyramid; the visible set per level of detail, every counter
-//! and the physics update list must agree. `TWIN_CULL_PNG=path` saves the frame to look at.
+//! and the physics update list must agree. The late pass (grass hides grass) is checked
+//! the same way: its decisions and the seen flags against `reference::late_pass`, and its
+//! frame against the one drawn without it. `TWIN_CULL_PNG=path` saves the frame to look at.
 
 mod common;
 
@@ -8,8 +10,11 @@ use sward::render::camera::CameraView;
 use sward::render::target::Target;
 use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
-use sward::sim::layout::{CullCounters, LOD_LEVELS};
-use sward::sim::reference::{cull_blade, patch_spheres, patch_update, CullOutcome, Pyramid};
+use sward::sim::layout::{CullCounters, LOD_LEVELS, SEEN_NO, SEEN_YES};
+use sward::sim::reference::{
+    cull_blade, early_seen, grass_hidden, late_pass, patch_spheres, patch_update, CullOutcome,
+    Late, Pyramid,
+};
 
 /// Blades whose outcome may differ between GPU and CPU: only those within float rounding
 /// of a threshold. Allowed: 1 in 1000, at least 2.
@@ -19,12 +24,15 @@ fn allowed_mismatch(n: usize) -> usize {
 
 const SIZE: (u32, u32) = (96, 64);
 
-/// `blades`: a flat field of that many blades, or `None` for the scene's own terrain.
+/// `blades`: a flat field of that many blades, or `None` for the scene's own terrain. The
+/// early pass only: the pyramid read back after the frame must be the one it tested
+/// against, so grass occlusion (which rebuilds it) is off here.
 fn run(
-    scene: Scene,
+    mut scene: Scene,
     blades: Option<usize>,
     camera: impl Fn(&Session) -> CameraView,
 ) -> CullCounters {
+    scene.culling.grass_occlusion = false;
     let gpu = common::gpu();
     let session = Session::new(scene, blades, Some(&gpu)).expect("field");
     let camera = camera(&session);
@@ -154,6 +162,7 @@ fn camera(eye: glam::Vec3, target: glam::Vec3) -> CameraView {
 #[test]
 fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
     let mut scene = Scene::default();
+    scene.culling.distance = true;
     scene.culling.max_distance = 6.0;
     scene.culling.distance_levels = 4;
     scene.culling.physics_radius = 1.0;
@@ -237,4 +246,193 @@ fn switching_every_test_off_draws_every_blade() {
         )
     });
     assert_eq!(c.culled(), 0);
+}
+
+/// The whole pyramid of the last frame, read back.
+fn read_pyramid(gpu: &sward::gpu::Gpu, r: &sward::render::Renderer) -> Vec<Vec<f32>> {
+    let p = r.pyramid().expect("a pyramid when occlusion ran");
+    (0..p.levels())
+        .map(|k| p.read_level(gpu, k).expect("pyramid level"))
+        .collect()
+}
+
+#[test]
+fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
+    // Dense grass on flat ground seen at a grazing angle: the grass near the camera hides
+    // much of what is behind it. Flat ground and no colliders, so the opaque pyramid hides
+    // no blade and the early pass is `cull_blade` without occlusion.
+    const BIG: (u32, u32) = (192, 128);
+    let mut scene = Scene::default();
+    scene.terrain.height = HeightSource::Flat;
+    scene.colliders.clear();
+    scene.field.patch_size = 64;
+    scene.culling.distance = false;
+    let gpu = common::gpu();
+    let session = Session::new(scene, Some(16384), Some(&gpu)).expect("field");
+    let first = camera(
+        glam::Vec3::new(-6.0, 0.8, -1.0),
+        glam::Vec3::new(4.0, 0.0, 1.0),
+    );
+    // Frame 3 looks a little further right: some blades seen in frame 1 stay, others come
+    // into view and wait for the late test.
+    let second = camera(
+        glam::Vec3::new(-6.0, 0.8, -0.8),
+        glam::Vec3::new(4.0, 0.0, 2.5),
+    );
+    let target = Target::new(&gpu, BIG.0, BIG.1).expect("target");
+    let draw_two = |grass: bool| {
+        let mut s = session.scene.clone();
+        s.culling.grass_occlusion = grass;
+        let mut r = sward::render::Renderer::new(
+            &gpu,
+            s,
+            session.terrain.clone(),
+            &session.field,
+            sward::render::target::COLOR_FORMAT,
+        )
+        .expect("renderer");
+        let frame = |r: &mut sward::render::Renderer, c: &CameraView| {
+            r.frame(
+                &gpu,
+                1.0 / 30.0,
+                c,
+                &target.color_view,
+                &target.depth_view,
+                BIG,
+            )
+        };
+        // Frame 1 sees every blade (nothing was seen before it); frame 2 finds the ones
+        // the others hide; frame 3 culls those.
+        frame(&mut r, &first);
+        frame(&mut r, &first);
+        let seen_before = r.buffers.read_seen(&gpu).expect("seen");
+        frame(&mut r, &second);
+        (r, seen_before)
+    };
+
+    let (r, seen_before) = draw_two(true);
+    let with_grass = target.read_image(&gpu).expect("image");
+    let c = r.cull.read_counters(&gpu).expect("counters");
+    let seen_after = r.buffers.read_seen(&gpu).expect("seen");
+    let (blades, _) = r.buffers.read(&gpu).expect("blades");
+    let levels = r
+        .cull
+        .read_visible_levels(&gpu, &r.buffers)
+        .expect("visible");
+    let cp = *r.last_cull_params();
+    let pyramid_levels = read_pyramid(&gpu, &r);
+    let pyramid = Pyramid {
+        levels: &pyramid_levels,
+        width: BIG.0,
+        height: BIG.1,
+    };
+    // The opaque pyramid hid nothing: every occlusion cull is the late pass's.
+    assert_eq!(c.culled_occlusion_patch, 0, "{c:?}");
+    assert_eq!(c.culled_occlusion, c.culled_occlusion_grass, "{c:?}");
+
+    // The CPU replay: early outcome without occlusion, the seen state machine, the late
+    // test against the pyramid read back (opaque objects + early grass).
+    let mut early: [Vec<u32>; LOD_LEVELS] = Default::default();
+    let mut late: [Vec<u32>; LOD_LEVELS] = Default::default();
+    let mut cpu_seen = seen_before.clone();
+    let mut hidden = 0u32;
+    let mut rechecked_hidden = 0u32;
+    for (i, b) in blades.iter().enumerate() {
+        let patch = &session.field.patches[i / session.field.patch_size as usize];
+        let outcome = cull_blade(i as u32, b, patch, &cp, None);
+        if outcome == CullOutcome::Patch {
+            continue;
+        }
+        let (state, drawn_early) = early_seen(outcome, seen_before[i]);
+        let level = match outcome {
+            CullOutcome::Drawn(k) => k as usize,
+            _ => 0,
+        };
+        if drawn_early {
+            early[level].push(i as u32);
+        }
+        cpu_seen[i] = match late_pass(state, grass_hidden(b, &cp, &pyramid)) {
+            Late::Untouched => state,
+            Late::Rechecked { seen } => {
+                rechecked_hidden += u32::from(!seen);
+                if seen {
+                    SEEN_YES
+                } else {
+                    SEEN_NO
+                }
+            }
+            Late::Hidden => {
+                hidden += 1;
+                SEEN_NO
+            }
+            Late::Drawn => {
+                late[level].push(i as u32);
+                SEEN_YES
+            }
+        };
+    }
+    let n = blades.len();
+    let mut differ = 0;
+    for k in 0..LOD_LEVELS {
+        let split = c.draws[k].instance_count as usize;
+        let (mut gpu_early, mut gpu_late) =
+            (levels[k][..split].to_vec(), levels[k][split..].to_vec());
+        gpu_early.sort_unstable();
+        gpu_late.sort_unstable();
+        differ += symmetric_difference(&gpu_early, &early[k]);
+        differ += symmetric_difference(&gpu_late, &late[k]);
+    }
+    let seen_differ = seen_after
+        .iter()
+        .zip(&cpu_seen)
+        .filter(|(a, b)| a != b)
+        .count();
+    println!(
+        "late twin: early {:?} late {:?} hidden {} (cpu {hidden}), early blades hidden now {rechecked_hidden}, lists differ in {differ}, seen flags in {seen_differ}",
+        early.each_ref().map(|l| l.len()),
+        late.each_ref().map(|l| l.len()),
+        c.culled_occlusion_grass,
+    );
+    // Every case of the state machine occurred, or this test checks less than it says.
+    assert!(early.iter().any(|l| !l.is_empty()), "nothing drawn early");
+    assert!(late.iter().any(|l| !l.is_empty()), "nothing drawn late");
+    assert!(
+        hidden > n as u32 / 20,
+        "grass hid only {hidden} of {n} blades"
+    );
+    assert!(rechecked_hidden > 0, "no early blade was found hidden");
+    assert!(differ <= allowed_mismatch(n), "{differ} blades differ");
+    assert!(
+        seen_differ <= allowed_mismatch(n),
+        "{seen_differ} seen flags differ"
+    );
+    let close = (c.culled_occlusion_grass as i64 - hidden as i64).unsigned_abs() as usize;
+    assert!(close <= allowed_mismatch(n));
+    assert_eq!(
+        c.drawn() + c.culled(),
+        n as u32,
+        "every blade is counted once"
+    );
+
+    // What the late pass culls is hidden: the frame matches the one drawn without it.
+    let (_, _) = draw_two(false);
+    let without = target.read_image(&gpu).expect("image");
+    let d = sward::compare::compare(&with_grass, &without).expect("same size");
+    println!(
+        "late twin: frame with grass occlusion vs without: mean {:.3}, failing {:.3} %",
+        d.mean,
+        d.failing * 100.0
+    );
+    assert!(
+        d.within_tolerance(),
+        "mean {} failing {}",
+        d.mean,
+        d.failing
+    );
+}
+
+/// Elements in exactly one of two sorted lists.
+fn symmetric_difference(a: &[u32], b: &[u32]) -> usize {
+    a.iter().filter(|i| b.binary_search(i).is_err()).count()
+        + b.iter().filter(|i| a.binary_search(i).is_err()).count()
 }

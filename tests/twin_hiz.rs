@@ -115,7 +115,7 @@ fn build(gpu: &Gpu, pyramid: &DepthPyramid, depth: &wgpu::TextureView) -> Vec<Ve
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward.test.hiz"),
         });
-    pyramid.encode(&gpu.device, &mut encoder, depth);
+    pyramid.encode(&gpu.device, &mut encoder, depth, None);
     gpu.queue.submit([encoder.finish()]);
     (0..pyramid.levels())
         .map(|level| pyramid.read_level(gpu, level).expect("pyramid read-back"))

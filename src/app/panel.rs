@@ -352,6 +352,10 @@ fn culling_section(ui: &mut Ui, app: &mut AppState) {
         );
         ui.checkbox(&mut c.occlusion, "occlusion (depth pyramid)");
         ui.add(egui::Slider::new(&mut c.occlusion_bias, 0.0..=0.2).text("occlusion bias"));
+        ui.checkbox(&mut c.grass_occlusion, "grass hides grass (late test)");
+        ui.add(
+            egui::Slider::new(&mut c.grass_occlusion_bias, 0.0..=0.2).text("grass occlusion bias"),
+        );
         ui.separator();
         ui.checkbox(&mut c.lod, "levels of detail");
         ui.add(
@@ -494,17 +498,19 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
             let c = &app.stats.counters;
             let [l0, l1, l2] = c.per_level();
             ui.label(format!(
-                "blades {}   drawn {} (LOD {l0} / {l1} / {l2})",
+                "blades {}   drawn {} (LOD {l0} / {l1} / {l2}; {} late)",
                 app.renderer.buffers.count,
-                c.drawn()
+                c.drawn(),
+                c.drawn_late()
             ));
             ui.label(format!(
-                "culled: patch {}  orientation {}  frustum {}  distance {}  occlusion {}",
+                "culled: patch {}  orientation {}  frustum {}  distance {}  occlusion {} ({} by grass)",
                 c.culled_patch,
                 c.culled_orientation,
                 c.culled_frustum,
                 c.culled_distance,
-                c.culled_occlusion
+                c.culled_occlusion,
+                c.culled_occlusion_grass
             ));
             ui.label(format!(
                 "patches: {} visible, {} stepped ({} throttled)",

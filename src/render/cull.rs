@@ -1,7 +1,9 @@
 //! The cull passes (`shaders/cull.wgsl`): patch boxes first (frustum and depth pyramid),
 //! which also picks the patches the update steps and writes the indirect dispatches; then,
 //! dispatched indirectly over the visible patches only, every blade, whose survivors go
-//! into one visible list per level of detail with its own indirect draw.
+//! into one visible list per level of detail with its own indirect draw; then, with grass
+//! occlusion, the late pass over the same blades against a pyramid that holds the grass
+//! drawn early (two-phase occlusion culling, see `cull.wgsl`).
 
 use crate::error::Result;
 use crate::gpu::{read_buffer, Gpu};
@@ -18,9 +20,12 @@ pub struct CullPass {
     patches: wgpu::ComputePipeline,
     finalize: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
+    late: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
     dispatch_group: wgpu::BindGroup,
+    /// The blade passes' second group: the seen flags.
+    seen_group: wgpu::BindGroup,
     /// The uniforms (the grass vertex shader reads them too, for its morph).
     pub params: wgpu::Buffer,
     /// `CullCounters`: one draw_indexed_indirect block per level + counters.
@@ -104,6 +109,20 @@ impl CullPass {
                 compute_storage_entry(2, false),
             ],
         });
+        // The blade passes cannot bind `dispatch` (their indirect argument); their second
+        // group holds only the seen flags, at a binding the patch step does not use.
+        let seen_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.cull.seen_layout"),
+            entries: &[compute_storage_entry(3, false)],
+        });
+        let seen_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.cull.seen_group"),
+            layout: &seen_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 3,
+                resource: buffers.seen.as_entire_binding(),
+            }],
+        });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.cull.params"),
             size: std::mem::size_of::<CullParams>() as u64,
@@ -156,7 +175,7 @@ impl CullPass {
         });
         let blade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.cull.pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&layout), Some(&seen_layout)],
             immediate_size: 0,
         });
         let patch_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -175,13 +194,15 @@ impl CullPass {
             })
         };
         Self {
-            reset: make("reset", "sward.cull.reset", &blade_layout),
+            reset: make("reset", "sward.cull.reset", &patch_layout),
             patches: make("patches_main", "sward.cull.patches", &patch_layout),
             finalize: make("finalize", "sward.cull.finalize", &patch_layout),
             cull: make("main", "sward.cull.pipeline", &blade_layout),
+            late: make("late", "sward.cull.late", &blade_layout),
             layout,
             bind_group,
             dispatch_group,
+            seen_group,
             params,
             args,
             patch_count: buffers.patch_count,
@@ -246,7 +267,28 @@ impl CullPass {
             timestamp_writes: timestamps,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(1, &self.seen_group, &[]);
         pass.set_pipeline(&self.cull);
+        let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
+        pass.dispatch_workgroups_indirect(dispatch, offset);
+    }
+
+    /// Records the late pass (grass occlusion): the blades of the visible patches again,
+    /// against the pyramid rebuilt after the early draw. Only with `TEST_GRASS_OCCLUSION`
+    /// in this frame's uniforms.
+    pub fn encode_late(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        dispatch: &wgpu::Buffer,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.cull.late"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(1, &self.seen_group, &[]);
+        pass.set_pipeline(&self.late);
         let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
         pass.dispatch_workgroups_indirect(dispatch, offset);
     }
@@ -257,7 +299,8 @@ impl CullPass {
         Ok(bytemuck::pod_read_unaligned(&bytes))
     }
 
-    /// Reads the visible blade indices of the last frame back, per level (blocking).
+    /// Reads the visible blade indices of the last frame back, per level, early blades
+    /// first, then late ones (blocking).
     pub fn read_visible_levels(
         &self,
         gpu: &Gpu,
@@ -268,7 +311,7 @@ impl CullPass {
         let all: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
         let region = buffers.region as usize;
         Ok(std::array::from_fn(|k| {
-            let n = counters.draws[k].instance_count as usize;
+            let n = counters.per_level()[k] as usize;
             all[k * region..k * region + n].to_vec()
         }))
     }

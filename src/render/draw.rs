@@ -555,22 +555,7 @@ impl DrawPass {
             self.draw_spheres(&mut pass, &self.sphere_mesh, sphere_count);
         }
 
-        let grass = match (&self.grass_lines, wireframe) {
-            (Some(lines), true) => lines,
-            _ => &self.grass,
-        };
-        pass.set_pipeline(grass);
-        pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
-        let stride = std::mem::size_of::<crate::sim::layout::DrawIndexedIndirect>() as u64;
-        if let [all] = self.grass_groups.as_slice() {
-            pass.set_bind_group(0, all, &[]);
-            pass.multi_draw_indexed_indirect(indirect, 0, LOD_LEVELS as u32);
-        } else {
-            for (k, group) in self.grass_groups.iter().enumerate() {
-                pass.set_bind_group(0, group, &[]);
-                pass.draw_indexed_indirect(indirect, k as u64 * stride);
-            }
-        }
+        self.draw_grass(&mut pass, indirect, 0, wireframe);
 
         // Front to back: what the grass covers of the ground and what the ground covers of
         // the sky is rejected by the depth test before it is shaded.
@@ -580,5 +565,71 @@ impl DrawPass {
         pass.set_pipeline(&self.sky);
         pass.set_bind_group(0, &self.frame_group, &[]);
         pass.draw(0..3, 0..1);
+    }
+
+    /// The grass's level-of-detail draws whose arguments start at byte `offset` of
+    /// `indirect` (one multi-draw, or one draw per level with its region bound).
+    fn draw_grass<'a>(
+        &'a self,
+        pass: &mut wgpu::RenderPass<'a>,
+        indirect: &'a wgpu::Buffer,
+        offset: u64,
+        wireframe: bool,
+    ) {
+        let grass = match (&self.grass_lines, wireframe) {
+            (Some(lines), true) => lines,
+            _ => &self.grass,
+        };
+        pass.set_pipeline(grass);
+        pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
+        let stride = std::mem::size_of::<crate::sim::layout::DrawIndexedIndirect>() as u64;
+        if let [all] = self.grass_groups.as_slice() {
+            pass.set_bind_group(0, all, &[]);
+            pass.multi_draw_indexed_indirect(indirect, offset, LOD_LEVELS as u32);
+        } else {
+            for (k, group) in self.grass_groups.iter().enumerate() {
+                pass.set_bind_group(0, group, &[]);
+                pass.draw_indexed_indirect(indirect, offset + k as u64 * stride);
+            }
+        }
+    }
+
+    /// Records the late grass draw of two-phase occlusion culling: the blades the late cull
+    /// kept, over the frame the main draw left (colour and depth loaded). Needs
+    /// multi-draw: the late lists start mid-region, at their draws' first instance.
+    pub fn encode_late(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        indirect: &wgpu::Buffer,
+        wireframe: bool,
+        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.draw.late"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
+        self.draw_grass(&mut pass, indirect, offset, wireframe);
     }
 }

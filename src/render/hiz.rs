@@ -178,12 +178,14 @@ impl DepthPyramid {
     /// pyramid's size with TEXTURE_BINDING usage.
     ///
     /// One compute pass per level: each pass reads the level the previous one wrote, and a
-    /// pass boundary is where that read-after-write is synchronised for certain.
+    /// pass boundary is where that read-after-write is synchronised for certain. With
+    /// `timestamps`, the first pass writes the start and the last one the end.
     pub fn encode(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         // Made per call: the depth view is the caller's and is replaced on resize.
         let copy_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -200,11 +202,25 @@ impl DepthPyramid {
                 },
             ],
         });
+        let last = self.levels() - 1;
         for level in 0..self.levels() {
             let (w, h) = self.level_size(level);
+            let timestamp_writes = timestamps.as_ref().and_then(|t| {
+                let begin = (level == 0)
+                    .then_some(t.beginning_of_pass_write_index)
+                    .flatten();
+                let end = (level == last)
+                    .then_some(t.end_of_pass_write_index)
+                    .flatten();
+                (begin.is_some() || end.is_some()).then_some(wgpu::ComputePassTimestampWrites {
+                    query_set: t.query_set,
+                    beginning_of_pass_write_index: begin,
+                    end_of_pass_write_index: end,
+                })
+            });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(&format!("sward.hiz.level{level}")),
-                timestamp_writes: None,
+                timestamp_writes,
             });
             if level == 0 {
                 pass.set_pipeline(&self.copy);

@@ -1,7 +1,8 @@
 //! Rendering: one frame on one command encoder, into any colour view (an off-screen texture
 //! or a window surface), with per-pass GPU times:
 //! occluder depth → depth pyramid → patch culling (+ which patches the physics steps) →
-//! wind → blade update (indirect) → blade culling into levels of detail (indirect) → draw.
+//! wind → blade update (indirect) → blade culling into levels of detail (indirect) → draw;
+//! with grass occlusion then depth pyramid again → late blade culling → late draw.
 
 pub mod arrows;
 pub mod camera;
@@ -22,7 +23,7 @@ use crate::scene::Scene;
 use crate::sim::agc;
 use crate::sim::colliders::spheres_at;
 use crate::sim::fluid::{FluidConfig, FluidSolver};
-use crate::sim::layout::{CullCounters, CullParams, FrameUniforms};
+use crate::sim::layout::{CullCounters, CullParams, FrameUniforms, TEST_GRASS_OCCLUSION};
 use crate::sim::params::{cull_params, sim_params, throttled_dt, CullInputs};
 use crate::sim::update::{BladeBuffers, UpdatePass};
 use crate::sim::wind_layout::{ObstacleGpu, MAX_OBSTACLES};
@@ -267,11 +268,14 @@ impl Renderer {
             },
         );
         // With multi-draw each level's instances start at its region of the visible list.
-        p.lod_index_count[3] = if self.multi_draw {
-            self.buffers.region
+        // The late draws start mid-region, which needs first-instance draws: without them
+        // grass does not occlude grass.
+        if self.multi_draw {
+            p.lod_index_count[3] = self.buffers.region;
         } else {
-            0
-        };
+            p.lod_index_count[3] = 0;
+            p.tests &= !TEST_GRASS_OCCLUSION;
+        }
         p
     }
 
@@ -482,27 +486,33 @@ impl Renderer {
         self.last_cull = cp;
         self.draw
             .prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
+        let timer = self.timer.as_ref();
         if occlusion {
             self.draw.encode_occluders(
                 encoder,
                 depth,
                 self.sphere_count,
-                self.timer.as_ref().map(|t| t.render(timing::OCCLUDERS)),
+                timer.map(|t| t.render(timing::OCCLUDERS)),
             );
             if let Some(p) = &self.pyramid {
-                p.encode(&gpu.device, encoder, depth);
+                p.encode(
+                    &gpu.device,
+                    encoder,
+                    depth,
+                    timer.map(|t| t.compute(timing::PYRAMID)),
+                );
             }
         }
-        self.cull.encode_patches(
-            encoder,
-            self.timer.as_ref().map(|t| t.compute(timing::PATCHES)),
-        );
+        self.cull
+            .encode_patches(encoder, timer.map(|t| t.compute(timing::PATCHES)));
         self.encode_update(gpu, encoder, dt);
+        let timer = self.timer.as_ref();
         self.cull.encode_blades(
             encoder,
             &self.buffers.dispatch,
-            self.timer.as_ref().map(|t| t.compute(timing::CULL)),
+            timer.map(|t| t.compute(timing::CULL)),
         );
+        let wireframe = self.scene.render.wireframe;
         self.draw.encode(
             encoder,
             color,
@@ -510,9 +520,34 @@ impl Renderer {
             occlusion,
             &self.cull.args,
             self.sphere_count,
-            self.scene.render.wireframe,
-            self.timer.as_ref().map(|t| t.render(timing::DRAW)),
+            wireframe,
+            timer.map(|t| t.render(timing::DRAW)),
         );
+        // Two-phase occlusion: the depth now holds the opaque objects and the grass seen
+        // last frame; the blades not seen then are drawn only where it does not hide them.
+        if cp.tests & TEST_GRASS_OCCLUSION != 0 {
+            if let Some(p) = &self.pyramid {
+                p.encode(
+                    &gpu.device,
+                    encoder,
+                    depth,
+                    timer.map(|t| t.compute(timing::LATE_PYRAMID)),
+                );
+            }
+            self.cull.encode_late(
+                encoder,
+                &self.buffers.dispatch,
+                timer.map(|t| t.compute(timing::LATE_CULL)),
+            );
+            self.draw.encode_late(
+                encoder,
+                color,
+                depth,
+                &self.cull.args,
+                wireframe,
+                timer.map(|t| t.render(timing::LATE_DRAW)),
+            );
+        }
         if let Some(o) = &self.overlay {
             o.encode(encoder, color);
         }

@@ -1,18 +1,36 @@
 //! Per-pass GPU times from timestamp queries: each pass writes a timestamp at its start and
 //! end; after the frame the pairs are resolved, read back and scaled by the queue's period.
 
+use std::cell::Cell;
+
 use crate::error::Result;
 use crate::gpu::{map_and_read, Gpu};
 
 /// The passes that are timed, in the order of their query pairs: the occluders' depth
-/// pass, the patch pass, the blade update, the blade cull and the draw.
-pub const PASSES: [&str; 5] = ["occluders", "patches", "update", "cull", "draw"];
+/// pass, the depth pyramid, the patch pass, the blade update, the blade cull and the draw;
+/// then, with grass occlusion, the pyramid again, the late cull and the late draw. A pass
+/// that did not run in a frame reads 0.
+pub const PASSES: [&str; 9] = [
+    "occluders",
+    "pyramid",
+    "patches",
+    "update",
+    "cull",
+    "draw",
+    "late pyramid",
+    "late cull",
+    "late draw",
+];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
-pub const PATCHES: usize = 1;
-pub const UPDATE: usize = 2;
-pub const CULL: usize = 3;
-pub const DRAW: usize = 4;
+pub const PYRAMID: usize = 1;
+pub const PATCHES: usize = 2;
+pub const UPDATE: usize = 3;
+pub const CULL: usize = 4;
+pub const DRAW: usize = 5;
+pub const LATE_PYRAMID: usize = 6;
+pub const LATE_CULL: usize = 7;
+pub const LATE_DRAW: usize = 8;
 
 /// Timestamp query set and its read-back buffers.
 pub struct GpuTimer {
@@ -20,6 +38,10 @@ pub struct GpuTimer {
     resolve: wgpu::Buffer,
     staging: wgpu::Buffer,
     period_ns: f32,
+    /// Bit i: pass i was given timestamp writes since the last resolve.
+    recorded: Cell<u32>,
+    /// `recorded` at the last resolve: the passes whose times the staging buffer holds.
+    resolved: Cell<u32>,
 }
 
 impl GpuTimer {
@@ -52,11 +74,14 @@ impl GpuTimer {
             resolve,
             staging,
             period_ns: gpu.queue.get_timestamp_period(),
+            recorded: Cell::new(0),
+            resolved: Cell::new(0),
         })
     }
 
     /// Compute-pass timestamp writes for pass `index` of `PASSES`.
     pub fn compute(&self, index: usize) -> wgpu::ComputePassTimestampWrites<'_> {
+        self.recorded.set(self.recorded.get() | 1 << index);
         wgpu::ComputePassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(index as u32 * 2),
@@ -66,6 +91,7 @@ impl GpuTimer {
 
     /// Render-pass timestamp writes for pass `index` of `PASSES`.
     pub fn render(&self, index: usize) -> wgpu::RenderPassTimestampWrites<'_> {
+        self.recorded.set(self.recorded.get() | 1 << index);
         wgpu::RenderPassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(index as u32 * 2),
@@ -75,17 +101,23 @@ impl GpuTimer {
 
     /// Records the resolve and copy; call after the timed passes, before `finish`.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        self.resolved.set(self.recorded.replace(0));
         let count = (PASSES.len() * 2) as u32;
         encoder.resolve_query_set(&self.queries, 0..count, &self.resolve, 0);
         encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, count as u64 * 8);
     }
 
-    /// Milliseconds per pass of the last submitted frame (blocks until it is done).
+    /// Milliseconds per pass of the last submitted frame (blocks until it is done); 0 for
+    /// passes that did not run in it (their queries hold nothing of that frame).
     pub fn read_ms(&self, gpu: &Gpu) -> Result<[f64; PASSES.len()]> {
         let bytes = map_and_read(gpu, &self.staging)?;
         let stamps: Vec<u64> = bytemuck::pod_collect_to_vec(&bytes);
         let mut out = [0.0; PASSES.len()];
+        let resolved = self.resolved.get();
         for (i, o) in out.iter_mut().enumerate() {
+            if resolved & (1 << i) == 0 {
+                continue;
+            }
             let ticks = stamps[2 * i + 1].saturating_sub(stamps[2 * i]);
             *o = ticks as f64 * self.period_ns as f64 / 1e6;
         }

@@ -51,6 +51,7 @@
 //! | `culling.distance_levels` | 1 ≤ distance_levels ≤ 64 |
 //! | `culling.max_distance` | > 0 m |
 //! | `culling.occlusion_bias` | 0 ≤ occlusion_bias ≤ 1 |
+//! | `culling.grass_occlusion_bias` | 0 ≤ grass_occlusion_bias ≤ 1 |
 //! | `culling.lod_near_px`, `lod_far_px` | 0 – 4096 px, near ≥ far × (1 + lod_morph) |
 //! | `culling.lod_morph` | 0 ≤ lod_morph ≤ 1 |
 //! | `culling.physics_throttle` | 1 – 64 frames |
@@ -456,6 +457,11 @@ fn culling(check: &Checker, culling: &Culling) -> Result<()> {
     check.real("culling.max_distance", culling.max_distance, max_distance)?;
     let bias = Allowed::closed(0.0, 1.0, "");
     check.real("culling.occlusion_bias", culling.occlusion_bias, bias)?;
+    check.real(
+        "culling.grass_occlusion_bias",
+        culling.grass_occlusion_bias,
+        bias,
+    )?;
     let pixels = Allowed::closed(0.0, 4096.0, "px");
     check.real("culling.lod_near_px", culling.lod_near_px, pixels)?;
     check.real("culling.lod_far_px", culling.lod_far_px, pixels)?;

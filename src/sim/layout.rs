@@ -134,7 +134,8 @@ pub struct CullParams {
     pub occlusion_bias: f32,
     /// Depth pyramid: width, height, mip levels, 1 = valid this frame.
     pub hiz: [u32; 4],
-    /// x: near plane, y: far plane of the culling camera.
+    /// x: near plane, y: far plane of the culling camera, z: the grass-occlusion test's
+    /// bias (a fraction of the view distance, like `occlusion_bias`).
     pub clip: [f32; 4],
     /// Collision broad phase: sphere count, 1 = collisions on, unused ×2.
     pub collide: [u32; 4],
@@ -145,6 +146,19 @@ pub const TEST_ORIENTATION: u32 = 2;
 pub const TEST_FRUSTUM: u32 = 4;
 pub const TEST_DISTANCE: u32 = 8;
 pub const TEST_OCCLUSION: u32 = 16;
+/// Grass hides grass: blades not seen last frame wait for a late test against a pyramid
+/// that includes the grass drawn early (needs first-instance indirect draws).
+pub const TEST_GRASS_OCCLUSION: u32 = 32;
+
+/// `BladeBuffers::seen` per blade: hidden or culled when last tested.
+pub const SEEN_NO: u32 = 0;
+/// Visible when last tested: drawn early next frame.
+pub const SEEN_YES: u32 = 1;
+/// Within a frame: drawn by the early draw, to be tested again by the late pass.
+pub const SEEN_DRAWN_EARLY: u32 = 2;
+/// Within a frame: passed the early tests but was not seen last frame; the late pass
+/// draws it unless the grass drawn early hides it.
+pub const SEEN_CANDIDATE: u32 = 3;
 
 /// `dispatch_workgroups_indirect` arguments.
 #[repr(C)]
@@ -161,7 +175,12 @@ pub struct DispatchIndirect {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct CullCounters {
+    /// The early draws (blades seen last frame, or every survivor with grass occlusion
+    /// off); their instance counts also hold the late blades once the late pass has run.
     pub draws: [DrawIndexedIndirect; LOD_LEVELS],
+    /// The late draws: blades not seen last frame that no grass drawn early hides. Each
+    /// starts in its level's region after the early blades.
+    pub late_draws: [DrawIndexedIndirect; LOD_LEVELS],
     /// Patches that passed the frustum and occlusion tests.
     pub visible_patches: u32,
     /// Patches whose blades were updated this frame (visible, near or on their turn).
@@ -178,19 +197,25 @@ pub struct CullCounters {
     /// Patch-sphere pairs the update tests this frame, after the per-patch broad phase
     /// (times the patch size: blade-sphere tests).
     pub patch_sphere_pairs: u32,
-    pub _pad: [u32; 7],
+    /// Blades hidden by grass drawn early (part of `culled_occlusion`).
+    pub culled_occlusion_grass: u32,
+    pub _pad: [u32; 3],
     /// Bit s set: sphere s is on some stepped patch's list.
     pub spheres_used: [u32; MAX_SPHERES / 32],
 }
 
 impl CullCounters {
-    /// Blades that passed every test.
+    /// Blades that passed every test (early and late).
     pub fn drawn(&self) -> u32 {
-        self.draws.iter().map(|d| d.instance_count).sum()
+        self.per_level().iter().sum()
     }
-    /// Blades drawn at each level of detail.
+    /// Blades drawn at each level of detail (early and late).
     pub fn per_level(&self) -> [u32; LOD_LEVELS] {
-        std::array::from_fn(|k| self.draws[k].instance_count)
+        std::array::from_fn(|k| self.draws[k].instance_count + self.late_draws[k].instance_count)
+    }
+    /// Blades drawn late (not seen last frame, not hidden by the grass drawn early).
+    pub fn drawn_late(&self) -> u32 {
+        self.late_draws.iter().map(|d| d.instance_count).sum()
     }
     /// Spheres on at least one stepped patch's collision list.
     pub fn spheres_considered(&self) -> u32 {
@@ -252,13 +277,14 @@ const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 192);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 240);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 256);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 304);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
-/// GPU bytes per blade: the blade, its state and its slot in each level's visible-index
-/// list.
+/// GPU bytes per blade: the blade, its state, its slot in each level's visible-index list
+/// and its seen flag.
 pub const BYTES_PER_BLADE: usize = std::mem::size_of::<Blade>()
     + std::mem::size_of::<BladeState>()
-    + LOD_LEVELS * std::mem::size_of::<u32>();
+    + LOD_LEVELS * std::mem::size_of::<u32>()
+    + std::mem::size_of::<u32>();

@@ -4,8 +4,8 @@
 use glam::{Mat4, Vec3};
 
 use super::layout::{
-    CullParams, SimParams, LOD_LEVELS, TEST_DISTANCE, TEST_FRUSTUM, TEST_OCCLUSION,
-    TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
+    CullParams, SimParams, LOD_LEVELS, TEST_DISTANCE, TEST_FRUSTUM, TEST_GRASS_OCCLUSION,
+    TEST_OCCLUSION, TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
 };
 use crate::scene::{Culling, Physics, Wind, WindSource};
 
@@ -88,6 +88,9 @@ pub fn cull_tests(culling: &Culling) -> u32 {
     }
     if culling.occlusion {
         t |= TEST_OCCLUSION;
+        if culling.grass_occlusion {
+            t |= TEST_GRASS_OCCLUSION;
+        }
     }
     t
 }
@@ -127,7 +130,7 @@ fn pad4(a: [u32; LOD_LEVELS]) -> [u32; 4] {
 pub fn cull_params(culling: &Culling, inputs: &CullInputs) -> CullParams {
     let mut tests = cull_tests(culling);
     if inputs.hiz[3] == 0 {
-        tests &= !TEST_OCCLUSION;
+        tests &= !(TEST_OCCLUSION | TEST_GRASS_OCCLUSION);
     }
     let half_fov = (inputs.fov_y.to_radians() * 0.5).max(1e-4);
     let px_per_m = inputs.viewport_height as f32 / (2.0 * half_fov.tan());
@@ -158,7 +161,7 @@ pub fn cull_params(culling: &Culling, inputs: &CullInputs) -> CullParams {
         physics_radius: culling.physics_radius,
         occlusion_bias: culling.occlusion_bias,
         hiz: inputs.hiz,
-        clip: [inputs.near, inputs.far, 0.0, 0.0],
+        clip: [inputs.near, inputs.far, culling.grass_occlusion_bias, 0.0],
         collide: [inputs.sphere_count, inputs.collisions as u32, 0, 0],
     }
 }

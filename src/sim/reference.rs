@@ -6,8 +6,9 @@
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::layout::{
-    Blade, BladeState, CullParams, PatchBox, SimParams, PATCH_SPHERE_STRIDE, TEST_DISTANCE,
-    TEST_FRUSTUM, TEST_OCCLUSION, TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
+    Blade, BladeState, CullParams, PatchBox, SimParams, PATCH_SPHERE_STRIDE, SEEN_CANDIDATE,
+    SEEN_DRAWN_EARLY, SEEN_NO, SEEN_YES, TEST_DISTANCE, TEST_FRUSTUM, TEST_OCCLUSION,
+    TEST_ORIENTATION, TEST_PATCH, WIND_ANALYTIC, WIND_FLUID,
 };
 
 /// The blade's width direction and front direction (perpendicular to width and up), from
@@ -342,10 +343,10 @@ fn occluder_distance(d: f32, params: &CullParams) -> f32 {
     n * f / (f - d * (f - n)).max(1e-6)
 }
 
-/// Whether a point at view distance `z` lies behind the opaque depth `d` by more than the
-/// bias (a fraction of `z`).
-fn behind(z: f32, d: f32, params: &CullParams) -> bool {
-    z - occluder_distance(d, params) > params.occlusion_bias * z
+/// Whether a point at view distance `z` lies behind the depth `d` by more than `bias` (a
+/// fraction of `z`).
+fn behind(z: f32, d: f32, bias: f32, params: &CullParams) -> bool {
+    z - occluder_distance(d, params) > bias * z
 }
 
 fn to_pixel(ndc: Vec2, params: &CullParams) -> (i32, i32) {
@@ -358,8 +359,8 @@ fn to_pixel(ndc: Vec2, params: &CullParams) -> (i32, i32) {
 }
 
 /// A point is occluded when it projects inside the screen, in front of the camera, and
-/// behind the opaque depth at its pixel.
-pub fn point_occluded(p: Vec3, params: &CullParams, pyramid: &Pyramid) -> bool {
+/// behind the depth at its pixel by more than `bias`.
+pub fn point_occluded(p: Vec3, bias: f32, params: &CullParams, pyramid: &Pyramid) -> bool {
     let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
     let c = view_proj * p.extend(1.0);
     if c.w <= params.clip[0] {
@@ -370,7 +371,61 @@ pub fn point_occluded(p: Vec3, params: &CullParams, pyramid: &Pyramid) -> bool {
         return false;
     }
     let (x, y) = to_pixel(ndc, params);
-    behind(c.w, pyramid.texel(0, x, y), params)
+    behind(c.w, pyramid.texel(0, x, y), bias, params)
+}
+
+/// The occlusion test of a blade: v0, the curve's midpoint m and v2 all behind the
+/// pyramid's depth by more than `bias`. The early pass tests against the opaque objects
+/// (`occlusion_bias`); the late pass against the opaque objects and the grass drawn early
+/// (`grass_hidden`).
+pub fn blade_occluded(blade: &Blade, bias: f32, params: &CullParams, pyramid: &Pyramid) -> bool {
+    let v0 = v4(blade.v0_dir).xyz();
+    let v2 = v4(blade.v2_width).xyz();
+    let m = 0.25 * v0 + 0.5 * v4(blade.v1_height).xyz() + 0.25 * v2;
+    point_occluded(v0, bias, params, pyramid)
+        && point_occluded(m, bias, params, pyramid)
+        && point_occluded(v2, bias, params, pyramid)
+}
+
+/// The late pass's test: the blade hidden behind the opaque objects and the grass drawn
+/// early, with the grass-occlusion bias (`clip[2]`), for candidates and early blades alike.
+pub fn grass_hidden(blade: &Blade, params: &CullParams, pyramid: &Pyramid) -> bool {
+    blade_occluded(blade, params.clip[2], params, pyramid)
+}
+
+/// What the early blade pass does with grass occlusion on, for a blade whose tests came out
+/// as `outcome` and whose seen flag was `seen`: its new flag, and whether it is drawn early
+/// (seen last frame). Survivors not seen last frame become candidates for the late pass.
+pub fn early_seen(outcome: CullOutcome, seen: u32) -> (u32, bool) {
+    match outcome {
+        CullOutcome::Drawn(_) if seen == SEEN_YES => (SEEN_DRAWN_EARLY, true),
+        CullOutcome::Drawn(_) => (SEEN_CANDIDATE, false),
+        _ => (SEEN_NO, false),
+    }
+}
+
+/// What the late pass does with a blade the early pass left in state `seen`, given whether
+/// the pyramid of the opaque objects and the early grass hides it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Late {
+    /// Not the late pass's business (culled early, or in a patch not visited).
+    Untouched,
+    /// Drawn early; it stays in next frame's early set only if it is not hidden now.
+    Rechecked { seen: bool },
+    /// A candidate the grass hides: culled by occlusion.
+    Hidden,
+    /// A candidate nothing hides: drawn late.
+    Drawn,
+}
+
+/// The late pass's decision for a blade in state `seen` (see [`Late`]).
+pub fn late_pass(seen: u32, hidden: bool) -> Late {
+    match (seen, hidden) {
+        (SEEN_DRAWN_EARLY, h) => Late::Rechecked { seen: !h },
+        (SEEN_CANDIDATE, true) => Late::Hidden,
+        (SEEN_CANDIDATE, false) => Late::Drawn,
+        _ => Late::Untouched,
+    }
 }
 
 /// The box's screen rectangle against the pyramid level where it spans at most 2 × 2
@@ -422,7 +477,7 @@ pub fn box_occluded(min: Vec3, max: Vec3, params: &CullParams, pyramid: &Pyramid
             d = d.max(pyramid.texel(level, x, y));
         }
     }
-    behind(z_near, d, params)
+    behind(z_near, d, params.occlusion_bias, params)
 }
 
 /// Projected height in pixels of a blade (the level-of-detail measure).
@@ -556,10 +611,7 @@ pub fn cull_blade(
         }
     }
     if let Some(p) = pyramid.filter(|_| params.tests & TEST_OCCLUSION != 0) {
-        if point_occluded(v0, params, p)
-            && point_occluded(m, params, p)
-            && point_occluded(v2, params, p)
-        {
+        if blade_occluded(blade, params.occlusion_bias, params, p) {
             return CullOutcome::Occlusion;
         }
     }

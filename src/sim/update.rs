@@ -30,6 +30,8 @@ pub struct BladeBuffers {
     pub patch_spheres: wgpu::Buffer,
     /// `PatchDispatch`: indirect dispatches of the blade cull and of the update.
     pub dispatch: wgpu::Buffer,
+    /// One `SEEN_*` word per blade: whether the grass-occlusion test saw it last frame.
+    pub seen: wgpu::Buffer,
     pub count: u32,
     pub patch_size: u32,
     pub patch_count: u32,
@@ -137,6 +139,13 @@ impl BladeBuffers {
             usage: storage | wgpu::BufferUsages::INDIRECT,
             mapped_at_creation: false,
         });
+        // Zeroed (SEEN_NO): on the first frame every blade waits for the late test.
+        let seen = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.blades.seen"),
+            size: count.max(1) * 4,
+            usage: storage,
+            mapped_at_creation: false,
+        });
         Ok(Self {
             blades,
             states,
@@ -146,6 +155,7 @@ impl BladeBuffers {
             patch_lists,
             patch_spheres,
             dispatch,
+            seen,
             count: count as u32,
             patch_size: field.patch_size.max(1),
             patch_count,
@@ -182,6 +192,15 @@ impl BladeBuffers {
             bytemuck::pod_collect_to_vec(&b),
             bytemuck::pod_collect_to_vec(&s),
         ))
+    }
+
+    /// Reads the seen flag of every blade back (blocking; `SEEN_*`).
+    pub fn read_seen(&self, gpu: &Gpu) -> Result<Vec<u32>> {
+        if self.count == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = read_buffer(gpu, &self.seen, self.count as u64 * 4)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
     /// Replaces the blades and states (tests and the CPU/GPU comparison).
@@ -365,6 +384,6 @@ mod tests {
         let blades = 7_000_000u64;
         let bytes = BladeBuffers::bytes_for(blades, blades.div_ceil(64));
         assert!(bytes < 1 << 30, "{bytes} bytes");
-        assert_eq!(crate::sim::layout::BYTES_PER_BLADE, 92);
+        assert_eq!(crate::sim::layout::BYTES_PER_BLADE, 96);
     }
 }
