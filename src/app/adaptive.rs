@@ -242,8 +242,13 @@ mod tests {
         }
     }
 
+    /// 8 levels, d_max 60 m, distance culling on (the default has it off; the test that
+    /// starts with it off says so).
     fn culling() -> Culling {
-        Culling::default() // 8 levels, d_max 60 m
+        Culling {
+            distance: true,
+            ..Culling::default()
+        }
     }
 
     #[test]

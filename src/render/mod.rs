@@ -403,8 +403,8 @@ impl Renderer {
         }
     }
 
-    /// GPU memory held for the blades (blade, state, patch, sphere and visible-index
-    /// buffers plus the indirect arguments), and in all, wind solver included. Meshes and
+    /// GPU memory held for the blades (blade, state, seen-flag, patch, sphere and
+    /// visible-index buffers plus the indirect arguments), and in all, wind solver included. Meshes and
     /// uniforms are a few hundred KiB and counted in the total.
     pub fn gpu_bytes(&self) -> (u64, u64) {
         let b = &self.buffers;
@@ -417,6 +417,7 @@ impl Renderer {
             &b.patch_lists,
             &b.patch_spheres,
             &b.dispatch,
+            &b.seen,
         ]
         .iter()
         .map(|x| x.size())
