@@ -198,6 +198,12 @@ fn point_occluded(p: vec3<f32>, bias: f32) -> bool {
     return behind(c.w, d, bias);
 }
 
+// The blade test of both occlusion passes (twin: `reference::blade_occluded`): v0, the
+// curve's midpoint m and v2 all behind the depth by more than `bias`.
+fn blade_occluded(v0: vec3<f32>, m: vec3<f32>, v2: vec3<f32>, bias: f32) -> bool {
+    return point_occluded(v0, bias) && point_occluded(m, bias) && point_occluded(v2, bias);
+}
+
 // The box's screen rectangle against the pyramid level where it spans at most 2 x 2
 // texels; occluded when its nearest corner is behind the farthest depth there.
 fn box_occluded(bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
@@ -417,8 +423,7 @@ fn early_tests(i: u32, blade: Blade) -> bool {
         }
     }
     if (params.tests & TEST_OCCLUSION) != 0u {
-        let bias = params.occlusion_bias;
-        if point_occluded(v0, bias) && point_occluded(m, bias) && point_occluded(v2, bias) {
+        if blade_occluded(v0, m, v2, params.occlusion_bias) {
             atomicAdd(&out.culled_occlusion, 1u);
             return false;
         }
@@ -485,8 +490,7 @@ fn late(
     // costs nothing visible: it becomes a candidate next frame and is tested then against
     // a depth without itself. A larger bias here was measured to keep more hidden blades
     // in the early set (nature scene: 0.694 culled instead of 0.714).
-    let bias = params.clip.z;
-    let hidden = point_occluded(v0, bias) && point_occluded(m, bias) && point_occluded(v2, bias);
+    let hidden = blade_occluded(v0, m, v2, params.clip.z);
     if state == SEEN_DRAWN_EARLY {
         seen[i] = select(SEEN_YES, SEEN_NO, hidden);
         return;

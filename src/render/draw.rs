@@ -523,33 +523,18 @@ impl DrawPass {
         wireframe: bool,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sward.draw"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: if depth_loaded {
-                        wgpu::LoadOp::Load
-                    } else {
-                        wgpu::LoadOp::Clear(1.0)
-                    },
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let depth_load = if depth_loaded {
+            wgpu::LoadOp::Load
+        } else {
+            wgpu::LoadOp::Clear(1.0)
+        };
+        let mut pass = colour_pass(
+            encoder,
+            "sward.draw",
+            (color, wgpu::LoadOp::Clear(wgpu::Color::BLACK)),
+            (depth, depth_load),
+            timestamps,
+        );
         if sphere_count > 0 {
             pass.set_pipeline(&self.spheres);
             self.draw_spheres(&mut pass, &self.sphere_mesh, sphere_count);
@@ -606,30 +591,48 @@ impl DrawPass {
         wireframe: bool,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sward.draw.late"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = colour_pass(
+            encoder,
+            "sward.draw.late",
+            (color, wgpu::LoadOp::Load),
+            (depth, wgpu::LoadOp::Load),
+            timestamps,
+        );
         let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
         self.draw_grass(&mut pass, indirect, offset, wireframe);
     }
+}
+
+/// A render pass into `color` and `depth` with the given loads, both stored: the main draw
+/// (colour cleared) and the late grass draw (both loaded) differ only in those.
+fn colour_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    color: (&wgpu::TextureView, wgpu::LoadOp<wgpu::Color>),
+    depth: (&wgpu::TextureView, wgpu::LoadOp<f32>),
+    timestamps: Option<wgpu::RenderPassTimestampWrites>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: color.0,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: color.1,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth.0,
+            depth_ops: Some(wgpu::Operations {
+                load: depth.1,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }
