@@ -28,6 +28,7 @@ use serde::Serialize;
 use crate::commands::{load, DEFAULT_SCENE_PATH};
 use crate::error::{Error, Result};
 use crate::gpu::{AdapterChoice, Gpu};
+use crate::output::Outputs;
 use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing;
@@ -571,9 +572,23 @@ fn colliders(scene: &Scene) -> u64 {
     }
 }
 
+/// The files `--images DIR` writes: the all-features frame, the culling-off frame and
+/// their difference.
+const IMAGE_NAMES: [&str; 3] = ["all.png", "unculled.png", "difference.png"];
+
 /// Runs the benchmark and returns its report (progress goes to stderr).
 pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
     let date = utc_now();
+    // The three images are checked before any frame and renamed into place together.
+    let mut outputs = Outputs::new();
+    if let Some(scene) = &o.scene {
+        outputs.input("--scene", scene)?;
+    }
+    if let Some(dir) = &o.images {
+        for name in IMAGE_NAMES {
+            outputs.add("--images", &dir.join(name))?;
+        }
+    }
     let scene = load(o.scene.as_deref())?;
     let scene_name = o
         .scene
@@ -642,9 +657,9 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
     if let (Some(all), Some(off)) = (image(Config::All), image(Config::NoCulling)) {
         if let Some(d) = crate::compare::compare(all, off) {
             if let Some(dir) = &o.images {
-                crate::output::save_png(&dir.join("all.png"), all)?;
-                crate::output::save_png(&dir.join("unculled.png"), off)?;
-                crate::output::save_png(&dir.join("difference.png"), &d.image)?;
+                for (name, image) in IMAGE_NAMES.iter().zip([all, off, &d.image]) {
+                    outputs.write_png(&dir.join(name), image)?;
+                }
             }
             ratios.culled_vs_unculled_mean_difference = Some(d.mean);
             ratios.culled_vs_unculled_failing_pixels = Some(d.failing);
@@ -683,6 +698,9 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             gpu_mib: m.gpu_bytes.1 as f64 / MIB,
         });
     }
+    // Last, so that a failed sweep leaves no image either; fails (and writes none) if an
+    // image could not be made.
+    outputs.commit()?;
     Ok(BenchReport {
         adapter: gpu.describe(),
         date,

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 use crate::gpu::{AdapterChoice, Gpu};
-use crate::output::{check_writable, save_png, write_atomic};
+use crate::output::Outputs;
 use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing::PASSES;
@@ -70,6 +70,20 @@ impl RenderOptions {
     }
 }
 
+/// Most frames `sward render` runs (and steps `sward simulate` takes): a count a user can
+/// wait for, and one that stops a typo such as 4294967295 from running for ever.
+pub const MAX_FRAMES: u32 = 100_000;
+
+/// Checks a count flag against `1..=MAX_FRAMES`; the error names the flag and the range.
+pub fn check_count(flag: &str, value: u32) -> Result<()> {
+    if !(1..=MAX_FRAMES).contains(&value) {
+        return Err(Error::Invalid(format!(
+            "{flag} {value} is out of range: allowed 1..={MAX_FRAMES}"
+        )));
+    }
+    Ok(())
+}
+
 fn check_dt(dt: f32) -> Result<()> {
     if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
         return Err(Error::Invalid(format!(
@@ -88,7 +102,12 @@ fn open_gpu(choice: &AdapterChoice) -> Result<Gpu> {
 /// Runs `sward render`.
 pub fn render(o: &RenderOptions) -> Result<()> {
     check_dt(o.dt)?;
-    check_writable(&o.out)?;
+    check_count("--frames", o.frames)?;
+    let mut outputs = Outputs::new();
+    if let Some(scene) = &o.scene {
+        outputs.input("--scene", scene)?;
+    }
+    outputs.add("--out", &o.out)?;
     let mut scene = load(o.scene.as_deref())?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     let gpu = open_gpu(&o.adapter)?;
@@ -115,7 +134,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
     let mut timed = 0u32;
     let mut last = None;
-    for _ in 0..o.frames.max(1) {
+    for _ in 0..o.frames {
         renderer.frame(
             &gpu,
             o.dt,
@@ -144,13 +163,14 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         }
     }
     let image = target.read_image(&gpu)?;
-    save_png(&o.out, &image)?;
+    outputs.write_png(&o.out, &image)?;
+    outputs.commit()?;
     eprintln!(
         "wrote {} ({}x{}, {} frames)",
         o.out.display(),
         o.size.0,
         o.size.1,
-        o.frames.max(1)
+        o.frames
     );
     if o.timings {
         let stats = match last {
@@ -328,7 +348,7 @@ struct WindJson<'a> {
     divergence: &'a [f32],
 }
 
-fn write_wind(path: &Path, state: &FluidState) -> Result<()> {
+fn wind_json(path: &Path, state: &FluidState) -> Result<Vec<u8>> {
     let json = WindJson {
         width: state.resolution,
         height: state.resolution,
@@ -338,11 +358,10 @@ fn write_wind(path: &Path, state: &FluidState) -> Result<()> {
         pressure: &state.pressure,
         divergence: &state.divergence,
     };
-    let text = serde_json::to_vec(&json).map_err(|e| Error::Write {
+    serde_json::to_vec(&json).map_err(|e| Error::Write {
         path: path.to_path_buf(),
         message: e.to_string(),
-    })?;
-    write_atomic(path, &text)
+    })
 }
 
 /// Applies the command-line wind overrides to a loaded scene.
@@ -373,9 +392,16 @@ pub fn apply_wind_overrides(
 /// Runs `sward simulate`.
 pub fn simulate(o: &SimulateOptions) -> Result<()> {
     check_dt(o.dt)?;
-    check_writable(&o.dump)?;
+    check_count("--steps", o.steps)?;
+    // Every output is checked before the run and renamed into place only when all of them
+    // are written: a failing --dump-wind leaves an existing --dump as it was.
+    let mut outputs = Outputs::new();
+    if let Some(scene) = &o.scene {
+        outputs.input("--scene", scene)?;
+    }
+    outputs.add("--dump", &o.dump)?;
     if let Some(p) = &o.dump_wind {
-        check_writable(p)?;
+        outputs.add("--dump-wind", p)?;
     }
     let mut scene = load(o.scene.as_deref())?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
@@ -412,9 +438,12 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         path: o.dump.clone(),
         message: e.to_string(),
     })?;
-    write_atomic(&o.dump, &text)?;
+    outputs.write(&o.dump, &text)?;
     if let (Some(path), Some(state)) = (&o.dump_wind, &wind_state) {
-        write_wind(path, state)?;
+        outputs.write(path, &wind_json(path, state)?)?;
+    }
+    outputs.commit()?;
+    if let (Some(path), Some(state)) = (&o.dump_wind, &wind_state) {
         eprintln!("wrote {} ({}² wind grid)", path.display(), state.resolution);
     }
     eprintln!(

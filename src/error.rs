@@ -36,6 +36,9 @@ pub enum Error {
     /// Writing an output file failed; no partial file was left behind.
     #[error("cannot write {path}: {message}")]
     Write { path: PathBuf, message: String },
+    /// The window cannot open (no display, the display refused it).
+    #[error("{0}")]
+    Window(String),
     /// A command-line value is out of range.
     #[error("{0}")]
     Invalid(String),

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use sward::app::AppOptions;
 use sward::bench::{bench, BenchOptions};
-use sward::commands::{render, simulate, RenderOptions, SimulateOptions};
+use sward::commands::{render, simulate, RenderOptions, SimulateOptions, MAX_FRAMES};
 use sward::gpu::AdapterChoice;
 
 #[derive(Parser)]
@@ -43,7 +43,8 @@ struct WindowArgs {
     /// Present without waiting for the display's refresh.
     #[arg(long)]
     no_vsync: bool,
-    /// Run N frames, then exit with status 0.
+    /// Run N frames (1..=10000000), then exit: status 0, or 1 if anything failed (a Save
+    /// included); --screenshot and --record are written only when the run succeeded.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     exit_after_frames: Option<u64>,
     /// With --exit-after-frames: save the last frame (panel included) as PNG.
@@ -98,10 +99,10 @@ enum Command {
         /// Image size, WIDTHxHEIGHT.
         #[arg(long, default_value = "1280x720", value_parser = parse_size)]
         size: (u32, u32),
-        /// Frames to simulate and render.
-        #[arg(long, default_value_t = 90)]
+        /// Frames to simulate and render (1..=100000).
+        #[arg(long, default_value_t = 90, value_parser = count)]
         frames: u32,
-        /// Time step per frame in seconds.
+        /// Time step per frame in seconds (0 < dt <= 1).
         #[arg(long, default_value_t = 1.0 / 30.0)]
         dt: f32,
         /// Output PNG.
@@ -121,10 +122,10 @@ enum Command {
         /// Scene file (RON); the built-in meadow when absent.
         #[arg(long)]
         scene: Option<PathBuf>,
-        /// Update steps.
-        #[arg(long, default_value_t = 60)]
+        /// Update steps (1..=100000).
+        #[arg(long, default_value_t = 60, value_parser = count)]
         steps: u32,
-        /// Time step in seconds.
+        /// Time step in seconds (0 < dt <= 1).
         #[arg(long, default_value_t = 1.0 / 60.0)]
         dt: f32,
         /// Output JSON: {"initial": [...], "final": [...]}.
@@ -133,7 +134,7 @@ enum Command {
         /// Run the CPU twin instead of the GPU kernel.
         #[arg(long)]
         cpu: bool,
-        /// Replace the field with about N blades on a flat square.
+        /// Replace the field with about N blades on a flat square (1..=50000000).
         #[arg(long)]
         blades: Option<usize>,
         /// Also write the wind grid after the last step as JSON.
@@ -175,12 +176,25 @@ enum Command {
 /// Overrides of the scene's wind solver.
 #[derive(Args, Clone)]
 struct WindArgs {
-    /// Jacobi pressure iterations of the wind solver (overrides the scene).
+    /// Jacobi pressure iterations of the wind solver, 0..=1000 (overrides the scene).
     #[arg(long)]
     pressure_iterations: Option<u32>,
-    /// Wind grid resolution per side (overrides the scene).
+    /// Wind grid resolution per side, 8..=2048 cells (overrides the scene).
     #[arg(long)]
     wind_resolution: Option<u32>,
+}
+
+/// A frame or step count: `1..=MAX_FRAMES`, with the range in the error.
+fn count(s: &str) -> Result<u32, String> {
+    let range = format!("allowed 1..={MAX_FRAMES}");
+    let v: u64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a whole number: {range}"))?;
+    if !(1..=u64::from(MAX_FRAMES)).contains(&v) {
+        return Err(format!("{v} is out of range: {range}"));
+    }
+    Ok(v as u32)
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

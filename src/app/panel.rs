@@ -210,7 +210,10 @@ fn scene_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     egui::CollapsingHeader::new("Scene file").show(ui, |ui| {
         ui.horizontal(|ui| {
             ui.label("Path");
-            ui.text_edit_singleline(&mut app.scene_path);
+            if ui.text_edit_singleline(&mut app.scene_path).changed() {
+                // Typing the path is picking it: Save may write there again.
+                app.unsaveable = None;
+            }
         });
         ui.horizontal(|ui| {
             if ui.button("Save").clicked() {

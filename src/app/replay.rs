@@ -125,7 +125,7 @@ impl Script {
                     path: path.to_path_buf(),
                     line: e.position.line,
                     column: e.position.col,
-                    message: e.code.to_string(),
+                    message: name_step(text, (e.position.line, e.position.col), &e.code),
                 })?;
         let script = Script { steps };
         if let Some((index, message)) = script.first_problem() {
@@ -180,6 +180,12 @@ impl Script {
     /// [`Error::Write`] naming `path` if it cannot be written; an existing file is unchanged
     /// then.
     pub fn save(&self, path: &Path) -> Result<()> {
+        write_atomic(path, self.to_text(path)?.as_bytes())
+    }
+
+    /// The script as RON, one step per line (what [`Script::save`] writes); `path` names
+    /// the file in errors.
+    pub fn to_text(&self, path: &Path) -> Result<String> {
         let config = ron::ser::PrettyConfig::new()
             .struct_names(false)
             .compact_structs(true);
@@ -189,12 +195,68 @@ impl Script {
                 message: format!("cannot write the script as RON: {e}"),
             })?;
         text.push('\n');
-        write_atomic(path, text.as_bytes())
+        Ok(text)
     }
 
     /// The frame of the last step (0 for an empty script): replay can stop after it.
     pub fn last_frame(&self) -> u64 {
         self.steps.last().map_or(0, |s| s.frame)
+    }
+}
+
+/// What each field of a step allows, for parser errors.
+const FRAME_ALLOWED: &str = "allowed a whole frame number 0..=18446744073709551615, not \
+                             less than the step before";
+const EVENT_ALLOWED: &str = "allowed CursorMoved(x, y), Button(Left|Right|Middle, true|false), \
+                             Key(KEY, true|false) or Scroll(lines), with finite numbers";
+
+/// A parser error's message with the step and the field it is in, and what that field
+/// allows: `steps[1].frame: Integer is out of bounds: allowed …`. Errors outside every step
+/// (a missing `[`) keep the parser's words.
+fn name_step(text: &str, at: (usize, usize), code: &impl std::fmt::Display) -> String {
+    let starts = step_positions(text);
+    let Some(index) = starts.iter().rposition(|&p| p <= at) else {
+        return format!("{code}: a script is a list of steps, [(frame: N, event: …), …]");
+    };
+    // The field is the last key written between the step's start and the error.
+    let chars: Vec<(usize, usize, char)> = {
+        let (mut line, mut column) = (1usize, 0usize);
+        text.chars()
+            .map(|c| {
+                let here = if c == '\n' {
+                    let h = (line, column + 1);
+                    line += 1;
+                    column = 0;
+                    h
+                } else {
+                    column += 1;
+                    (line, column)
+                };
+                (here.0, here.1, c)
+            })
+            .collect()
+    };
+    let inside: String = chars
+        .iter()
+        .filter(|&&(l, c, _)| (l, c) >= starts[index] && (l, c) <= at)
+        .map(|&(_, _, ch)| ch)
+        .collect();
+    let frame = inside.rfind("frame");
+    let event = inside.rfind("event");
+    let message = code.to_string();
+    // Unknown and missing keys are about the step as a whole.
+    let whole_step = message.contains("field named");
+    match (frame, event) {
+        (Some(f), e) if e.is_none_or(|e| f > e) && !whole_step => {
+            format!("steps[{index}].frame: {message}: {FRAME_ALLOWED}")
+        }
+        (_, Some(_)) if !whole_step => {
+            format!("steps[{index}].event: {message}: {EVENT_ALLOWED}")
+        }
+        _ => format!(
+            "steps[{index}]: {message}: a step is (frame: N, event: E); frame {FRAME_ALLOWED}; \
+             event {EVENT_ALLOWED}"
+        ),
     }
 }
 

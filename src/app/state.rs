@@ -67,6 +67,13 @@ pub struct AppState {
     pub hover: Option<Selection>,
     /// Path typed in the panel for Save / Load.
     pub scene_path: String,
+    /// A scene file that failed to load (at start or by Load): Save refuses to write over
+    /// it, since the user's work in it would be lost, until the user picks that path again
+    /// (edits the path in the panel).
+    pub unsaveable: Option<PathBuf>,
+    /// The last Save that failed or was refused, for `--exit-after-frames` runs: such a run
+    /// exits non-zero.
+    pub failed_save: Option<String>,
     /// The field settings the next "Regenerate" applies.
     pub field_draft: crate::scene::Field,
     pub status: Option<Status>,
@@ -111,6 +118,7 @@ impl AppState {
         scene: Result<Scene>,
         path: Option<&Path>,
     ) -> Result<Self> {
+        let failed_path = scene.is_err().then(|| path.map(Path::to_path_buf)).flatten();
         let (scene, status) = match scene {
             Ok(s) => (s, None),
             Err(e) => {
@@ -118,7 +126,8 @@ impl AppState {
                 (
                     default_scene()?,
                     Some(Status::Error(format!(
-                        "{e} — the default meadow was opened instead"
+                        "{e} — the default meadow was opened instead; Save will not write \
+                         over the file that failed to load"
                     ))),
                 )
             }
@@ -146,6 +155,8 @@ impl AppState {
             scene_path: path
                 .map(|p| p.display().to_string())
                 .unwrap_or_else(|| "scene.ron".to_string()),
+            unsaveable: failed_path,
+            failed_save: None,
             field_draft,
             status,
             show_help: false,
@@ -326,18 +337,47 @@ impl AppState {
     /// the old file and the scene in memory as they were).
     pub fn save(&mut self) {
         let path = PathBuf::from(self.scene_path.trim());
-        self.status = Some(match save_scene(&self.current_scene(), &path) {
+        let refused = self
+            .unsaveable
+            .as_deref()
+            .is_some_and(|failed| crate::output::same_file(failed, &path));
+        let result = if path.as_os_str().is_empty() {
+            Err("no path: type where to save in the panel".to_string())
+        } else if refused {
+            Err(format!(
+                "{} failed to load, and Save does not write over a file it could not read \
+                 (what is in it would be lost); type the path again in the panel to save \
+                 there anyway, or choose another",
+                path.display()
+            ))
+        } else {
+            save_scene(&self.current_scene(), &path).map_err(|e| e.to_string())
+        };
+        self.status = Some(match result {
             Ok(()) => Status::Info(format!("saved {}", path.display())),
-            Err(e) => Status::Error(format!("not saved: {e}")),
+            Err(e) => {
+                let message = format!("not saved: {e}");
+                self.failed_save = Some(message.clone());
+                Status::Error(message)
+            }
         });
     }
 
     /// Loads the scene at the panel's path; on error the current scene stays.
     pub fn load(&mut self, gpu: &Gpu) {
         let path = PathBuf::from(self.scene_path.trim());
-        let result = load_scene(&path).and_then(|scene| self.replace_scene(gpu, scene));
+        let loaded = load_scene(&path);
+        if loaded.is_err() {
+            // The path stays in the panel, so that the user can fix the file and load it
+            // again; Save must not write the current scene over it meanwhile.
+            self.unsaveable = Some(path.clone());
+        }
+        let result = loaded.and_then(|scene| self.replace_scene(gpu, scene));
         self.status = Some(match result {
-            Ok(()) => Status::Info(format!("loaded {}", path.display())),
+            Ok(()) => {
+                self.unsaveable = None;
+                Status::Info(format!("loaded {}", path.display()))
+            }
             Err(e) => Status::Error(format!("not loaded: {e}")),
         });
     }

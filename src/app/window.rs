@@ -17,6 +17,7 @@ use super::surface::{Acquired, SurfaceState};
 use super::AppOptions;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
+use crate::output::Outputs;
 
 /// Frames between two read-backs of the cull counters and GPU timers: each read-back waits
 /// for the GPU, so doing it every frame would serialise CPU and GPU.
@@ -43,16 +44,40 @@ pub struct WindowApp {
     finished: bool,
     /// The first fatal error; `run` returns it after the loop ends.
     pub error: Option<Error>,
+    /// `--screenshot` and `--record`, checked before the window opened and renamed into
+    /// place together at the end, only when the run succeeded.
+    outputs: Option<Outputs>,
+    /// The `--replay` script, read and checked before the window opened.
+    script: Option<Script>,
 }
 
 impl WindowApp {
-    pub fn new(options: AppOptions) -> Self {
-        Self {
+    /// Checks everything the run reads and writes before a window opens: the replay script
+    /// is parsed, the output paths are vetted (no device or FIFO, no output over an input
+    /// such as `--replay S --record S`, no two outputs on one file).
+    pub fn new(options: AppOptions) -> Result<Self> {
+        let mut outputs = Outputs::new();
+        if let Some(scene) = &options.scene {
+            outputs.input("--scene", scene)?;
+        }
+        if let Some(replay) = &options.replay {
+            outputs.input("--replay", replay)?;
+        }
+        if let Some(path) = &options.screenshot {
+            outputs.add("--screenshot", path)?;
+        }
+        if let Some(path) = &options.record {
+            outputs.add("--record", path)?;
+        }
+        let script = options.replay.as_deref().map(Script::load).transpose()?;
+        Ok(Self {
             options,
             running: None,
             finished: false,
             error: None,
-        }
+            outputs: Some(outputs),
+            script,
+        })
     }
 
     fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
@@ -70,7 +95,7 @@ impl WindowApp {
         let window = Arc::new(
             event_loop
                 .create_window(attributes)
-                .map_err(|e| Error::Gpu(format!("cannot open a window: {e}")))?,
+                .map_err(|e| Error::Window(format!("cannot open a window: {}", os_message(&e))))?,
         );
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
@@ -113,10 +138,7 @@ impl WindowApp {
             surface.ui_format(),
             egui_wgpu::RendererOptions::default(),
         );
-        let player = match &o.replay {
-            Some(path) => Some(Player::new(Script::load(path)?)),
-            None => None,
-        };
+        let player = self.script.take().map(Player::new);
         Ok(Running {
             window,
             surface,
@@ -150,13 +172,68 @@ impl WindowApp {
                 );
             }
         }
-        if let (Some(r), Some(path)) = (&self.running, &self.options.record) {
-            if let Some(rec) = &r.recorder {
-                if let Err(e) = rec.script().save(path) {
-                    self.error.get_or_insert(e);
-                }
+        if let Err(e) = self.write_outputs() {
+            self.error.get_or_insert(e);
+        }
+        // Dropping the outputs of a failed run removes their temporary files: an existing
+        // --record or --screenshot file stays as it was.
+        self.outputs = None;
+    }
+
+    /// Stages the recorded script and renames it and the screenshot into place, unless the
+    /// run failed (an error, or a Save that failed in an `--exit-after-frames` run).
+    fn write_outputs(&mut self) -> Result<()> {
+        if self.error.is_some() {
+            return Ok(());
+        }
+        let (Some(r), Some(outputs)) = (&self.running, &mut self.outputs) else {
+            return Ok(());
+        };
+        if self.options.exit_after_frames.is_some() {
+            if let Some(message) = &r.app.failed_save {
+                return Err(Error::Invalid(format!(
+                    "a Save failed during this run, so it exits with an error and writes \
+                     no output: {message}"
+                )));
             }
         }
+        if let (Some(path), Some(rec)) = (&self.options.record, &r.recorder) {
+            outputs.write(path, rec.script().to_text(path)?.as_bytes())?;
+        }
+        if let Some(path) = &self.options.screenshot {
+            if !outputs.is_written(path) {
+                // Closed before the last frame: there is no screenshot to write, and the
+                // rest of the run's outputs still land.
+                eprintln!(
+                    "no screenshot: the window closed at frame {}, before --exit-after-frames",
+                    r.app.frame
+                );
+                outputs.forget(path);
+            }
+        }
+        if let Some(outputs) = self.outputs.take() {
+            outputs.commit()?;
+            for path in [&self.options.screenshot, &self.options.record]
+                .into_iter()
+                .flatten()
+            {
+                eprintln!("wrote {}", path.display());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A winit OS error's message without the source location winit puts in front of it
+/// (`os error at /path/to/winit/src/…:765: message`), which names the build machine.
+fn os_message(e: &dyn std::fmt::Display) -> String {
+    let text = e.to_string();
+    match text.strip_prefix("os error at ") {
+        Some(rest) => rest
+            .split_once(": ")
+            .map(|(_, message)| message.to_string())
+            .unwrap_or(rest.to_string()),
+        None => text,
     }
 }
 
@@ -237,7 +314,7 @@ impl Running {
 
     /// One frame: replayed input, CPU update, scene + arrows + panel, present. Returns
     /// whether a frame was drawn (a minimised window or a busy surface skips it).
-    fn redraw(&mut self, options: &AppOptions) -> Result<bool> {
+    fn redraw(&mut self, options: &AppOptions, outputs: Option<&mut Outputs>) -> Result<bool> {
         let acquired = self.surface.acquire(&self.gpu);
         let texture = match acquired {
             Acquired::Frame(t) => t,
@@ -326,7 +403,7 @@ impl Running {
 
         let last = options.exit_after_frames == Some(self.app.frame);
         if last {
-            if let Some(path) = &options.screenshot {
+            if let (Some(path), Some(outputs)) = (&options.screenshot, outputs) {
                 if !self.surface.can_read_back() {
                     return Err(Error::Gpu(format!(
                         "cannot save {}: this platform's window surface cannot be read back",
@@ -334,8 +411,8 @@ impl Running {
                     )));
                 }
                 let image = crate::render::target::read_texture(&self.gpu, &texture.texture)?;
-                crate::output::save_png(path, &image)?;
-                eprintln!("wrote {}", path.display());
+                // Staged: renamed into place with --record when the run ends well.
+                outputs.write_png(path, &image)?;
             }
         }
         self.window.pre_present_notify();
@@ -393,7 +470,7 @@ impl ApplicationHandler for WindowApp {
             }
             WindowEvent::RedrawRequested => {
                 let options = self.options.clone();
-                match r.redraw(&options) {
+                match r.redraw(&options, self.outputs.as_mut()) {
                     Ok(_) => {
                         if options.exit_after_frames.is_some_and(|n| r.app.frame >= n) {
                             self.finish();
@@ -438,18 +515,56 @@ impl ApplicationHandler for WindowApp {
 
 /// Opens the window and runs until it is closed (or `--exit-after-frames` frames).
 pub fn run(options: AppOptions) -> Result<()> {
+    // Inputs and outputs first: a bad replay script or output path is reported before a
+    // window (or a display) is needed.
+    let mut app = WindowApp::new(options)?;
+    check_display()?;
     let event_loop = EventLoop::new().map_err(|e| {
-        Error::Gpu(format!(
-            "cannot open a window: {e} (no display? set DISPLAY or WAYLAND_DISPLAY, or run \
-             under xvfb-run; `sward render` works without a display)"
+        Error::Window(format!(
+            "cannot connect to the display: {} ({}); `sward render` draws the same frames \
+             to PNG without a display",
+            os_message(&e),
+            display_names()
         ))
     })?;
-    let mut app = WindowApp::new(options);
     event_loop
         .run_app(&mut app)
-        .map_err(|e| Error::Gpu(format!("the window's event loop failed: {e}")))?;
+        .map_err(|e| Error::Window(format!("the window's event loop failed: {e}")))?;
     match app.error.take() {
         Some(e) => Err(e),
         None => Ok(()),
     }
+}
+
+/// The display variables winit looks at, as set now.
+fn display_names() -> String {
+    ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+        .iter()
+        .map(|v| match std::env::var_os(v) {
+            Some(value) => format!("{v}={}", value.to_string_lossy()),
+            None => format!("{v} unset"),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The window needs a display: without one, say so and how to get one (on Linux winit
+/// reads these variables; elsewhere there is always a display).
+fn check_display() -> Result<()> {
+    if !cfg!(target_os = "linux") {
+        return Ok(());
+    }
+    let any = ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()));
+    if any {
+        return Ok(());
+    }
+    Err(Error::Window(
+        "cannot open the window: there is no display (neither DISPLAY nor WAYLAND_DISPLAY is \
+         set). Run sward in a desktop session, or give it a virtual display with \
+         `xvfb-run sward …` (Debian/Ubuntu: apt-get install xvfb); `sward render` draws the \
+         same frames to PNG without any display"
+            .into(),
+    ))
 }
