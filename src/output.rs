@@ -181,8 +181,7 @@ impl Outputs {
     /// Checks and declares an output (see [`check_writable`]); `what` names the flag in
     /// errors. Refuses a path that another output or an input of the run already names.
     pub fn add(&mut self, what: &str, path: &Path) -> Result<()> {
-        let resolved = check_writable(path)
-            .map_err(|e| prefix(e, what))?;
+        let resolved = check_writable(path).map_err(|e| prefix(e, what))?;
         let planned = Planned {
             what: what.to_string(),
             path: path.to_path_buf(),
@@ -372,7 +371,9 @@ fn sibling(target: &Path, kind: &str) -> std::io::Result<PathBuf> {
             return Ok(candidate);
         }
     }
-    Err(std::io::Error::other("no free temporary name beside the file"))
+    Err(std::io::Error::other(
+        "no free temporary name beside the file",
+    ))
 }
 
 /// Writes `bytes` to a new temporary file beside `target` (with the target's permissions
@@ -448,7 +449,10 @@ mod tests {
     }
 
     fn mkfifo(path: &Path) {
-        let status = std::process::Command::new("mkfifo").arg(path).status().unwrap();
+        let status = std::process::Command::new("mkfifo")
+            .arg(path)
+            .status()
+            .unwrap();
         assert!(status.success());
     }
 
@@ -458,16 +462,25 @@ mod tests {
         let fifo = d.0.join("pipe");
         mkfifo(&fifo);
         let e = write_atomic(&fifo, b"x").unwrap_err().to_string();
-        assert!(e.contains("FIFO") && e.contains("not a regular file"), "{e}");
+        assert!(
+            e.contains("FIFO") && e.contains("not a regular file"),
+            "{e}"
+        );
         let e = write_atomic(&d.0, b"x").unwrap_err().to_string();
         assert!(e.contains("a directory"), "{e}");
         let link = d.0.join("link");
         std::os::unix::fs::symlink("pipe", &link).unwrap();
         let e = write_atomic(&link, b"x").unwrap_err().to_string();
-        assert!(e.contains("FIFO") && e.contains("the link points to"), "{e}");
+        assert!(
+            e.contains("FIFO") && e.contains("the link points to"),
+            "{e}"
+        );
         use std::os::unix::fs::FileTypeExt;
         assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         assert_eq!(d.entries(), ["link", "pipe"]);
     }
 
@@ -478,7 +491,10 @@ mod tests {
         let link = d.0.join("link");
         std::os::unix::fs::symlink("real", &link).unwrap();
         write_atomic(&link, b"new").unwrap();
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         assert_eq!(std::fs::read(d.0.join("real")).unwrap(), b"new");
         // A dangling link creates the file it points to.
         let dangling = d.0.join("dangling");
@@ -549,12 +565,21 @@ mod tests {
         std::fs::write(&a, b"scene").unwrap();
         let mut outputs = Outputs::new();
         outputs.add("--dump", &a).unwrap();
-        let e = outputs.add("--dump-wind", &d.0.join("./a")).unwrap_err().to_string();
-        assert!(e.contains("--dump-wind and --dump name the same file"), "{e}");
+        let e = outputs
+            .add("--dump-wind", &d.0.join("./a"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--dump-wind and --dump name the same file"),
+            "{e}"
+        );
         let mut outputs = Outputs::new();
         outputs.input("--replay", &a).unwrap();
         let e = outputs.add("--record", &a).unwrap_err().to_string();
-        assert!(e.contains("--record names the file that --replay reads"), "{e}");
+        assert!(
+            e.contains("--record names the file that --replay reads"),
+            "{e}"
+        );
         // Not yet existing paths compare by name.
         assert!(same_file(&d.0.join("new"), &d.0.join("./new")));
         assert!(!same_file(&d.0.join("new"), &d.0.join("other")));

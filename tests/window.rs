@@ -288,6 +288,72 @@ fn a_scene_that_fails_to_load_opens_the_default_and_exits_cleanly() {
     );
 }
 
+/// Ctrl+S after a scene failed to load must not write over it; the Save is refused, so the
+/// `--exit-after-frames` run exits non-zero and its --record and --screenshot are not
+/// written (an existing record stays as it was).
+#[test]
+fn save_never_overwrites_a_scene_that_failed_to_load() {
+    let dir = tempdir("window_save_refused");
+    let bad = dir.join("bad.ron");
+    let broken = "(field: (density: -3.0), camera: (fov_y: 50.0))";
+    std::fs::write(&bad, broken).unwrap();
+    let record = dir.join("rec.ron");
+    std::fs::write(&record, "old record").unwrap();
+    let script = dir.join("ctrl_s.ron");
+    Script {
+        steps: vec![
+            step(2, Event::Key(Key::Ctrl, true)),
+            step(2, Event::Key(Key::S, true)),
+            step(3, Event::Key(Key::S, false)),
+            step(3, Event::Key(Key::Ctrl, false)),
+        ],
+    }
+    .save(&script)
+    .unwrap();
+    let shot = dir.join("shot.png");
+    let display = display();
+    let out = sward(
+        &display,
+        &[
+            "--scene",
+            bad.to_str().unwrap(),
+            "--replay",
+            script.to_str().unwrap(),
+            "--record",
+            record.to_str().unwrap(),
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--size",
+            "320x200",
+            "--exit-after-frames",
+            "5",
+            "--adapter",
+            "software",
+            "--target-frame-ms",
+            "1000",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "a refused Save must fail the run: {stderr}"
+    );
+    assert!(
+        stderr.contains("failed to load") && stderr.contains("Save"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&bad).unwrap(), broken);
+    assert_eq!(std::fs::read_to_string(&record).unwrap(), "old record");
+    assert!(!shot.exists());
+    let mut left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["bad.ron", "ctrl_s.ron", "rec.ron"]);
+}
+
 fn tempdir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);

@@ -118,7 +118,10 @@ impl AppState {
         scene: Result<Scene>,
         path: Option<&Path>,
     ) -> Result<Self> {
-        let failed_path = scene.is_err().then(|| path.map(Path::to_path_buf)).flatten();
+        let failed_path = scene
+            .is_err()
+            .then(|| path.map(Path::to_path_buf))
+            .flatten();
         let (scene, status) = match scene {
             Ok(s) => (s, None),
             Err(e) => {

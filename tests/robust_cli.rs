@@ -1,0 +1,361 @@
+//! The robustness issue's command-line cases, one group per numbered point: outputs that
+//! are not regular files, several outputs as one, bounded counts, clear messages. Every
+//! special file is made in a temporary directory (never the real /dev).
+
+use std::os::unix::fs::FileTypeExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn sward(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(args)
+        .env(
+            "SWARD_ADAPTER",
+            std::env::var("SWARD_ADAPTER").unwrap_or_else(|_| "software".into()),
+        )
+        .env("RUST_BACKTRACE", "0")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .expect("run sward")
+}
+
+/// Runs a command that must fail cleanly; returns its stderr.
+fn fails(args: &[&str]) -> String {
+    let out = sward(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "expected failure for {args:?}");
+    assert!(!stderr.contains("panicked"), "panic for {args:?}: {stderr}");
+    assert!(stderr.contains("error"), "no error for {args:?}: {stderr}");
+    stderr
+}
+
+struct Tmp(PathBuf);
+
+impl Tmp {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("sward-robust-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        Tmp(dir)
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+    fn s(&self, name: &str) -> String {
+        self.path(name).to_str().expect("utf-8").to_string()
+    }
+    fn file(&self, name: &str, text: &str) -> String {
+        std::fs::write(self.path(name), text).expect("write");
+        self.s(name)
+    }
+    fn fifo(&self, name: &str) -> String {
+        let ok = Command::new("mkfifo")
+            .arg(self.path(name))
+            .status()
+            .expect("mkfifo");
+        assert!(ok.success());
+        self.s(name)
+    }
+    fn socket(&self, name: &str) -> (String, std::os::unix::net::UnixListener) {
+        let l = std::os::unix::net::UnixListener::bind(self.path(name)).expect("socket");
+        (self.s(name), l)
+    }
+    fn link(&self, name: &str, to: &str) -> String {
+        std::os::unix::fs::symlink(to, self.path(name)).expect("symlink");
+        self.s(name)
+    }
+    /// The directory's entries, sorted: nothing else (no temporary file) may be left.
+    fn entries(&self) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(&self.0)
+            .expect("read dir")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn is_fifo(p: &Path) -> bool {
+    std::fs::symlink_metadata(p)
+        .map(|m| m.file_type().is_fifo())
+        .unwrap_or(false)
+}
+
+/// Point 1: every writer refuses a FIFO, a socket, a directory and a link to a FIFO, says
+/// what is there, and leaves it as it was.
+#[test]
+fn no_writer_replaces_what_is_not_a_regular_file() {
+    let t = Tmp::new("special");
+    let fifo = t.fifo("fifo");
+    let (socket, _listener) = t.socket("socket");
+    std::fs::create_dir(t.path("dir")).unwrap();
+    let dir = t.s("dir");
+    let link = t.link("link", "fifo");
+    let good = t.s("good.json");
+    let cases: Vec<(&str, String)> = vec![
+        ("FIFO", fifo.clone()),
+        ("socket", socket.clone()),
+        ("directory", dir.clone()),
+        ("FIFO", link.clone()),
+    ];
+    for (kind, target) in &cases {
+        let t = target.as_str();
+        let runs: Vec<Vec<&str>> = vec![
+            vec!["render", "--size", "16x16", "--frames", "1", "--out", t],
+            vec!["simulate", "--blades", "64", "--steps", "1", "--dump", t],
+            vec![
+                "simulate",
+                "--blades",
+                "64",
+                "--steps",
+                "1",
+                "--dump",
+                &good,
+                "--dump-wind",
+                t,
+            ],
+            vec!["--exit-after-frames", "1", "--screenshot", t],
+            vec!["--exit-after-frames", "1", "--record", t],
+        ];
+        for args in runs {
+            let stderr = fails(&args);
+            assert!(
+                stderr.contains(kind) && stderr.contains("not a regular file"),
+                "{args:?}: {stderr}"
+            );
+        }
+    }
+    assert!(is_fifo(&t.path("fifo")));
+    assert!(t.path("link").is_symlink());
+    assert!(std::fs::metadata(t.path("link"))
+        .unwrap()
+        .file_type()
+        .is_fifo());
+    assert!(t.path("dir").is_dir());
+    assert!(std::fs::metadata(t.path("socket"))
+        .unwrap()
+        .file_type()
+        .is_socket());
+    assert_eq!(t.entries(), ["dir", "fifo", "link", "socket"]);
+}
+
+/// Point 1: bench --images refuses a FIFO among its three files before measuring, and the
+/// panel's Save (the library call behind it) refuses a FIFO too.
+#[test]
+fn bench_images_and_save_refuse_a_fifo() {
+    let t = Tmp::new("bench");
+    t.fifo("unculled.png");
+    let stderr = fails(&[
+        "bench",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--size",
+        "16x16",
+        "--images",
+        &t.s(""),
+    ]);
+    assert!(
+        stderr.contains("unculled.png") && stderr.contains("FIFO"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("bench: "), "the bench ran: {stderr}");
+    let fifo = t.fifo("scene.ron");
+    let scene = sward::scene::Scene::default();
+    let e = sward::scene::save::save_scene(&scene, Path::new(&fifo))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("FIFO"), "{e}");
+    assert!(is_fifo(&t.path("scene.ron")));
+    assert_eq!(t.entries(), ["scene.ron", "unculled.png"]);
+}
+
+/// Point 1: a symbolic link to a regular file is followed; the file is replaced and the
+/// link stays a link.
+#[test]
+fn a_link_to_a_file_keeps_the_link() {
+    let t = Tmp::new("link");
+    t.file("real.json", "old");
+    let link = t.link("dump.json", "real.json");
+    let out = sward(&[
+        "simulate", "--blades", "64", "--steps", "1", "--dump", &link,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(t.path("dump.json").is_symlink());
+    let text = std::fs::read_to_string(t.path("real.json")).unwrap();
+    assert!(text.starts_with("{\"initial\""), "{text}");
+    assert_eq!(t.entries(), ["dump.json", "real.json"]);
+}
+
+/// Point 2: one run, several outputs: a bad second output is found before the run, and the
+/// existing first one is untouched; two outputs on one file, or an output over an input,
+/// are refused.
+#[test]
+fn several_outputs_are_all_or_nothing() {
+    let t = Tmp::new("all");
+    let a = t.file("a.json", "good");
+    let bad = t.s("missing/b.json");
+    let stderr = fails(&[
+        "simulate",
+        "--blades",
+        "64",
+        "--steps",
+        "1",
+        "--dump",
+        &a,
+        "--dump-wind",
+        &bad,
+    ]);
+    assert!(
+        stderr.contains("--dump-wind") && stderr.contains("does not exist"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(t.path("a.json")).unwrap(), "good");
+    // The second output is fine but the scene has no fluid: still nothing is written.
+    let b = t.s("b.json");
+    fails(&[
+        "simulate",
+        "--blades",
+        "64",
+        "--steps",
+        "1",
+        "--dump",
+        &a,
+        "--dump-wind",
+        &b,
+    ]);
+    assert_eq!(std::fs::read_to_string(t.path("a.json")).unwrap(), "good");
+    let stderr = fails(&[
+        "simulate",
+        "--blades",
+        "64",
+        "--steps",
+        "1",
+        "--dump",
+        &a,
+        "--dump-wind",
+        &a,
+    ]);
+    assert!(stderr.contains("name the same file"), "{stderr}");
+    let scene = t.file("scene.ron", "()");
+    let stderr = fails(&[
+        "render", "--scene", &scene, "--size", "16x16", "--frames", "1", "--out", &scene,
+    ]);
+    assert!(
+        stderr.contains("--out names the file that --scene reads"),
+        "{stderr}"
+    );
+    let script = t.file("s.ron", "[(frame: 1, event: Scroll(1.0))]");
+    let stderr = fails(&[
+        "--replay",
+        &script,
+        "--record",
+        &script,
+        "--exit-after-frames",
+        "2",
+    ]);
+    assert!(
+        stderr.contains("--record names the file that --replay reads"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(t.path("s.ron")).unwrap(),
+        "[(frame: 1, event: Scroll(1.0))]"
+    );
+    assert_eq!(t.entries(), ["a.json", "s.ron", "scene.ron"]);
+}
+
+/// Point 4: counts have a documented range, in --help and in the error.
+#[test]
+fn counts_are_bounded_and_documented() {
+    for (cmd, flag) in [("render", "--frames"), ("simulate", "--steps")] {
+        for bad in ["0", "4294967295", "100001", "-1", "1e3"] {
+            let arg = format!("{flag}={bad}");
+            let mut args = vec![cmd, arg.as_str()];
+            if cmd == "simulate" {
+                args.extend(["--dump", "/tmp/sward-never-written.json"]);
+            }
+            let stderr = fails(&args);
+            assert!(stderr.contains("allowed 1..=100000"), "{args:?}: {stderr}");
+        }
+        let help = sward(&[cmd, "--help"]);
+        let help = String::from_utf8_lossy(&help.stdout);
+        assert!(help.contains("(1..=100000)"), "{help}");
+    }
+    assert!(!Path::new("/tmp/sward-never-written.json").exists());
+    let help = sward(&["--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(help.contains("(1..=10000000)"), "{help}");
+}
+
+/// Point 6: the window without a display says so, how to get one, that `render` works
+/// headless, and names no source file of the build.
+#[test]
+fn no_display_is_explained() {
+    let stderr = fails(&["--exit-after-frames", "1"]);
+    assert!(stderr.contains("no display"), "{stderr}");
+    assert!(stderr.contains("xvfb-run"), "{stderr}");
+    assert!(stderr.contains("sward render"), "{stderr}");
+    assert!(!stderr.contains("GPU error"), "{stderr}");
+    assert!(!stderr.contains(".rs:"), "{stderr}");
+    assert!(!stderr.contains("registry"), "{stderr}");
+}
+
+/// Point 6: replay script errors name the step and the field (found before a window is
+/// needed).
+#[test]
+fn replay_errors_name_the_step_and_field() {
+    let t = Tmp::new("replay");
+    let cases = [
+        (
+            "[(frame: 1, event: Scroll(1.0)),\n (frame: -1, event: Scroll(1.0))]",
+            "s.ron:2:",
+            "steps[1].frame",
+        ),
+        (
+            "[(frame: 1, event: Scroll(\"x\"))]",
+            "s.ron:1:",
+            "steps[0].event",
+        ),
+        (
+            "[(frame: 1, event: Button(Left, 3))]",
+            "s.ron:1:",
+            "steps[0].event",
+        ),
+        (
+            "[(frame: 1, evnt: Scroll(1.0))]",
+            "s.ron:1:",
+            "steps[0]: Unexpected field named `evnt`",
+        ),
+        (
+            "[(frame: 4, event: Scroll(1.0)), (frame: 2, event: Scroll(1.0))]",
+            "s.ron:1:",
+            "steps[1].frame = 2",
+        ),
+        (
+            "[(frame: 4, event: Scroll(inf))]",
+            "s.ron:1:",
+            "steps[0].event",
+        ),
+    ];
+    for (text, place, field) in cases {
+        let script = t.file("s.ron", text);
+        let stderr = fails(&["--replay", &script, "--exit-after-frames", "1"]);
+        assert!(stderr.contains(place), "{text}: {stderr}");
+        assert!(stderr.contains(field), "{text}: {stderr}");
+        assert!(!stderr.contains("no display"), "{text}: {stderr}");
+    }
+}
