@@ -132,7 +132,10 @@ impl Rule {
                 if name.ends_with(".min") || name.ends_with(".max") {
                     format!("{} (and min <= max)", a.describe(&name))
                 } else {
-                    format!("(min: .., max: ..) with {} and min <= max", a.describe("each"))
+                    format!(
+                        "(min: .., max: ..) with {} and min <= max",
+                        a.describe("each")
+                    )
                 }
             }
             Rule::Integer(i) => i.describe(&name),

@@ -22,7 +22,8 @@ use std::ops::Range as Span;
 pub(crate) fn locate(text: &str, field: &str) -> (usize, usize) {
     let code = mask(text);
     let walk = walk(&code, field);
-    walk.found.map_or((1, 1), |offset| line_column(text, offset))
+    walk.found
+        .map_or((1, 1), |offset| line_column(text, offset))
 }
 
 /// Where a walk down a field path got to in the masked text.
@@ -144,6 +145,94 @@ pub(crate) fn enclosing_path(text: &str, offset: usize) -> String {
     path
 }
 
+/// The path of the innermost field whose written value contains byte `offset` (see
+/// [`enclosing_path`]), counting the end of the value as inside it if `end_inside` (`ron`
+/// reports a bad number just after its last digit). A key whose value ended before
+/// `offset` (a missing field, reported at the closing bracket of its struct) gives way to
+/// the struct around it.
+pub(crate) fn field_at(text: &str, offset: usize, end_inside: bool) -> String {
+    let mut path = enclosing_path(text, offset);
+    while !path.is_empty() {
+        if let Some(span) = field_value(text, &path) {
+            let end = if end_inside { span.end + 1 } else { span.end };
+            if span.start <= offset && offset < end {
+                break;
+            }
+        }
+        path = match path.rfind(['.', '[']) {
+            Some(cut) => path[..cut].to_owned(),
+            None => String::new(),
+        };
+    }
+    path
+}
+
+/// The keys and value spans of the struct written at `span` of the masked `code`: an
+/// anonymous `(key: value, ..)`, a named one or enum variant `Name(key: value, ..)`. `None`
+/// for anything else (a number, a tuple, a list, `Some(..)`: see [`inside_some`]).
+pub(crate) fn struct_fields(code: &[u8], span: Span<usize>) -> Option<Vec<(String, Span<usize>)>> {
+    let mut i = skip_space(code, span.start, span.end);
+    while i < span.end && is_ident(code[i]) {
+        i += 1;
+    }
+    if code.get(i) != Some(&b'(') || span.end == 0 || code[span.end - 1] != b')' {
+        return None;
+    }
+    let inner_end = span.end - 1;
+    let mut fields = Vec::new();
+    let mut i = i + 1;
+    loop {
+        i = skip_space(code, i, inner_end);
+        if i >= inner_end {
+            return Some(fields);
+        }
+        let start = i;
+        while i < inner_end && is_ident(code[i]) {
+            i += 1;
+        }
+        let colon = skip_space(code, i, inner_end);
+        if i == start || code.get(colon) != Some(&b':') {
+            return None;
+        }
+        let key = String::from_utf8_lossy(&code[start..i]).into_owned();
+        let value = value_span(code, colon + 1, inner_end);
+        i = value.end + 1;
+        fields.push((key, value));
+    }
+}
+
+/// The span inside `Some(..)` if `span` of the masked `code` is one.
+pub(crate) fn inside_some(code: &[u8], span: Span<usize>) -> Option<Span<usize>> {
+    let text = &code[span.clone()];
+    if !(text.starts_with(b"Some") && text.ends_with(b")")) {
+        return None;
+    }
+    let open = skip_space(code, span.start + 4, span.end);
+    (code.get(open) == Some(&b'(')).then(|| {
+        let start = skip_space(code, open + 1, span.end - 1);
+        start..value_span(code, start, span.end - 1).end
+    })
+}
+
+/// The elements of the list written at `span` of the masked `code`, if it is one.
+pub(crate) fn list_elements(code: &[u8], span: Span<usize>) -> Option<Vec<Span<usize>>> {
+    if code.get(span.start) != Some(&b'[') {
+        return None;
+    }
+    Some(
+        (0..)
+            .map_while(|n| nth_element(code, span.clone(), n))
+            .collect(),
+    )
+}
+
+fn skip_space(code: &[u8], mut i: usize, end: usize) -> usize {
+    while i < end && code[i].is_ascii_whitespace() {
+        i += 1;
+    }
+    i
+}
+
 /// The byte offset of 1-based `line` and `column` (in characters) in `text`, as `ron`
 /// reports positions; the end of the text if it is past it.
 pub(crate) fn offset_of(text: &str, line: usize, column: usize) -> usize {
@@ -168,9 +257,13 @@ pub(crate) fn mask(text: &str) -> Vec<u8> {
     let mut code = bytes.to_vec();
     let len = bytes.len();
     let at = |i: usize, s: &[u8]| bytes[i..].starts_with(s);
-    let mut blank = |span: Span<usize>| {
-        for b in &mut code[span] {
-            if *b != b'\n' {
+    // A string keeps its quotes so that it still reads as a value (an empty one).
+    let mut blank = |span: Span<usize>, quotes: bool| {
+        let (first, last) = (span.start, span.end - 1);
+        for (i, b) in code[span].iter_mut().enumerate() {
+            if quotes && (first + i == first || first + i == last) {
+                *b = b'"';
+            } else if *b != b'\n' {
                 *b = b' ';
             }
         }
@@ -230,7 +323,7 @@ pub(crate) fn mask(text: &str) -> Vec<u8> {
             i += 1;
             continue;
         }
-        blank(start..i.min(len));
+        blank(start..i.min(len), bytes[start] != b'/');
     }
     code
 }

@@ -550,4 +550,95 @@ mod tests {
         }
     }
 
+    /// Every leaf value of a scene with every part switched on has a rule, so that parser
+    /// and `--set` errors can always give the allowed values.
+    #[test]
+    fn every_field_has_a_rule() {
+        use crate::scene::{Downwash, GlobalWind, Guide, GuidePoint};
+        let mut scene = Scene::default();
+        scene.wind.point = Some(PointWind::default());
+        scene.wind.global = Some(GlobalWind {
+            direction: (1.0, 0.0),
+            strength: 1.0,
+        });
+        let path = Motion::Path {
+            points: vec![(0.0, 0.0), (1.0, 0.0)],
+            speed: 1.0,
+            looped: false,
+        };
+        scene.wind.downwash = Some(Downwash {
+            position: (0.0, 1.0, 0.0),
+            radius: 1.0,
+            strength: 1.0,
+            motion: path.clone(),
+        });
+        scene.wind.guides.push(Guide {
+            strength: 1.0,
+            radius: 1.0,
+            points: vec![GuidePoint {
+                position: (0.0, 0.0),
+                parent: Some(0),
+                strength: Some(1.0),
+                radius: Some(1.0),
+            }],
+        });
+        scene.terrain.density_map = Some("d.png".into());
+        let sphere = |motion| Sphere {
+            center: (0.0, 0.0, 0.0),
+            radius: 1.0,
+            motion,
+        };
+        scene.colliders = vec![sphere(Motion::Velocity((1.0, 0.0, 0.0))), sphere(path)];
+        let mut leaves = Vec::new();
+        for height in [
+            HeightSource::Flat,
+            HeightSource::Png {
+                path: "h.png".into(),
+                scale: 1.0,
+            },
+            Scene::default().terrain.height,
+        ] {
+            scene.terrain.height = height;
+            let text = ron::ser::to_string(&scene).unwrap();
+            let code = locate::mask(&text);
+            collect_leaves(&code, 0..code.len(), String::new(), &mut leaves);
+        }
+        assert!(leaves.len() > 100, "{leaves:?}");
+        for leaf in leaves {
+            assert!(allowed_for(&leaf).is_some(), "no rule for {leaf}");
+        }
+        assert_eq!(
+            allowed_for("colliders[3].radius").as_deref(),
+            Some("0 < radius <= 1000 m")
+        );
+        assert_eq!(allowed_for("field.densty"), None);
+    }
+
+    /// The paths of the lists and of the values in `span` that are not structs.
+    fn collect_leaves(
+        code: &[u8],
+        span: std::ops::Range<usize>,
+        path: String,
+        out: &mut Vec<String>,
+    ) {
+        let span = locate::inside_some(code, span.clone()).unwrap_or(span);
+        if let Some(fields) = locate::struct_fields(code, span.clone()) {
+            // A section's own errors (`field: 3`) quote `ron`'s "expected `(` for struct".
+            for (key, value) in fields {
+                let child = if path.is_empty() {
+                    key
+                } else {
+                    format!("{path}.{key}")
+                };
+                collect_leaves(code, value, child, out);
+            }
+        } else if let Some(elements) = locate::list_elements(code, span) {
+            out.push(path.clone());
+            for (i, element) in elements.into_iter().enumerate() {
+                collect_leaves(code, element, format!("{path}[{i}]"), out);
+            }
+        } else {
+            out.push(path);
+        }
+    }
 }

@@ -36,7 +36,10 @@ macro_rules! motion_rules {
                 concat!($prefix, ".points[]"),
                 Rule::Vector(super::objects::POSITION),
             ),
-            (concat!($prefix, ".speed"), Rule::Real(super::objects::SPEED)),
+            (
+                concat!($prefix, ".speed"),
+                Rule::Real(super::objects::SPEED),
+            ),
             (concat!($prefix, ".looped"), Rule::Bool),
         ]
     };
@@ -51,7 +54,10 @@ pub(super) const RULES: &[(&str, Rule)] = &{
             "colliders",
             Rule::Text("a list of spheres (center: (x, y, z), radius: .., motion: ..)"),
         ),
-        ("colliders[]", Rule::Text("(center: (x, y, z), radius: .., motion: ..)")),
+        (
+            "colliders[]",
+            Rule::Text("(center: (x, y, z), radius: .., motion: ..)"),
+        ),
         ("colliders[].center", Rule::Vector(POSITION)),
         ("colliders[].radius", Rule::Real(RADIUS)),
         motion[0],

@@ -30,7 +30,10 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("physics.gravity_direction", Rule::Direction),
     ("physics.gravity_acceleration", Rule::Real(ACCELERATION)),
     ("physics.gravity_center", Rule::Vector(POSITION)),
-    ("physics.gravity_center_acceleration", Rule::Real(ACCELERATION)),
+    (
+        "physics.gravity_center_acceleration",
+        Rule::Real(ACCELERATION),
+    ),
     ("physics.gravity_blend", Rule::Real(BLEND)),
     ("physics.mass", Rule::Real(MASS)),
     ("physics.collision_decay", Rule::Real(DECAY)),
@@ -46,8 +49,16 @@ pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     check.direction("physics.gravity_direction", &mut direction)?;
     physics.gravity_direction = direction.into();
     let p = &*physics;
-    check.real("physics.gravity_acceleration", p.gravity_acceleration, ACCELERATION)?;
-    check.vector("physics.gravity_center", &tuple3(p.gravity_center), POSITION)?;
+    check.real(
+        "physics.gravity_acceleration",
+        p.gravity_acceleration,
+        ACCELERATION,
+    )?;
+    check.vector(
+        "physics.gravity_center",
+        &tuple3(p.gravity_center),
+        POSITION,
+    )?;
     let center = p.gravity_center_acceleration;
     check.real("physics.gravity_center_acceleration", center, ACCELERATION)?;
     check.real("physics.gravity_blend", p.gravity_blend, BLEND)?;
@@ -56,7 +67,11 @@ pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     check.real("physics.collision_gain", p.collision_gain, GAIN)?;
     let ceiling = p.max_collision_strength;
     check.real("physics.max_collision_strength", ceiling, CEILING)?;
-    check.real("physics.stiffness_scale", p.stiffness_scale, STIFFNESS_SCALE)?;
+    check.real(
+        "physics.stiffness_scale",
+        p.stiffness_scale,
+        STIFFNESS_SCALE,
+    )?;
     check.real("physics.max_dt", p.max_dt, MAX_DT)
 }
 

@@ -55,16 +55,27 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("render.displacement", Rule::Bool),
     ("render.width_min_px", Rule::Real(WIDTH_PIXELS)),
     ("render.width_span_px", Rule::Real(WIDTH_PIXELS)),
-    ("render.color_mode", Rule::Choice("one of Natural, Lod, Patch")),
+    (
+        "render.color_mode",
+        Rule::Choice("one of Natural, Lod, Patch"),
+    ),
     ("render.wireframe", Rule::Bool),
 ];
 
 pub(super) fn culling(check: &Checker, culling: &Culling) -> Result<()> {
     let c = culling;
-    check.real("culling.orientation_threshold", c.orientation_threshold, FRACTION)?;
+    check.real(
+        "culling.orientation_threshold",
+        c.orientation_threshold,
+        FRACTION,
+    )?;
     let tolerance = c.frustum_tolerance;
     check.real("culling.frustum_tolerance", tolerance, FRUSTUM_TOLERANCE)?;
-    check.integer("culling.distance_levels", c.distance_levels, DISTANCE_LEVELS)?;
+    check.integer(
+        "culling.distance_levels",
+        c.distance_levels,
+        DISTANCE_LEVELS,
+    )?;
     check.real("culling.max_distance", c.max_distance, MAX_DISTANCE)?;
     check.real("culling.occlusion_bias", c.occlusion_bias, FRACTION)?;
     let grass_bias = c.grass_occlusion_bias;

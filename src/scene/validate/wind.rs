@@ -33,13 +33,12 @@ const GUIDE_RADIUS_TEXT: &str = "0 < radius <= terrain.size m";
 pub(super) const RULES: &[(&str, Rule)] = &{
     let downwash = motion_rules!("wind.downwash.motion");
     [
-        (
-            "wind.source",
-            Rule::Choice("one of Analytic, Fluid, Both"),
-        ),
+        ("wind.source", Rule::Choice("one of Analytic, Fluid, Both")),
         (
             "wind.directional",
-            Rule::Text("None or (direction: .., strength: .., gust: .., wavelength: .., speed: ..)"),
+            Rule::Text(
+                "None or (direction: .., strength: .., gust: .., wavelength: .., speed: ..)",
+            ),
         ),
         ("wind.directional.direction", Rule::Direction),
         ("wind.directional.strength", Rule::Real(FORCE)),
@@ -55,13 +54,22 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         ("wind.point.radius", Rule::Real(RADIUS)),
         ("wind.point.frequency", Rule::Real(FREQUENCY)),
         ("wind.fluid.resolution", Rule::Integer(FLUID_RESOLUTION)),
-        ("wind.fluid.pressure_iterations", Rule::Integer(PRESSURE_ITERATIONS)),
+        (
+            "wind.fluid.pressure_iterations",
+            Rule::Integer(PRESSURE_ITERATIONS),
+        ),
         ("wind.fluid.warm_start", Rule::Bool),
         ("wind.fluid.vorticity", Rule::Real(VORTICITY)),
         ("wind.fluid.dissipation", Rule::Real(DISSIPATION)),
         ("wind.fluid.viscosity", Rule::Real(VISCOSITY)),
-        ("wind.fluid.diffusion_iterations", Rule::Integer(DIFFUSION_ITERATIONS)),
-        ("wind.fluid.boundary", Rule::Choice("one of Closed, Open, Periodic")),
+        (
+            "wind.fluid.diffusion_iterations",
+            Rule::Integer(DIFFUSION_ITERATIONS),
+        ),
+        (
+            "wind.fluid.boundary",
+            Rule::Choice("one of Closed, Open, Periodic"),
+        ),
         ("wind.fluid.response", Rule::Real(RESPONSE)),
         ("wind.fluid.per_cell", Rule::Bool),
         ("wind.fluid.obstacles", Rule::Bool),
@@ -71,7 +79,10 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         ),
         ("wind.guides[].strength", Rule::Real(FORCE)),
         ("wind.guides[].radius", Rule::Text(GUIDE_RADIUS_TEXT)),
-        ("wind.guides[].points", Rule::Text("at least 1 point (the root)")),
+        (
+            "wind.guides[].points",
+            Rule::Text("at least 1 point (the root)"),
+        ),
         (
             "wind.guides[].points[].position",
             Rule::Text("(x, z) on the terrain: -terrain.size/2 <= x, z <= terrain.size/2 m"),
@@ -81,8 +92,14 @@ pub(super) const RULES: &[(&str, Rule)] = &{
             Rule::Text("None for point 0, else the index of an earlier point"),
         ),
         ("wind.guides[].points[].strength", Rule::Real(FORCE)),
-        ("wind.guides[].points[].radius", Rule::Text(GUIDE_RADIUS_TEXT)),
-        ("wind.global", Rule::Text("None or (direction: .., strength: ..)")),
+        (
+            "wind.guides[].points[].radius",
+            Rule::Text(GUIDE_RADIUS_TEXT),
+        ),
+        (
+            "wind.global",
+            Rule::Text("None or (direction: .., strength: ..)"),
+        ),
         ("wind.global.direction", Rule::Direction),
         ("wind.global.strength", Rule::Real(FORCE)),
         (
@@ -144,7 +161,11 @@ fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
     check.real(&at("dissipation"), fluid.dissipation, DISSIPATION)?;
     check.real(&at("viscosity"), fluid.viscosity, VISCOSITY)?;
     let iterations = fluid.diffusion_iterations;
-    check.integer(&at("diffusion_iterations"), iterations, DIFFUSION_ITERATIONS)?;
+    check.integer(
+        &at("diffusion_iterations"),
+        iterations,
+        DIFFUSION_ITERATIONS,
+    )?;
     check.real(&at("response"), fluid.response, RESPONSE)
 }
 
