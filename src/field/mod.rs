@@ -4,7 +4,7 @@
 //! Everything is seeded: the same scene gives bit-identical buffers on every run.
 
 mod density;
-mod grid;
+pub(crate) mod grid;
 mod noise;
 mod patches;
 mod placement;

@@ -9,6 +9,7 @@ use std::path::Path;
 use ron::error::{Error as RonError, SpannedError};
 use ron::{extensions::Extensions, Options};
 
+use super::origin::Origin;
 use super::types::Scene;
 use super::validate::locate::{field_at, field_value, offset_of};
 use super::validate::{allowed_for, validate};
@@ -61,6 +62,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene> {
         message: parse_error_message(text, &e),
     })?;
     validate(&mut scene, text, path)?;
+    scene.origin = Origin::new(path, text, Vec::new());
     Ok(scene)
 }
 

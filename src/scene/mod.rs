@@ -30,11 +30,13 @@
 
 pub mod bunny;
 mod load;
+mod origin;
 pub mod save;
 mod set;
 pub mod types;
 mod validate;
 
 pub use load::{load_scene, parse_scene};
+pub use origin::Origin;
 pub use set::{load_scene_with_sets, parse_scene_with_sets};
 pub use types::*;

@@ -21,6 +21,7 @@ use std::path::Path;
 use ron::ser::PrettyConfig;
 
 use super::load::{options, parse_error_message};
+use super::origin::Origin;
 use super::types::{Downwash, GlobalWind, PointWind, Scene};
 use super::validate::locate::{
     inside_some, list_elements, mask, split_index, struct_fields, value_span,
@@ -86,6 +87,7 @@ pub fn parse_scene_with_sets(text: &str, path: &Path, sets: &[String]) -> Result
         });
     }
     validate_with_sets(&mut scene, text, path, &fields)?;
+    scene.origin = Origin::new(path, text, fields);
     Ok(scene)
 }
 

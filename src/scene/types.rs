@@ -16,6 +16,10 @@ pub struct Scene {
     pub culling: Culling,
     pub camera: Camera,
     pub render: Render,
+    /// The file and text the scene was loaded from, for errors found after loading (an
+    /// image that does not decode); never compared, never saved.
+    #[serde(skip)]
+    pub origin: super::origin::Origin,
 }
 
 /// Where the height of the ground comes from.
