@@ -85,7 +85,10 @@ pub(crate) fn parse_error_message(text: &str, e: &SpannedError) -> String {
     let mut said = said;
     match &e.code {
         RonError::MissingStructField { .. } | RonError::DuplicateStructField { .. } => {
-            return format!("{field}: {said}");
+            return match allowed_for(&field) {
+                Some(allowed) => format!("{field}: {said}: allowed {allowed}"),
+                None => format!("{field}: {said}"),
+            };
         }
         code if !is_value_error(code) => {
             // `resolution: 3.5` is a syntax error to `ron` (an integer, then `.5` where a
@@ -437,6 +440,12 @@ mod tests {
         for (text, expected) in cases {
             assert_eq!(parse(text).unwrap_err().to_string(), expected, "{text}");
         }
+        let (_, _, message) = scene_error("(field: (height: (min: 0.5)))");
+        assert_eq!(
+            message,
+            "field.height: Unexpected missing field named `max` in `Range`: allowed (min: .., \
+             max: ..) with 0.01 <= each <= 10 m and min <= max"
+        );
         let shape = parse("(field: (shape: Round))").unwrap_err().to_string();
         assert!(
             shape.starts_with("/scenes/test.ron:1:22: field.shape = Round is not a valid value"),

@@ -263,13 +263,14 @@ impl Checker<'_> {
         Ok(())
     }
 
-    /// Every component finite.
-    fn finite(&self, field: &str, components: &[f32]) -> Result<()> {
+    /// Every component finite; `allowed` says what else the field needs.
+    fn finite(&self, field: &str, components: &[f32], allowed: &str) -> Result<()> {
         if components.iter().all(|c| c.is_finite()) {
             return Ok(());
         }
         let message = format!(
-            "{field} = {} is not finite: every component must be a finite number",
+            "{field} = {} is not finite: every component must be a finite number, allowed \
+             {allowed}",
             show(components)
         );
         Err(self.error(field, message))
@@ -277,7 +278,7 @@ impl Checker<'_> {
 
     /// Every component finite and within `allowed` (positions, velocities).
     fn vector(&self, field: &str, components: &[f32], allowed: Allowed) -> Result<()> {
-        self.finite(field, components)?;
+        self.finite(field, components, &Rule::Vector(allowed).describe(field))?;
         if components.iter().all(|&c| allowed.contains(c)) {
             return Ok(());
         }
@@ -292,7 +293,7 @@ impl Checker<'_> {
     /// A finite, non-zero direction, normalised in place. Already normalised vectors are left
     /// bit for bit as they are, so that validating twice changes nothing.
     fn direction(&self, field: &str, components: &mut [f32]) -> Result<()> {
-        self.finite(field, components)?;
+        self.finite(field, components, &Rule::Direction.describe(field))?;
         let Some(unit) = unit(components) else {
             let message = format!(
                 "{field} = {} has zero length: a direction must be non-zero (it is normalised \

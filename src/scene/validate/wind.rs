@@ -186,7 +186,8 @@ fn guide(check: &Checker, i: usize, guide: &Guide, terrain_size: f32) -> Result<
     for (k, p) in guide.points.iter().enumerate() {
         let point = |name: &str| at(&format!("points[{k}].{name}"));
         let name = point("position");
-        check.finite(&name, &[p.position.0, p.position.1])?;
+        let on_terrain = format!("-{half} ..= {half} on x and z");
+        check.finite(&name, &[p.position.0, p.position.1], &on_terrain)?;
         if p.position.0.abs() > half || p.position.1.abs() > half {
             let message = format!(
                 "{name} = {} is outside the terrain: allowed -{half} ..= {half} on x and z",
