@@ -21,6 +21,10 @@ pub enum Error {
         column: usize,
         message: String,
     },
+    /// A `--set PATH=VALUE` argument is malformed, names no field of the scene, or sets a
+    /// value the scene file could not hold (`arg` is `PATH=VALUE` as given).
+    #[error("--set {arg}: {message}")]
+    Set { arg: String, message: String },
     /// An image named by a scene could not be decoded.
     #[error("{path}: cannot decode image: {message}")]
     Image { path: PathBuf, message: String },

@@ -62,8 +62,11 @@ impl Session {
                 })
             }
             None => {
-                let terrain = HeightField::from_scene(&scene.terrain)?;
-                let density = DensityMap::from_scene(&scene.terrain)?;
+                // Image errors name the scene line (or --set) that names the image.
+                let terrain = HeightField::from_scene(&scene.terrain)
+                    .map_err(|e| scene.image_error("terrain.height.path", e))?;
+                let density = DensityMap::from_scene(&scene.terrain)
+                    .map_err(|e| scene.image_error("terrain.density_map", e))?;
                 let field = generate(&scene.field, &terrain, density.as_ref());
                 Ok(Self {
                     scene,

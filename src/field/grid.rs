@@ -13,8 +13,16 @@ pub struct GreyImage {
     pub values: Vec<f32>,
 }
 
+/// Largest width and height of an image the terrain or the density map reads: 16384²
+/// 16-bit samples are already 512 MiB, and a field never needs more detail than that.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
 /// Loads any PNG (any bit depth, colour converted to luma) at 16 bits, so that 16-bit
 /// height maps keep their precision and 8-bit ones lose nothing.
+///
+/// The header's size is checked before anything is decoded, so that a small file that
+/// declares a huge image is refused with its size (`declares 100000x100000 pixels; allowed
+/// at most 16384x16384`) instead of an allocation failure or a bare "memory limit".
 pub fn load_grey(path: &Path) -> Result<GreyImage> {
     // Reading and decoding apart so that a missing file is `Error::Read` (with the OS
     // reason) and a corrupt one is `Error::Image`, both naming the path.
@@ -22,11 +30,30 @@ pub fn load_grey(path: &Path) -> Result<GreyImage> {
         path: path.to_path_buf(),
         source,
     })?;
-    let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-        .map_err(|e| Error::Image {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })?
+    let image_error = |message: String| Error::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    let reader =
+        || image::ImageReader::with_format(std::io::Cursor::new(&bytes), image::ImageFormat::Png);
+    let (width, height) = reader()
+        .into_dimensions()
+        .map_err(|e| image_error(e.to_string()))?;
+    if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
+        return Err(image_error(format!(
+            "declares {width}x{height} pixels; allowed at most {MAX_IMAGE_SIDE}x{MAX_IMAGE_SIDE}"
+        )));
+    }
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_IMAGE_SIDE);
+    limits.max_image_height = Some(MAX_IMAGE_SIDE);
+    // The largest allowed image decoded as 16-bit RGBA, the widest form a PNG decodes to.
+    limits.max_alloc = Some(u64::from(MAX_IMAGE_SIDE).pow(2) * 8);
+    let mut decoder = reader();
+    decoder.limits(limits);
+    let image = decoder
+        .decode()
+        .map_err(|e| image_error(e.to_string()))?
         .to_luma16();
     let (width, height) = image.dimensions();
     let values = image
@@ -95,7 +122,7 @@ pub fn resample(image: &GreyImage, resolution: u32) -> Vec<f32> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     #[test]
@@ -128,5 +155,61 @@ mod tests {
         assert_eq!(grid[4], 1.0);
         assert_eq!(grid[20], 0.25);
         assert_eq!(grid[24], 0.75);
+    }
+
+    /// A 1×1 grey PNG whose header says `width` × `height` (with a correct CRC), so that
+    /// only the header check can refuse it.
+    pub(crate) fn png_declaring(width: u32, height: u32) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        image::ImageBuffer::from_pixel(1, 1, image::Luma([128u8]))
+            .write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .expect("encode");
+        // Signature (8), IHDR length (4), "IHDR" (4), width, height, ..., CRC at 29.
+        bytes[16..20].copy_from_slice(&width.to_be_bytes());
+        bytes[20..24].copy_from_slice(&height.to_be_bytes());
+        let crc = crc32(&bytes[12..29]);
+        bytes[29..33].copy_from_slice(&crc.to_be_bytes());
+        bytes
+    }
+
+    /// The CRC-32 of PNG chunks (ISO 3309), bit by bit.
+    fn crc32(data: &[u8]) -> u32 {
+        let mut crc = 0xFFFF_FFFFu32;
+        for &b in data {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 != 0 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        !crc
+    }
+
+    #[test]
+    fn huge_declared_size_is_refused_before_decoding() {
+        let dir = std::env::temp_dir().join(format!("sward-grid-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let huge = dir.join("huge.png");
+        std::fs::write(&huge, png_declaring(100_000, 100_000)).unwrap();
+        let err = load_grey(&huge).err().expect("refused");
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{}: cannot decode image: declares 100000x100000 pixels; allowed at most \
+                 16384x16384",
+                huge.display()
+            )
+        );
+        // The same crafted header at a legal size decodes: the CRC is right.
+        let small = dir.join("small.png");
+        std::fs::write(&small, png_declaring(1, 1)).unwrap();
+        assert_eq!(load_grey(&small).unwrap().values.len(), 1);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -4,7 +4,7 @@
 //! Everything is seeded: the same scene gives bit-identical buffers on every run.
 
 mod density;
-mod grid;
+pub(crate) mod grid;
 mod noise;
 mod patches;
 mod placement;
@@ -68,10 +68,14 @@ pub fn generate(
     generate_count(field, terrain, density, wanted, patch_size)
 }
 
+/// The largest side of [`flat_field`]'s square: the largest `terrain.size`.
+const MAX_FLAT_SIZE: f32 = 10000.0;
+
 /// About `count` blades on a flat square sized so that the density is `field.density`
 /// (for tests and `sward simulate --blades N`). The count is rounded up to a multiple of
 /// 64, the patch size is `min(field.patch_size, that count)`, and the count is then
-/// rounded up to whole patches. `count = 0` gives an empty field on a 1 m square.
+/// rounded up to whole patches. `count = 0` gives an empty field on a 1 m square. The
+/// square is at most 10 km wide (denser than `field.density` if that is tiny).
 pub fn flat_field(count: usize, field: &Field) -> (HeightField, GeneratedField) {
     let group = WORKGROUP_SIZE as usize;
     let rounded = count.div_ceil(group) * group;
@@ -82,8 +86,11 @@ pub fn flat_field(count: usize, field: &Field) -> (HeightField, GeneratedField) 
     } else {
         1.0
     };
+    // A tiny density (1e-38 blades/m² is in range) would ask for a square of 1e20 m, where
+    // f32 positions lose every centimetre and the blades turn to NaN: the square stays
+    // within the largest terrain a scene may have, so the blades stand denser instead.
     let size = if total > 0 {
-        (total as f32 / density).sqrt()
+        (total as f32 / density).sqrt().min(MAX_FLAT_SIZE)
     } else {
         1.0
     };

@@ -6,10 +6,13 @@
 
 use std::path::Path;
 
+use ron::error::{Error as RonError, SpannedError};
 use ron::{extensions::Extensions, Options};
 
+use super::origin::Origin;
 use super::types::Scene;
-use super::validate::validate;
+use super::validate::locate::{field_at, field_value, offset_of};
+use super::validate::{allowed_for, validate};
 use crate::error::{Error, Result};
 
 /// Reads, parses and validates the scene file at `path`.
@@ -56,15 +59,106 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene> {
         path: path.to_path_buf(),
         line: e.position.line,
         column: e.position.col,
-        message: e.code.to_string(),
+        message: parse_error_message(text, &e),
     })?;
     validate(&mut scene, text, path)?;
+    scene.origin = Origin::new(path, text, Vec::new());
     Ok(scene)
+}
+
+/// The message for `ron`'s error `e` in `text`: when it is about a value (a wrong type, an
+/// integer out of bounds, an unknown variant), it names the field the value belongs to,
+/// quotes the value and gives the field's allowed range, e.g.
+/// `terrain.resolution = 1e3 is not a valid value (Invalid digit 'e' for base 10 integers):
+/// allowed 2 <= resolution <= 4097 vertices per side`. Syntax errors and unknown fields
+/// (whose message already names the field) keep `ron`'s message.
+pub(crate) fn parse_error_message(text: &str, e: &SpannedError) -> String {
+    let said = e.code.to_string();
+    let offset = offset_of(text, e.position.line, e.position.col);
+    let missing = matches!(e.code, RonError::MissingStructField { .. });
+    let field = field_at(text, offset, !missing);
+    if field.is_empty() {
+        return said;
+    }
+    let span = field_value(text, &field).unwrap_or(offset..offset);
+    let mut value = shorten(text[span.clone()].trim());
+    let mut said = said;
+    match &e.code {
+        RonError::MissingStructField { .. } | RonError::DuplicateStructField { .. } => {
+            return match allowed_for(&field) {
+                Some(allowed) => format!("{field}: {said}: allowed {allowed}"),
+                None => format!("{field}: {said}"),
+            };
+        }
+        code if !is_value_error(code) => {
+            // `resolution: 3.5` is a syntax error to `ron` (an integer, then `.5` where a
+            // comma belongs), but to the user a malformed value: the error falls inside the
+            // value's first token.
+            let token_end = text[span.start..]
+                .find(|c: char| c.is_whitespace() || matches!(c, ',' | ')' | ']' | '}'))
+                .map_or(text.len(), |n| span.start + n);
+            if !(span.start < offset && offset < token_end) {
+                return said;
+            }
+            value = text[span.start..token_end].to_owned();
+            said = format!("unexpected `{}`", &text[offset..token_end]);
+        }
+        _ => {}
+    }
+    let shown = if value.is_empty() {
+        format!("{field} is not a valid value ({said})")
+    } else {
+        format!("{field} = {value} is not a valid value ({said})")
+    };
+    match allowed_for(&field) {
+        Some(allowed) => format!("{shown}: allowed {allowed}"),
+        None => shown,
+    }
+}
+
+/// Whether `ron` raised `code` because of what a value is (its type or its digits) rather
+/// than because of the syntax around it.
+fn is_value_error(code: &RonError) -> bool {
+    matches!(
+        code,
+        RonError::Message(_)
+            | RonError::ExpectedArray
+            | RonError::ExpectedBoolean
+            | RonError::ExpectedChar
+            | RonError::ExpectedFloat
+            | RonError::FloatUnderscore
+            | RonError::ExpectedInteger
+            | RonError::ExpectedOption
+            | RonError::ExpectedMap
+            | RonError::ExpectedDifferentStructName { .. }
+            | RonError::ExpectedStructLike
+            | RonError::ExpectedNamedStructLike(_)
+            | RonError::ExpectedUnit
+            | RonError::ExpectedString
+            | RonError::ExpectedIdentifier
+            | RonError::IntegerOutOfBounds
+            | RonError::InvalidIntegerDigit { .. }
+            | RonError::UnderscoreAtBeginning
+            | RonError::InvalidValueForType { .. }
+            | RonError::ExpectedDifferentLength { .. }
+            | RonError::NoSuchEnumVariant { .. }
+    )
+}
+
+/// A value as quoted in a message: on one line, and cut short if it is long.
+fn shorten(value: &str) -> String {
+    let one_line: Vec<&str> = value.split_whitespace().collect();
+    let one_line = one_line.join(" ");
+    if one_line.chars().count() <= 60 {
+        return one_line;
+    }
+    let cut: String = one_line.chars().take(57).collect();
+    format!("{cut}...")
 }
 
 /// `ron` options for scene files. `implicit_some` lets users write `directional: (..)`
 /// instead of `directional: Some((..))`; the explicit form still parses.
-fn options() -> Options {
+pub(crate) fn options() -> Options {
     Options::default().with_default_extension(Extensions::IMPLICIT_SOME)
 }
 
@@ -280,5 +374,89 @@ mod tests {
             result.unwrap().terrain.density_map.map(PathBuf::from),
             Some(expected)
         );
+    }
+
+    #[test]
+    fn parser_errors_name_the_field_and_its_range() {
+        let cases = [
+            (
+                "(\n  terrain: (\n    resolution: 99999999999,\n  ),\n)",
+                "/scenes/test.ron:3:28: terrain.resolution = 99999999999 is not a valid value \
+                 (Integer is out of bounds): allowed 2 <= resolution <= 4097 vertices per side",
+            ),
+            (
+                "(terrain: (resolution: 1e3))",
+                "/scenes/test.ron:1:25: terrain.resolution = 1e3 is not a valid value (Invalid \
+                 digit 'e' for base 10 integers): allowed 2 <= resolution <= 4097 vertices per \
+                 side",
+            ),
+            (
+                "(terrain: (resolution: -5))",
+                "/scenes/test.ron:1:26: terrain.resolution = -5 is not a valid value (Integer is \
+                 out of bounds): allowed 2 <= resolution <= 4097 vertices per side",
+            ),
+            (
+                "(terrain: (resolution: 3.5))",
+                "/scenes/test.ron:1:25: terrain.resolution = 3.5 is not a valid value \
+                 (unexpected `.5`): allowed 2 <= resolution <= 4097 vertices per side",
+            ),
+            (
+                "(field: (density: \"lots\", seed: 2))",
+                "/scenes/test.ron:1:19: field.density = \"lots\" is not a valid value (Expected \
+                 float): allowed 0 < density <= 10000 blades/m²",
+            ),
+            (
+                "(culling: (distance: 3))",
+                "/scenes/test.ron:1:22: culling.distance = 3 is not a valid value (Expected \
+                 boolean): allowed true or false",
+            ),
+            (
+                "(field: (seed: -1))",
+                "/scenes/test.ron:1:18: field.seed = -1 is not a valid value (Integer is out of \
+                 bounds): allowed 0 <= seed <= 18446744073709551615",
+            ),
+            (
+                "(wind: (point: (strength: true)))",
+                "/scenes/test.ron:1:27: wind.point.strength = true is not a valid value \
+                 (Expected float): allowed 0 <= strength <= 1000 m/s²",
+            ),
+            (
+                "(colliders: [(center: (0, 0), radius: 1)])",
+                "/scenes/test.ron:1:28: colliders[0].center = (0, 0) is not a valid value \
+                 (Expected a tuple of size 3 but found 2 elements instead): allowed -100000 <= \
+                 center <= 100000 m for every component",
+            ),
+            (
+                "(colliders: [(center: (0, 0, 0))])",
+                "/scenes/test.ron:1:32: colliders[0]: Unexpected missing field named `radius` in \
+                 `Sphere`",
+            ),
+            (
+                "(field: (height: (min: \"a\", max: 1)))",
+                "/scenes/test.ron:1:24: field.height.min = \"a\" is not a valid value (Expected \
+                 float): allowed 0.01 <= height.min <= 10 m (and min <= max)",
+            ),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(parse(text).unwrap_err().to_string(), expected, "{text}");
+        }
+        let (_, _, message) = scene_error("(field: (height: (min: 0.5)))");
+        assert_eq!(
+            message,
+            "field.height: Unexpected missing field named `max` in `Range`: allowed (min: .., \
+             max: ..) with 0.01 <= each <= 10 m and min <= max"
+        );
+        let shape = parse("(field: (shape: Round))").unwrap_err().to_string();
+        assert!(
+            shape.starts_with("/scenes/test.ron:1:22: field.shape = Round is not a valid value"),
+            "{shape}"
+        );
+        assert!(
+            shape.ends_with("allowed one of Quad, Triangle, Quadratic, TriangleTip, Dandelion"),
+            "{shape}"
+        );
+        // A syntax error is not about a value: `ron`'s own message.
+        let (_, _, message) = scene_error("(field: (density: 3.0 seed: 2))");
+        assert_eq!(message, "Expected comma");
     }
 }

@@ -12,6 +12,10 @@
 //!    normalises direction vectors and resolves relative image paths against the scene
 //!    file's directory, so that later stages can use the values as they are.
 //!
+//! Scripts can change fields without editing the file: [`parse_scene_with_sets`] /
+//! [`load_scene_with_sets`] apply `PATH=VALUE` arguments (`field.density=40`), validated
+//! like the file.
+//!
 //! `Some(...)` around optional values may be omitted (RON's `implicit_some` extension is
 //! on), e.g. `wind: (directional: (strength: 3.0), point: None)`.
 //!
@@ -26,9 +30,13 @@
 
 pub mod bunny;
 mod load;
+mod origin;
 pub mod save;
+mod set;
 pub mod types;
 mod validate;
 
 pub use load::{load_scene, parse_scene};
+pub use origin::Origin;
+pub use set::{load_scene_with_sets, parse_scene_with_sets};
 pub use types::*;

@@ -1,5 +1,12 @@
 //! Writing a scene back to a RON file (the window's Save button, after editing AGC guides).
 //!
+//! Only what differs from the defaults is written (the defaults are `Scene::default()`
+//! after validation), so the file shows what the user set instead of burying it among
+//! eighty default values: a section with one changed field writes just that field, an
+//! optional part that is `None` where the default has one is written as `None`, and lists,
+//! enum values (`Noise(..)`, `Path(..)`) and structs whose fields have no defaults are
+//! written whole when they differ. Everything left out loads back as the same default.
+//!
 //! The text is `ron`'s pretty form with the crate's default options: structs as `( .. )`
 //! without their type names and optional values written as `Some( .. )`. Both are what the
 //! loader reads (it accepts `Some( .. )` although its `implicit_some` extension lets users
@@ -24,30 +31,129 @@
 //! is a symlink, so such a path could name a different file; an absolute path always names
 //! the file the scene was using.
 
+use std::ops::Range as Span;
 use std::path::{Component, Path, PathBuf};
 
 use ron::ser::PrettyConfig;
 
-use super::load::parse_scene;
+use super::load::{options, parse_scene};
 use super::types::{HeightSource, Scene};
+use super::validate::locate::{inside_some, mask, struct_fields};
+use super::validate::validate;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
 
 /// The scene as pretty RON text that [`crate::scene::parse_scene`] reads back into an equal
-/// scene. Image paths are written as they are (see [`save_scene`] for making them relative).
+/// scene, holding only the values that differ from the defaults (see the module docs).
+/// Image paths are written as they are (see [`save_scene`] for making them relative).
 ///
 /// # Errors
 ///
 /// [`Error::Invalid`] if `ron` cannot serialise the scene (no scene built from the scene
 /// types triggers this; the error exists because the serialiser is fallible).
 pub fn scene_to_string(scene: &Scene) -> Result<String> {
+    let full = full_text(scene)?;
+    let mut default = Scene::default();
+    // The default scene is valid; validation only normalises its directions, which is what
+    // a loaded scene holds, so that unchanged directions compare equal.
+    validate(&mut default, "()", Path::new("defaults.ron"))?;
+    let defaults = full_text(&default)?;
+    let whole = Part {
+        text: &full,
+        code: mask(&full),
+    };
+    let base = Part {
+        text: &defaults,
+        code: mask(&defaults),
+    };
+    let all = 0..full.len();
+    let mut text =
+        diff(&whole, all, &base, 0..defaults.len(), 0, true).unwrap_or_else(|| "()".to_owned());
+    text.push('\n');
+    Ok(text)
+}
+
+/// The scene written with every field, in the form that [`diff`] compares.
+fn full_text(scene: &Scene) -> Result<String> {
     let config = PrettyConfig::new()
         .struct_names(false)
         .separate_tuple_members(false);
-    let mut text = ron::ser::to_string_pretty(scene, config)
-        .map_err(|e| Error::Invalid(format!("cannot write the scene as RON: {e}")))?;
-    text.push('\n');
-    Ok(text)
+    ron::ser::to_string_pretty(scene, config)
+        .map_err(|e| Error::Invalid(format!("cannot write the scene as RON: {e}")))
+}
+
+/// Scene text with every field written, and its mask (see `validate::locate::mask`).
+struct Part<'a> {
+    text: &'a str,
+    code: Vec<u8>,
+}
+
+/// The value at `span` of `scene` written as it differs from the one at `base_span` of
+/// `base`, or `None` if they are the same. Anonymous structs (also inside `Some(..)`) whose
+/// type fills in missing fields recurse, so only their changed fields are written;
+/// anything else is written whole. `root` is the scene itself.
+fn diff(
+    scene: &Part,
+    span: Span<usize>,
+    base: &Part,
+    base_span: Span<usize>,
+    depth: usize,
+    root: bool,
+) -> Option<String> {
+    let value = scene.text[span.clone()].trim();
+    if value == base.text[base_span.clone()].trim() {
+        return None;
+    }
+    let whole = || Some(value.to_owned());
+    if let (Some(inner), Some(base_inner)) = (
+        inside_some(&scene.code, trimmed(&scene.code, span.clone())),
+        inside_some(&base.code, trimmed(&base.code, base_span.clone())),
+    ) {
+        return diff(scene, inner, base, base_inner, depth, false).map(|d| format!("Some({d})"));
+    }
+    let span = trimmed(&scene.code, span);
+    let base_span = trimmed(&base.code, base_span);
+    if scene.code.get(span.start) != Some(&b'(') || !(root || fills_defaults(base, &base_span)) {
+        return whole();
+    }
+    let (Some(fields), Some(base_fields)) = (
+        struct_fields(&scene.code, span.clone()),
+        struct_fields(&base.code, base_span),
+    ) else {
+        return whole();
+    };
+    let indent = "    ".repeat(depth + 1);
+    let mut out = String::from("(\n");
+    for (key, value) in fields {
+        let Some((_, base_value)) = base_fields.iter().find(|(k, _)| *k == key) else {
+            return whole();
+        };
+        if let Some(d) = diff(scene, value, base, base_value.clone(), depth + 1, false) {
+            out.push_str(&format!("{indent}{key}: {d},\n"));
+        }
+    }
+    out.push_str(&"    ".repeat(depth));
+    out.push(')');
+    Some(out)
+}
+
+/// Whether the struct at `span` of the full default text may leave fields out, i.e. its
+/// type has `#[serde(default)]`: the defaults with `()` in its place still load.
+fn fills_defaults(base: &Part, span: &Span<usize>) -> bool {
+    let mut text = base.text.to_owned();
+    text.replace_range(span.clone(), "()");
+    options().from_str::<Scene>(&text).is_ok()
+}
+
+fn trimmed(code: &[u8], span: Span<usize>) -> Span<usize> {
+    let (mut start, mut end) = (span.start, span.end);
+    while start < end && code[start].is_ascii_whitespace() {
+        start += 1;
+    }
+    while end > start && code[end - 1].is_ascii_whitespace() {
+        end -= 1;
+    }
+    start..end
 }
 
 /// Saves `scene` to `path` as pretty RON that [`crate::scene::load_scene`] reads back into an
@@ -178,7 +284,14 @@ mod tests {
     #[test]
     fn shipped_scenes_round_trip() {
         let scratch = Scratch::new("round-trip");
-        for name in ["meadow.ron", "agc_branching.ron"] {
+        let names = [
+            "meadow.ron",
+            "agc_branching.ron",
+            "nature.ron",
+            "helicopter.ron",
+            "two_winds.ron",
+        ];
+        for name in names {
             let scene = load_scene(&asset(name)).expect("load shipped scene");
             let out = scratch.0.join(name);
             save_scene(&scene, &out).expect("save");
@@ -189,7 +302,7 @@ mod tests {
             save_scene(&back, &out).expect("save again");
             assert_eq!(std::fs::read_to_string(&out).expect("read"), first);
         }
-        assert_eq!(listing(&scratch.0), ["agc_branching.ron", "meadow.ron"]);
+        assert_eq!(listing(&scratch.0).len(), names.len());
         let scene = load_scene(&asset("agc_branching.ron")).expect("load");
         assert_eq!(scene.wind.guides[0].points.len(), 6);
         let text = scene_to_string(&scene).expect("to string");
@@ -223,6 +336,12 @@ mod tests {
         assert!(
             text.contains("density_map: Some(\"../mask.png\")"),
             "{text}"
+        );
+        // Only what differs from the defaults: the terrain's two images.
+        assert_eq!(
+            text,
+            "(\n    terrain: (\n        height: Png(\n            path: \"maps/h.png\",\n            \
+             scale: 2.0,\n        ),\n        density_map: Some(\"../mask.png\"),\n    ),\n)\n"
         );
         assert_eq!(load_scene(&same).expect("load"), scene);
 
@@ -288,5 +407,57 @@ mod tests {
             "// old\n()\n"
         );
         assert_eq!(listing(&scratch.0), ["plain.txt", "scene.ron"]);
+    }
+
+    #[test]
+    fn only_values_that_differ_from_the_defaults_are_written() {
+        let parse = |text: &str| parse_scene(text, Path::new("/s/x.ron")).expect("parse");
+        assert_eq!(scene_to_string(&parse("()")).expect("text"), "()\n");
+        let scene = parse(
+            "(field: (density: 120.0), wind: (directional: (strength: 3.0), global: None), \
+             physics: (collisions: false))",
+        );
+        let text = scene_to_string(&scene).expect("text");
+        assert_eq!(
+            text,
+            "(\n    field: (\n        density: 120.0,\n    ),\n    wind: (\n        \
+             directional: Some((\n            strength: 3.0,\n        )),\n    ),\n    \
+             physics: (\n        collisions: false,\n    ),\n)\n"
+        );
+        assert_eq!(parse(&text), scene);
+    }
+
+    #[test]
+    fn none_lists_and_enums_round_trip() {
+        let parse = |text: &str| parse_scene(text, Path::new("/s/x.ron")).expect("parse");
+        let scenes = [
+            "(wind: (directional: None, point: (radius: 3.0)))",
+            "(terrain: (height: Flat), field: (height: (min: 0.3, max: 0.4)))",
+            "(terrain: (height: Noise(seed: 7, amplitude: 2.5, wavelength: 30, octaves: 4)))",
+            "(colliders: [(center: (0, 1, 0), radius: 0.5, motion: Path(points: [(0, 0), \
+             (1, 1)], speed: 2, looped: true))], wind: (global: (direction: (0, 1), \
+             strength: 2), downwash: (position: (0, 3, 0), radius: 2, strength: 5)))",
+            "(camera: (eye: (1, 2, 3)), render: (sun_direction: (0, 1, 0)), culling: \
+             (distance: true))",
+        ];
+        for text in scenes {
+            let scene = parse(text);
+            let saved = scene_to_string(&scene).expect("text");
+            assert_eq!(parse(&saved), scene, "{text}\n{saved}");
+        }
+        let saved = scene_to_string(&parse(scenes[0])).expect("text");
+        assert!(saved.contains("directional: None"), "{saved}");
+        // The point wind is None by default, so it is written whole.
+        assert!(
+            saved.contains("radius: 3.0") && saved.contains("strength"),
+            "{saved}"
+        );
+        // A range has no defaults of its own: both ends are written.
+        let saved =
+            scene_to_string(&parse("(field: (height: (min: 0.35, max: 0.9)))")).expect("text");
+        assert!(
+            saved.contains("min: 0.35") && saved.contains("max: 0.9"),
+            "{saved}"
+        );
     }
 }

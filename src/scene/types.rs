@@ -16,6 +16,10 @@ pub struct Scene {
     pub culling: Culling,
     pub camera: Camera,
     pub render: Render,
+    /// The file and text the scene was loaded from, for errors found after loading (an
+    /// image that does not decode); never compared, never saved.
+    #[serde(skip)]
+    pub origin: super::origin::Origin,
 }
 
 /// Where the height of the ground comes from.
@@ -23,12 +27,17 @@ pub struct Scene {
 #[serde(deny_unknown_fields)]
 pub enum HeightSource {
     /// Seeded fractal Brownian motion of value noise.
+    /// Fields left out take the default terrain's values (`Noise(amplitude: 3.0)`).
     Noise {
+        #[serde(default = "noise_seed")]
         seed: u64,
         /// Peak-to-peak amplitude in metres.
+        #[serde(default = "noise_amplitude")]
         amplitude: f32,
         /// Size of the largest hills in metres.
+        #[serde(default = "noise_wavelength")]
         wavelength: f32,
+        #[serde(default = "noise_octaves")]
         octaves: u32,
     },
     /// A grey PNG: black = 0 m, white = `scale` metres.
@@ -50,16 +59,29 @@ pub struct Terrain {
     pub density_map: Option<String>,
 }
 
+fn noise_seed() -> u64 {
+    7
+}
+fn noise_amplitude() -> f32 {
+    2.0
+}
+fn noise_wavelength() -> f32 {
+    30.0
+}
+fn noise_octaves() -> u32 {
+    4
+}
+
 impl Default for Terrain {
     fn default() -> Self {
         Self {
             size: 40.0,
             resolution: 129,
             height: HeightSource::Noise {
-                seed: 7,
-                amplitude: 2.0,
-                wavelength: 30.0,
-                octaves: 4,
+                seed: noise_seed(),
+                amplitude: noise_amplitude(),
+                wavelength: noise_wavelength(),
+                octaves: noise_octaves(),
             },
             density_map: None,
         }
@@ -348,6 +370,16 @@ pub struct GlobalWind {
     pub strength: f32,
 }
 
+/// What `--set wind.global.strength=..` fills in when the scene has no global wind.
+impl Default for GlobalWind {
+    fn default() -> Self {
+        Self {
+            direction: (1.0, 0.0),
+            strength: 2.0,
+        }
+    }
+}
+
 /// Radial outflow under a (moving) point: a helicopter's downwash or a fan pointing down.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -360,6 +392,19 @@ pub struct Downwash {
     pub strength: f32,
     #[serde(default = "default_motion")]
     pub motion: Motion,
+}
+
+/// What `--set wind.downwash.strength=..` fills in when the scene has no downwash: a
+/// source 4 m above the centre of the field.
+impl Default for Downwash {
+    fn default() -> Self {
+        Self {
+            position: (0.0, 4.0, 0.0),
+            radius: 4.0,
+            strength: 20.0,
+            motion: Motion::Static,
+        }
+    }
 }
 
 /// The wind: the paper's analytic functions and/or the fluid grid with its forces.

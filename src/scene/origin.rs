@@ -1,0 +1,183 @@
+//! Where a loaded scene came from (its file, its text and its `--set` arguments), kept in
+//! [`Scene::origin`] so that a problem found after loading — an image named by the scene
+//! that is missing or does not decode — is reported like any scene error: at the line that
+//! names the image (or the `--set` argument that did), with the field and the image, e.g.
+//! `scene.ron:4:9: terrain.density_map = "mask.png": cannot decode /abs/mask.png: ..`.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::types::Scene;
+use super::validate::locate::{field_value, locate};
+use super::validate::SetField;
+use crate::error::Error;
+
+/// The source of a loaded scene. Not part of what the scene is: two scenes with the same
+/// values are equal wherever they came from, and saving never writes it.
+#[derive(Clone, Debug, Default)]
+pub struct Origin(Option<Arc<Source>>);
+
+#[derive(Debug)]
+struct Source {
+    path: PathBuf,
+    text: String,
+    sets: Vec<SetField>,
+}
+
+impl PartialEq for Origin {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Origin {
+    /// The scene came from `text` of the file `path`, with `sets` applied.
+    pub(crate) fn new(path: &Path, text: &str, sets: Vec<SetField>) -> Self {
+        Self(Some(Arc::new(Source {
+            path: path.to_path_buf(),
+            text: text.to_owned(),
+            sets,
+        })))
+    }
+}
+
+impl Scene {
+    /// `error`, from opening the image that the scene's `field` names (e.g.
+    /// `terrain.density_map`), as a scene error that names the scene file's line (or the
+    /// `--set` argument), the field, the image as written and the image's absolute path.
+    /// Other errors, and any error for a scene built in code, pass through unchanged.
+    pub fn image_error(&self, field: &str, error: Error) -> Error {
+        let Some(source) = &self.origin.0 else {
+            return error;
+        };
+        let (image, problem) = match &error {
+            Error::Image { path, message } => (path, format!("cannot decode {{}}: {message}")),
+            Error::Read { path, source } => (path, format!("cannot read {{}}: {source}")),
+            _ => return error,
+        };
+        let absolute = std::path::absolute(image).unwrap_or_else(|_| image.clone());
+        let problem = problem.replace("{}", &absolute.display().to_string());
+        // A --set of the field or of a part around it (`terrain.height=Png(..)`) named it.
+        let set = source.sets.iter().rev().find(|s| {
+            field == s.path
+                || field
+                    .strip_prefix(s.path.as_str())
+                    .is_some_and(|rest| rest.starts_with('.'))
+        });
+        let (named, written) = match set {
+            Some(set) => (
+                set.path.as_str(),
+                set.arg.split_once('=').map(|(_, v)| v.trim().to_owned()),
+            ),
+            None => (
+                field,
+                field_value(&source.text, field).map(|span| source.text[span].to_owned()),
+            ),
+        };
+        let message = match written {
+            Some(written) => format!("{named} = {written}: {problem}"),
+            None => format!("{named}: {problem}"),
+        };
+        if let Some(set) = set {
+            return Error::Set {
+                arg: set.arg.clone(),
+                message,
+            };
+        }
+        let (line, column) = locate(&source.text, field);
+        Error::Scene {
+            path: source.path.clone(),
+            line,
+            column,
+            message,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::field::grid::tests::png_declaring;
+    use crate::scene::{load_scene, load_scene_with_sets, Scene};
+    use crate::session::Session;
+
+    /// The error of building the session of `scene` (its terrain and density map).
+    fn session_error(scene: Scene) -> String {
+        match Session::new(scene, None, None) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("the session should fail"),
+        }
+    }
+
+    #[test]
+    fn image_errors_name_the_scene_line_field_and_image() {
+        let dir = std::env::temp_dir().join(format!("sward-origin-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let dir = std::path::absolute(&dir).unwrap();
+        std::fs::write(dir.join("huge.png"), png_declaring(100_000, 100_000)).unwrap();
+        std::fs::write(dir.join("garbage.png"), b"not a png").unwrap();
+        let scene_file = dir.join("scene.ron");
+        let load = |density_map: &str| {
+            let text = format!(
+                "(\n  terrain: (\n    size: 2.0, resolution: 3, height: Flat,\n    \
+                 density_map: \"{density_map}\",\n  ),\n  field: (density: 1.0),\n)\n"
+            );
+            std::fs::write(&scene_file, text).unwrap();
+            load_scene(&scene_file).unwrap()
+        };
+        let at = scene_file.display();
+        let image = |name: &str| dir.join(name).display().to_string();
+
+        assert_eq!(
+            session_error(load("huge.png")),
+            format!(
+                "{at}:4:5: terrain.density_map = \"huge.png\": cannot decode {}: declares \
+                 100000x100000 pixels; allowed at most 16384x16384",
+                image("huge.png")
+            )
+        );
+        let garbage = session_error(load("garbage.png"));
+        assert!(
+            garbage.starts_with(&format!(
+                "{at}:4:5: terrain.density_map = \"garbage.png\": cannot decode {}: ",
+                image("garbage.png")
+            )),
+            "{garbage}"
+        );
+        let missing = session_error(load("missing.png"));
+        assert!(
+            missing.starts_with(&format!(
+                "{at}:4:5: terrain.density_map = \"missing.png\": cannot read {}: ",
+                image("missing.png")
+            )),
+            "{missing}"
+        );
+
+        // The height map, and an image named by --set.
+        std::fs::write(&scene_file, "(terrain: (size: 2.0, resolution: 3, height: Png(path: \"huge.png\", scale: 1.0)), field: (density: 1.0))").unwrap();
+        let m = session_error(load_scene(&scene_file).unwrap());
+        assert!(
+            m.starts_with(&format!(
+                "{at}:1:50: terrain.height.path = \"huge.png\": cannot decode"
+            )),
+            "{m}"
+        );
+        let sets = ["terrain.height=Png(path: \"garbage.png\", scale: 1.0)".to_owned()];
+        let m = session_error(load_scene_with_sets(&scene_file, &sets).unwrap());
+        assert!(
+            m.starts_with(&format!(
+                "--set {}: terrain.height = Png(path: \"garbage.png\", scale: 1.0): cannot decode {}",
+                sets[0],
+                image("garbage.png")
+            )),
+            "{m}"
+        );
+
+        // A scene built in code has no origin: the image error names the image.
+        let mut scene = Scene::default();
+        scene.terrain.size = 2.0;
+        scene.terrain.density_map = Some(image("huge.png"));
+        let m = session_error(scene);
+        assert!(m.starts_with(&image("huge.png")), "{m}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

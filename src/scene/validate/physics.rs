@@ -1,0 +1,110 @@
+//! The ranges and checks of `physics`, the parameters of the blade update (Section 5).
+//!
+//! The bounds keep one step of the update finite: the largest force on a tip is the
+//! gravity m·g·1.25 (with front gravity) ≤ 100 · 1000 · 1.25 m/s², plus recovery and
+//! wind of the same order, times Δt ≤ 1 s; the validation of the update then pulls the tip
+//! back to the blade's length, dividing by a height of at least 1 cm.
+
+use super::allowed::{Allowed, Rule};
+use super::objects::POSITION;
+use super::{tuple3, Checker};
+use crate::error::Result;
+use crate::scene::types::Physics;
+
+/// Up to a hundred g: an extreme planet, not an overflow.
+const ACCELERATION: Allowed = Allowed::closed(0.0, 1000.0, "m/s²");
+const BLEND: Allowed = Allowed::closed(0.0, 1.0, "");
+/// The mass m of Eq. 4 multiplies the gravity (the update never divides by it): 0 makes
+/// blades weightless; the default is 0.08.
+const MASS: Allowed = Allowed::closed(0.0, 100.0, "");
+const DECAY: Allowed = Allowed::closed(0.0, 1000.0, "1/s");
+const GAIN: Allowed = Allowed::closed(0.0, 1.0e6, "1/m²");
+const CEILING: Allowed = Allowed::closed(0.0, 100.0, "");
+/// Explicit Euler on the recovery term stays stable while s·scale·Δt < 2; with s up to
+/// ~12 1/s and Δt ≤ 0.05 s a scale of 4 keeps that margin for the default fields.
+const STIFFNESS_SCALE: Allowed = Allowed::closed(0.05, 4.0, "");
+const MAX_DT: Allowed = Allowed::open_closed(0.0, 1.0, "s");
+
+/// The rules of every `physics` value.
+pub(super) const RULES: &[(&str, Rule)] = &[
+    ("physics.gravity_direction", Rule::Direction),
+    ("physics.gravity_acceleration", Rule::Real(ACCELERATION)),
+    ("physics.gravity_center", Rule::Vector(POSITION)),
+    (
+        "physics.gravity_center_acceleration",
+        Rule::Real(ACCELERATION),
+    ),
+    ("physics.gravity_blend", Rule::Real(BLEND)),
+    ("physics.mass", Rule::Real(MASS)),
+    ("physics.collision_decay", Rule::Real(DECAY)),
+    ("physics.collision_gain", Rule::Real(GAIN)),
+    ("physics.max_collision_strength", Rule::Real(CEILING)),
+    ("physics.stiffness_scale", Rule::Real(STIFFNESS_SCALE)),
+    ("physics.max_dt", Rule::Real(MAX_DT)),
+    ("physics.collisions", Rule::Bool),
+];
+
+pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
+    let mut direction = tuple3(physics.gravity_direction);
+    check.direction("physics.gravity_direction", &mut direction)?;
+    physics.gravity_direction = direction.into();
+    let p = &*physics;
+    check.real(
+        "physics.gravity_acceleration",
+        p.gravity_acceleration,
+        ACCELERATION,
+    )?;
+    check.vector(
+        "physics.gravity_center",
+        &tuple3(p.gravity_center),
+        POSITION,
+    )?;
+    let center = p.gravity_center_acceleration;
+    check.real("physics.gravity_center_acceleration", center, ACCELERATION)?;
+    check.real("physics.gravity_blend", p.gravity_blend, BLEND)?;
+    check.real("physics.mass", p.mass, MASS)?;
+    check.real("physics.collision_decay", p.collision_decay, DECAY)?;
+    check.real("physics.collision_gain", p.collision_gain, GAIN)?;
+    let ceiling = p.max_collision_strength;
+    check.real("physics.max_collision_strength", ceiling, CEILING)?;
+    check.real(
+        "physics.stiffness_scale",
+        p.stiffness_scale,
+        STIFFNESS_SCALE,
+    )?;
+    check.real("physics.max_dt", p.max_dt, MAX_DT)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::rejected;
+
+    #[test]
+    fn forces_and_mass_are_bounded() {
+        assert_eq!(
+            rejected(|s| s.physics.mass = 1e38),
+            "physics.mass = 100000000000000000000000000000000000000 is out of range: allowed \
+             0 <= mass <= 100"
+        );
+        assert_eq!(
+            rejected(|s| s.physics.gravity_acceleration = 1001.0),
+            "physics.gravity_acceleration = 1001 is out of range: allowed 0 <= \
+             gravity_acceleration <= 1000 m/s²"
+        );
+        assert_eq!(
+            rejected(|s| s.physics.gravity_center_acceleration = -1.0),
+            "physics.gravity_center_acceleration = -1 is out of range: allowed 0 <= \
+             gravity_center_acceleration <= 1000 m/s²"
+        );
+        assert_eq!(
+            rejected(|s| s.physics.collision_decay = 1e30),
+            "physics.collision_decay = 1000000000000000000000000000000 is out of range: \
+             allowed 0 <= collision_decay <= 1000 1/s"
+        );
+        let m = rejected(|s| s.physics.gravity_center = (0.0, -1e6, 0.0));
+        assert!(
+            m.starts_with("physics.gravity_center = (0, -1000000, 0) is out of range"),
+            "{m}"
+        );
+    }
+}

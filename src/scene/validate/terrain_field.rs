@@ -1,0 +1,169 @@
+//! The ranges and checks of `terrain` (the ground) and `field` (the blades).
+
+use super::allowed::{Allowed, Integers, Rule};
+use super::Checker;
+use crate::error::Result;
+use crate::scene::types::{Field, HeightSource, Terrain};
+
+const SIZE: Allowed = Allowed::closed(1.0, 10000.0, "m");
+const RESOLUTION: Integers = Integers::new(2, 4097, "vertices per side");
+const SEED: Integers = Integers::new(0, u64::MAX, "");
+const AMPLITUDE: Allowed = Allowed::closed(0.0, 1000.0, "m");
+/// Below a centimetre the noise is finer than any grid the terrain can have; the top is
+/// ten times the largest terrain.
+const WAVELENGTH: Allowed = Allowed::closed(0.01, 100000.0, "m");
+const OCTAVES: Integers = Integers::new(1, 12, "");
+const SCALE: Allowed = Allowed::closed(0.0, 1000.0, "m");
+const DENSITY: Allowed = Allowed::open_closed(0.0, 10000.0, "blades/m²");
+/// The update divides by the height (Eq. 11, 13): a blade of 1e-38 m overflows it, so
+/// blades are at least a centimetre tall.
+const HEIGHT: Allowed = Allowed::closed(0.01, 10.0, "m");
+const WIDTH: Allowed = Allowed::open_closed(0.0, 1.0, "m");
+const STIFFNESS: Allowed = Allowed::closed(0.0, 1000.0, "1/s");
+const BEND: Allowed = Allowed::closed(0.0, 90.0, "degrees");
+const FRACTION: Allowed = Allowed::closed(0.0, 1.0, "");
+const TUFT_RADIUS: Allowed = Allowed::open_closed(0.0, 10.0, "m");
+const TIP_THRESHOLD: Allowed = Allowed::closed_open(0.0, 1.0, "");
+const PATCH_SIZE: Integers = Integers::new(64, 65536, "blades");
+const PATCH_SIZE_TEXT: &str =
+    "a multiple of 64 (the workgroup size) with 64 <= patch_size <= 65536 blades";
+const SEGMENTS: Integers = Integers::new(1, 16, "");
+
+/// The rules of every `terrain` and `field` value.
+pub(super) const RULES: &[(&str, Rule)] = &[
+    ("terrain.size", Rule::Real(SIZE)),
+    ("terrain.resolution", Rule::Integer(RESOLUTION)),
+    (
+        "terrain.height",
+        Rule::Choice(
+            "Flat, Noise(seed: .., amplitude: .., wavelength: .., octaves: ..) or \
+             Png(path: \"..\", scale: ..)",
+        ),
+    ),
+    ("terrain.height.seed", Rule::Integer(SEED)),
+    ("terrain.height.amplitude", Rule::Real(AMPLITUDE)),
+    ("terrain.height.wavelength", Rule::Real(WAVELENGTH)),
+    ("terrain.height.octaves", Rule::Integer(OCTAVES)),
+    ("terrain.height.path", Rule::Text("the path of a PNG file")),
+    ("terrain.height.scale", Rule::Real(SCALE)),
+    (
+        "terrain.density_map",
+        Rule::Text("None or the path of a grey PNG file"),
+    ),
+    ("field.density", Rule::Real(DENSITY)),
+    ("field.height", Rule::Range(HEIGHT)),
+    ("field.width", Rule::Range(WIDTH)),
+    ("field.stiffness", Rule::Range(STIFFNESS)),
+    ("field.bend", Rule::Range(BEND)),
+    ("field.tuft_fraction", Rule::Real(FRACTION)),
+    ("field.tuft_radius", Rule::Real(TUFT_RADIUS)),
+    (
+        "field.shape",
+        Rule::Choice("one of Quad, Triangle, Quadratic, TriangleTip, Dandelion"),
+    ),
+    ("field.tip_threshold", Rule::Real(TIP_THRESHOLD)),
+    ("field.patch_size", Rule::Text(PATCH_SIZE_TEXT)),
+    ("field.segments", Rule::Integer(SEGMENTS)),
+    ("field.seed", Rule::Integer(SEED)),
+];
+
+pub(super) fn terrain(check: &Checker, terrain: &mut Terrain) -> Result<()> {
+    check.real("terrain.size", terrain.size, SIZE)?;
+    check.integer("terrain.resolution", terrain.resolution, RESOLUTION)?;
+    match &mut terrain.height {
+        HeightSource::Noise {
+            seed: _,
+            amplitude,
+            wavelength,
+            octaves,
+        } => {
+            check.real("terrain.height.amplitude", *amplitude, AMPLITUDE)?;
+            check.real("terrain.height.wavelength", *wavelength, WAVELENGTH)?;
+            check.integer("terrain.height.octaves", *octaves, OCTAVES)?;
+        }
+        HeightSource::Png { path, scale } => {
+            check.image_path("terrain.height.path", path)?;
+            check.real("terrain.height.scale", *scale, SCALE)?;
+        }
+        HeightSource::Flat => {}
+    }
+    if let Some(map) = &mut terrain.density_map {
+        check.image_path("terrain.density_map", map)?;
+    }
+    Ok(())
+}
+
+pub(super) fn field(check: &Checker, field: &Field) -> Result<()> {
+    check.real("field.density", field.density, DENSITY)?;
+    check.range("field.height", field.height, HEIGHT)?;
+    check.range("field.width", field.width, WIDTH)?;
+    check.range("field.stiffness", field.stiffness, STIFFNESS)?;
+    check.range("field.bend", field.bend, BEND)?;
+    check.real("field.tuft_fraction", field.tuft_fraction, FRACTION)?;
+    check.real("field.tuft_radius", field.tuft_radius, TUFT_RADIUS)?;
+    check.real("field.tip_threshold", field.tip_threshold, TIP_THRESHOLD)?;
+    // Patches are dispatched as whole workgroups of 64 blades, so a patch must fill them.
+    let patch = u64::from(field.patch_size);
+    if !(PATCH_SIZE.low..=PATCH_SIZE.high).contains(&patch) || !patch.is_multiple_of(64) {
+        return Err(check.error(
+            "field.patch_size",
+            format!("field.patch_size = {patch} is out of range: allowed {PATCH_SIZE_TEXT}"),
+        ));
+    }
+    check.integer("field.segments", field.segments, SEGMENTS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{check, rejected};
+    use crate::scene::Scene;
+
+    #[test]
+    fn patch_size_must_fill_workgroups() {
+        for bad in [0, 32, 100, 65536 + 64] {
+            let m = rejected(|s| s.field.patch_size = bad);
+            assert!(m.starts_with("field.patch_size = "), "{m}");
+            assert!(m.contains("multiple of 64"), "{m}");
+        }
+        for good in [64, 128, 65536] {
+            let mut scene = Scene::default();
+            scene.field.patch_size = good;
+            check(&mut scene).unwrap();
+        }
+    }
+
+    #[test]
+    fn terrain_ranges_are_finite() {
+        let noise = |amplitude, wavelength| crate::scene::HeightSource::Noise {
+            seed: 1,
+            amplitude,
+            wavelength,
+            octaves: 3,
+        };
+        assert_eq!(
+            rejected(|s| s.terrain.height = noise(1.0, 1e38)),
+            "terrain.height.wavelength = 100000000000000000000000000000000000000 is out of \
+             range: allowed 0.01 <= wavelength <= 100000 m"
+        );
+        assert_eq!(
+            rejected(|s| s.terrain.height = noise(1.0, 1e-38)),
+            "terrain.height.wavelength = 0.00000000000000000000000000000000000001 is out of \
+             range: allowed 0.01 <= wavelength <= 100000 m"
+        );
+        assert_eq!(
+            rejected(|s| s.field.height.min = 1e-38),
+            "field.height.min = 0.00000000000000000000000000000000000001 is out of range: \
+             allowed 0.01 <= height.min <= 10 m"
+        );
+        let m = rejected(|s| {
+            s.terrain.height = crate::scene::HeightSource::Png {
+                path: "h.png".into(),
+                scale: 2000.0,
+            }
+        });
+        assert_eq!(
+            m,
+            "terrain.height.scale = 2000 is out of range: allowed 0 <= scale <= 1000 m"
+        );
+    }
+}

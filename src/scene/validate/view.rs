@@ -1,0 +1,178 @@
+//! The ranges and checks of what the viewer sees: `culling`, `camera` and `render`.
+
+use glam::Vec3;
+
+use super::allowed::{show, unit, Allowed, Integers, Rule};
+use super::objects::POSITION;
+use super::{tuple3, Checker};
+use crate::error::Result;
+use crate::scene::types::{Camera, Culling, Render};
+
+const FRACTION: Allowed = Allowed::closed(0.0, 1.0, "");
+const FRUSTUM_TOLERANCE: Allowed = Allowed::closed(0.0, 10.0, "");
+const DISTANCE_LEVELS: Integers = Integers::new(1, 64, "");
+const MAX_DISTANCE: Allowed = Allowed::open_closed(0.0, 100000.0, "m");
+const LOD_PIXELS: Allowed = Allowed::closed(0.0, 4096.0, "px");
+const THROTTLE: Integers = Integers::new(1, 64, "frames");
+const PHYSICS_RADIUS: Allowed = Allowed::closed(0.0, 1.0e4, "m");
+const FOV: Allowed = Allowed::open(1.0, 179.0, "degrees");
+/// A millimetre to a kilometre: depth precision is lost outside, not only accuracy.
+const NEAR: Allowed = Allowed::closed(0.001, 1000.0, "m");
+/// The far plane's upper bound; its lower bound is `near`.
+const FAR_MAX: f32 = 1.0e6;
+const FAR_TEXT: &str = "near < far <= 1000000 m";
+const WIDTH_PIXELS: Allowed = Allowed::closed(0.0, 1024.0, "px");
+
+/// The rules of every `culling`, `camera` and `render` value.
+pub(super) const RULES: &[(&str, Rule)] = &[
+    ("culling.patches", Rule::Bool),
+    ("culling.orientation", Rule::Bool),
+    ("culling.orientation_threshold", Rule::Real(FRACTION)),
+    ("culling.frustum", Rule::Bool),
+    ("culling.frustum_tolerance", Rule::Real(FRUSTUM_TOLERANCE)),
+    ("culling.distance", Rule::Bool),
+    ("culling.distance_levels", Rule::Integer(DISTANCE_LEVELS)),
+    ("culling.max_distance", Rule::Real(MAX_DISTANCE)),
+    ("culling.occlusion", Rule::Bool),
+    ("culling.occlusion_bias", Rule::Real(FRACTION)),
+    ("culling.grass_occlusion", Rule::Bool),
+    ("culling.grass_occlusion_bias", Rule::Real(FRACTION)),
+    ("culling.lod", Rule::Bool),
+    (
+        "culling.lod_near_px",
+        Rule::Text("0 <= lod_near_px <= 4096 px and lod_near_px >= lod_far_px × (1 + lod_morph)"),
+    ),
+    ("culling.lod_far_px", Rule::Real(LOD_PIXELS)),
+    ("culling.lod_morph", Rule::Real(FRACTION)),
+    ("culling.physics_throttle", Rule::Integer(THROTTLE)),
+    ("culling.physics_radius", Rule::Real(PHYSICS_RADIUS)),
+    ("camera.eye", Rule::Vector(POSITION)),
+    ("camera.target", Rule::Vector(POSITION)),
+    ("camera.fov_y", Rule::Real(FOV)),
+    ("camera.near", Rule::Real(NEAR)),
+    ("camera.far", Rule::Text(FAR_TEXT)),
+    ("render.sun_direction", Rule::Direction),
+    ("render.displacement", Rule::Bool),
+    ("render.width_min_px", Rule::Real(WIDTH_PIXELS)),
+    ("render.width_span_px", Rule::Real(WIDTH_PIXELS)),
+    (
+        "render.color_mode",
+        Rule::Choice("one of Natural, Lod, Patch"),
+    ),
+    ("render.wireframe", Rule::Bool),
+];
+
+pub(super) fn culling(check: &Checker, culling: &Culling) -> Result<()> {
+    let c = culling;
+    check.real(
+        "culling.orientation_threshold",
+        c.orientation_threshold,
+        FRACTION,
+    )?;
+    let tolerance = c.frustum_tolerance;
+    check.real("culling.frustum_tolerance", tolerance, FRUSTUM_TOLERANCE)?;
+    check.integer(
+        "culling.distance_levels",
+        c.distance_levels,
+        DISTANCE_LEVELS,
+    )?;
+    check.real("culling.max_distance", c.max_distance, MAX_DISTANCE)?;
+    check.real("culling.occlusion_bias", c.occlusion_bias, FRACTION)?;
+    let grass_bias = c.grass_occlusion_bias;
+    check.real("culling.grass_occlusion_bias", grass_bias, FRACTION)?;
+    check.real("culling.lod_near_px", c.lod_near_px, LOD_PIXELS)?;
+    check.real("culling.lod_far_px", c.lod_far_px, LOD_PIXELS)?;
+    check.real("culling.lod_morph", c.lod_morph, FRACTION)?;
+    // The middle level's morph band must end below the near threshold, or a blade would
+    // enter level 0 while its middle mesh is still part-way morphed and jump.
+    let band_top = c.lod_far_px * (1.0 + c.lod_morph);
+    if c.lod_near_px < band_top {
+        let message = format!(
+            "culling.lod_near_px = {} is below lod_far_px × (1 + lod_morph) = {band_top}: \
+             allowed lod_near_px >= {band_top}",
+            c.lod_near_px
+        );
+        return Err(check.error("culling.lod_near_px", message));
+    }
+    check.integer("culling.physics_throttle", c.physics_throttle, THROTTLE)?;
+    check.real("culling.physics_radius", c.physics_radius, PHYSICS_RADIUS)
+}
+
+pub(super) fn camera(check: &Checker, camera: &Camera) -> Result<()> {
+    check.vector("camera.eye", &tuple3(camera.eye), POSITION)?;
+    check.vector("camera.target", &tuple3(camera.target), POSITION)?;
+    // The view matrix needs a viewing direction.
+    let (eye, target) = (Vec3::from(camera.eye), Vec3::from(camera.target));
+    if unit(&(target - eye).to_array()).is_none() {
+        return Err(check.error(
+            "camera.target",
+            format!(
+                "camera.target = {} is the same point as camera.eye: the camera needs a \
+                 direction to look in",
+                show(&tuple3(camera.target))
+            ),
+        ));
+    }
+    check.real("camera.fov_y", camera.fov_y, FOV)?;
+    check.real("camera.near", camera.near, NEAR)?;
+    // The lower bound of `far` is another field, so the message names it.
+    let far = camera.far;
+    if !(far.is_finite() && far > camera.near && far <= FAR_MAX) {
+        let problem = if far.is_finite() {
+            "is out of range"
+        } else {
+            "is not a finite number"
+        };
+        let message = format!(
+            "camera.far = {far} {problem}: allowed near < far <= {FAR_MAX} m (near = {} m)",
+            camera.near
+        );
+        return Err(check.error("camera.far", message));
+    }
+    Ok(())
+}
+
+pub(super) fn render(check: &Checker, render: &mut Render) -> Result<()> {
+    let mut sun = tuple3(render.sun_direction);
+    check.direction("render.sun_direction", &mut sun)?;
+    render.sun_direction = sun.into();
+    check.real("render.width_min_px", render.width_min_px, WIDTH_PIXELS)?;
+    check.real("render.width_span_px", render.width_span_px, WIDTH_PIXELS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::rejected;
+
+    #[test]
+    fn camera_eye_and_target_must_differ() {
+        let m = rejected(|s| s.camera.target = s.camera.eye);
+        assert!(m.contains("same point as camera.eye"), "{m}");
+    }
+
+    #[test]
+    fn camera_and_pixels_are_bounded() {
+        assert_eq!(
+            rejected(|s| s.camera.far = 2e6),
+            "camera.far = 2000000 is out of range: allowed near < far <= 1000000 m (near = \
+             0.1 m)"
+        );
+        assert_eq!(
+            rejected(|s| s.camera.near = 1e-38),
+            "camera.near = 0.00000000000000000000000000000000000001 is out of range: allowed \
+             0.001 <= near <= 1000 m"
+        );
+        let m = rejected(|s| s.camera.eye = (1e38, 0.0, 0.0));
+        assert!(m.starts_with("camera.eye = (100000000000000000000000000000000000000, 0, 0) is out of range: allowed -100000 <= eye <= 100000 m for every component"), "{m}");
+        assert_eq!(
+            rejected(|s| s.render.width_min_px = 1e9),
+            "render.width_min_px = 1000000000 is out of range: allowed 0 <= width_min_px <= \
+             1024 px"
+        );
+        assert_eq!(
+            rejected(|s| s.culling.max_distance = 1e38),
+            "culling.max_distance = 100000000000000000000000000000000000000 is out of range: \
+             allowed 0 < max_distance <= 100000 m"
+        );
+    }
+}
