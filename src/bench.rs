@@ -55,6 +55,8 @@ const MIB: f64 = 1024.0 * 1024.0;
 pub struct BenchOptions {
     /// Scene file; the built-in meadow when `None`.
     pub scene: Option<PathBuf>,
+    /// `--set PATH=VALUE` overrides of the scene.
+    pub sets: Vec<String>,
     /// Frames measured per configuration (after the warm-up).
     pub frames: u32,
     /// Frames run before the measured ones and left out of the statistics.
@@ -84,6 +86,7 @@ impl BenchOptions {
     ) -> Result<Self> {
         Ok(Self {
             scene,
+            sets: Vec::new(),
             frames: parse_count("--frames", frames, 1, MAX_FRAMES)?,
             warmup: parse_count("--warmup", warmup, 0, MAX_WARMUP)?,
             size: parse_size(size)?,
@@ -589,7 +592,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             outputs.add("--images", &dir.join(name))?;
         }
     }
-    let scene = load(o.scene.as_deref())?;
+    let scene = load(o.scene.as_deref(), &o.sets)?;
     let scene_name = o
         .scene
         .as_deref()

@@ -13,7 +13,7 @@ use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing::PASSES;
 use crate::render::Renderer;
 use crate::scene::WindSource;
-use crate::scene::{parse_scene, Scene};
+use crate::scene::{load_scene_with_sets, parse_scene_with_sets, Scene};
 use crate::session::Session;
 use crate::sim::agc;
 use crate::sim::colliders::spheres_at;
@@ -28,11 +28,12 @@ pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/meadow.ron");
 /// The name the built-in scene's errors and logs use.
 pub const DEFAULT_SCENE_PATH: &str = "assets/scenes/meadow.ron";
 
-/// Loads `path`, or the built-in meadow when `None`.
-pub fn load(path: Option<&Path>) -> Result<Scene> {
+/// Loads `path`, or the built-in meadow when `None`, with the command line's `--set
+/// PATH=VALUE` overrides applied and validated like the file's own values.
+pub fn load(path: Option<&Path>, sets: &[String]) -> Result<Scene> {
     match path {
-        Some(p) => crate::scene::load_scene(p),
-        None => parse_scene(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_PATH)),
+        Some(p) => load_scene_with_sets(p, sets),
+        None => parse_scene_with_sets(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_PATH), sets),
     }
 }
 
@@ -40,6 +41,9 @@ pub fn load(path: Option<&Path>) -> Result<Scene> {
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
     pub scene: Option<PathBuf>,
+    /// `--set PATH=VALUE` overrides of the scene (`--eye` / `--target` arrive as
+    /// `camera.eye=…` / `camera.target=…`).
+    pub sets: Vec<String>,
     pub size: (u32, u32),
     pub frames: u32,
     pub dt: f32,
@@ -57,6 +61,7 @@ impl RenderOptions {
     pub fn default_meadow(adapter: AdapterChoice) -> Self {
         Self {
             scene: None,
+            sets: Vec::new(),
             size: (1280, 720),
             frames: 90,
             dt: 1.0 / 30.0,
@@ -108,7 +113,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         outputs.input("--scene", scene)?;
     }
     outputs.add("--out", &o.out)?;
-    let mut scene = load(o.scene.as_deref())?;
+    let mut scene = load(o.scene.as_deref(), &o.sets)?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     let gpu = open_gpu(&o.adapter)?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
@@ -224,6 +229,8 @@ pub fn render(o: &RenderOptions) -> Result<()> {
 #[derive(Clone, Debug)]
 pub struct SimulateOptions {
     pub scene: Option<PathBuf>,
+    /// `--set PATH=VALUE` overrides of the scene.
+    pub sets: Vec<String>,
     pub steps: u32,
     pub dt: f32,
     pub dump: PathBuf,
@@ -403,7 +410,7 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
     if let Some(p) = &o.dump_wind {
         outputs.add("--dump-wind", p)?;
     }
-    let mut scene = load(o.scene.as_deref())?;
+    let mut scene = load(o.scene.as_deref(), &o.sets)?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     if o.dump_wind.is_some() && scene.wind.source == WindSource::Analytic {
         return Err(Error::Invalid(

@@ -34,6 +34,8 @@ struct WindowArgs {
     /// (the error is shown in the panel). Save writes back to it.
     #[arg(long)]
     scene: Option<PathBuf>,
+    #[command(flatten)]
+    overrides: Overrides,
     /// Where Save writes, when not the --scene file.
     #[arg(long)]
     save_to: Option<PathBuf>,
@@ -96,6 +98,8 @@ enum Command {
         /// Scene file (RON); the built-in meadow when absent.
         #[arg(long)]
         scene: Option<PathBuf>,
+        #[command(flatten)]
+        overrides: Overrides,
         /// Image size, WIDTHxHEIGHT.
         #[arg(long, default_value = "1280x720", value_parser = parse_size)]
         size: (u32, u32),
@@ -122,6 +126,8 @@ enum Command {
         /// Scene file (RON); the built-in meadow when absent.
         #[arg(long)]
         scene: Option<PathBuf>,
+        #[command(flatten)]
+        overrides: Overrides,
         /// Update steps (1..=100000).
         #[arg(long, default_value_t = 60, value_parser = count)]
         steps: u32,
@@ -150,6 +156,8 @@ enum Command {
         /// Scene file (RON); the built-in meadow when absent.
         #[arg(long)]
         scene: Option<PathBuf>,
+        #[command(flatten)]
+        overrides: Overrides,
         /// Frames measured per configuration, after the warm-up (1..=100000).
         #[arg(long, default_value = "60", allow_hyphen_values = true)]
         frames: String,
@@ -171,6 +179,68 @@ enum Command {
         #[arg(long)]
         images: Option<PathBuf>,
     },
+}
+
+/// Changes to the scene from the command line, validated like the file's own values.
+#[derive(Args, Clone)]
+struct Overrides {
+    /// Set one scene field: PATH=VALUE, PATH as in the scene file (`field.density`,
+    /// `wind.guides[0].strength`), VALUE in RON (`40`, `false`, `(1.0, 2.0, 3.0)`, `Flat`).
+    /// Repeatable; checked with the same ranges and messages as the scene file.
+    #[arg(long = "set", value_name = "PATH=VALUE", allow_hyphen_values = true)]
+    sets: Vec<String>,
+    /// Camera position X,Y,Z in metres (sets camera.eye).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_xyz)]
+    eye: Option<[f32; 3]>,
+    /// Point the camera looks at, X,Y,Z in metres (sets camera.target).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_xyz)]
+    target: Option<[f32; 3]>,
+}
+
+impl Overrides {
+    /// The `--set` list, with `--eye` / `--target` last as `camera.eye=(…)` /
+    /// `camera.target=(…)`, so that they win over a `--set` of the same field.
+    fn sets(&self) -> Vec<String> {
+        let mut sets = self.sets.clone();
+        for (field, v) in [("camera.eye", self.eye), ("camera.target", self.target)] {
+            if let Some([x, y, z]) = v {
+                sets.push(format!("{field}=({x:?}, {y:?}, {z:?})"));
+            }
+        }
+        sets
+    }
+
+    /// An error about the camera set from `--eye` / `--target` names that flag, not the
+    /// `--set` it became.
+    fn explain(&self, e: sward::Error) -> sward::Error {
+        if let sward::Error::Set { arg, message } = &e {
+            for (flag, field, v) in [
+                ("--eye", "camera.eye=", self.eye),
+                ("--target", "camera.target=", self.target),
+            ] {
+                if let (Some([x, y, z]), true) = (v, arg.starts_with(field)) {
+                    if !self.sets.contains(arg) {
+                        return sward::Error::Invalid(format!("{flag} {x},{y},{z}: {message}"));
+                    }
+                }
+            }
+        }
+        e
+    }
+}
+
+/// `X,Y,Z`: three numbers (the scene's validation checks their range).
+fn parse_xyz(s: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || format!("{s:?} is not X,Y,Z: three numbers in metres, e.g. 0,2,10");
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let mut v = [0.0f32; 3];
+    for (slot, part) in v.iter_mut().zip(parts) {
+        *slot = part.parse().map_err(|_| bad())?;
+    }
+    Ok(v)
 }
 
 /// Overrides of the scene's wind solver.
@@ -221,13 +291,17 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
     let adapter: AdapterChoice = cli.adapter.adapter.parse().expect("infallible");
+    let mut overrides = None;
     let result = match cli.command {
         None => {
             let w = cli.window;
+            let sets = w.overrides.sets();
+            overrides = Some(w.overrides);
             let fixed_dt = w.dt.or(w.replay.as_ref().map(|_| 1.0 / 30.0));
             sward::app::run(AppOptions {
                 save_path: w.save_to.or_else(|| w.scene.clone()),
                 scene: w.scene,
+                sets,
                 adapter,
                 size: w.size,
                 vsync: !w.no_vsync,
@@ -241,6 +315,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Render {
             scene,
+            overrides: o,
             size,
             frames,
             dt,
@@ -250,6 +325,7 @@ fn main() -> ExitCode {
             wind,
         }) => render(&RenderOptions {
             scene,
+            sets: overrides.insert(o).sets(),
             size,
             frames,
             dt,
@@ -262,6 +338,7 @@ fn main() -> ExitCode {
         }),
         Some(Command::Simulate {
             scene,
+            overrides: o,
             steps,
             dt,
             dump,
@@ -271,6 +348,7 @@ fn main() -> ExitCode {
             wind,
         }) => simulate(&SimulateOptions {
             scene,
+            sets: overrides.insert(o).sets(),
             steps,
             dt,
             dump,
@@ -286,6 +364,7 @@ fn main() -> ExitCode {
         // range, exit status 1.
         Some(Command::Bench {
             scene,
+            overrides: o,
             frames,
             size,
             warmup,
@@ -301,12 +380,20 @@ fn main() -> ExitCode {
             json,
             adapter,
         )
+        .map(|mut b| {
+            b.sets = overrides.insert(o).sets();
+            b
+        })
         .and_then(|o| o.with_images(images))
         .and_then(|o| bench(&o)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            let e = match &overrides {
+                Some(o) => o.explain(e),
+                None => e,
+            };
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }

@@ -359,3 +359,97 @@ fn replay_errors_name_the_step_and_field() {
         assert!(!stderr.contains("no display"), "{text}: {stderr}");
     }
 }
+
+/// Point 8: `--set PATH=VALUE` and `--eye` / `--target` on every command, validated like the
+/// file (the same message with the field and its range), and they change the run.
+#[test]
+fn set_eye_and_target_vary_the_scene_from_the_command_line() {
+    let t = Tmp::new("set");
+    for cmd in [
+        vec!["render", "--size", "16x16", "--frames", "1"],
+        vec!["simulate", "--blades", "64", "--steps", "1", "--dump"],
+        vec!["bench", "--frames", "1", "--warmup", "0", "--size", "16x16"],
+        vec!["--exit-after-frames", "1"],
+    ] {
+        let out = t.s("out.x");
+        let mut args = cmd.clone();
+        if cmd[0] == "simulate" {
+            args.push(&out);
+        }
+        if cmd[0] == "render" {
+            args.extend(["--out", &out]);
+        }
+        let mut bad = args.clone();
+        bad.extend(["--set", "field.density=-3"]);
+        let stderr = fails(&bad);
+        assert!(
+            stderr.contains(
+                "--set field.density=-3: field.density = -3 is out of range: allowed 0 < \
+                 density <= 10000 blades/m²"
+            ),
+            "{bad:?}: {stderr}"
+        );
+        let mut bad = args.clone();
+        bad.extend(["--set", "culling.bogus=1"]);
+        let stderr = fails(&bad);
+        assert!(
+            stderr.contains("`bogus`") && stderr.contains("`distance`"),
+            "{stderr}"
+        );
+        let mut bad = args.clone();
+        bad.extend(["--eye", "0,1e9,0"]);
+        let stderr = fails(&bad);
+        assert!(
+            stderr.contains("--eye 0,1000000000,0: camera.eye"),
+            "{stderr}"
+        );
+        assert!(stderr.contains("allowed"), "{stderr}");
+        let mut bad = args.clone();
+        bad.extend(["--target", "1,2"]);
+        let stderr = fails(&bad);
+        assert!(stderr.contains("X,Y,Z"), "{stderr}");
+        assert!(!t.path("out.x").exists());
+    }
+    // The values reach the run: two renders from two eyes differ, and a --set of the wind
+    // changes the simulated blades.
+    let render = |eye: &str, name: &str| {
+        let path = t.s(name);
+        let out = sward(&[
+            "render", "--size", "32x32", "--frames", "1", "--out", &path, "--eye", eye, "--target",
+            "0,0,0",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(path).unwrap()
+    };
+    assert_ne!(render("0,3,12", "a.png"), render("9,1.5,2", "b.png"));
+    let simulate = |set: &str, name: &str| {
+        let path = t.s(name);
+        let out = sward(&[
+            "simulate",
+            "--blades",
+            "64",
+            "--steps",
+            "5",
+            "--dump",
+            &path,
+            "--set",
+            set,
+            "--set",
+            "wind.point=None",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read_to_string(path).unwrap()
+    };
+    assert_ne!(
+        simulate("wind.directional.strength=0", "calm.json"),
+        simulate("wind.directional.strength=20", "windy.json")
+    );
+}

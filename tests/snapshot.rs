@@ -25,6 +25,7 @@ fn meadow_render_matches_reference() {
         .expect("infallible");
     render(&RenderOptions {
         scene: Some(dir().join("scenes/snapshot.ron")),
+        sets: Vec::new(),
         size: (256, 144),
         frames: 30,
         dt: 1.0 / 30.0,

@@ -26,6 +26,8 @@ pub use window::run;
 pub struct AppOptions {
     /// Scene file; the built-in meadow when None (and when it fails to load).
     pub scene: Option<PathBuf>,
+    /// `--set PATH=VALUE` overrides of the scene (also applied to the built-in meadow).
+    pub sets: Vec<String>,
     /// Where Save writes (defaults to `scene`, else `scene.ron`).
     pub save_path: Option<PathBuf>,
     pub adapter: AdapterChoice,

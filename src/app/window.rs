@@ -49,6 +49,8 @@ pub struct WindowApp {
     outputs: Option<Outputs>,
     /// The `--replay` script, read and checked before the window opened.
     script: Option<Script>,
+    /// The scene (or why it failed to load), read before the window opened.
+    scene: Option<Result<crate::scene::Scene>>,
 }
 
 impl WindowApp {
@@ -70,7 +72,15 @@ impl WindowApp {
             outputs.add("--record", path)?;
         }
         let script = options.replay.as_deref().map(Script::load).transpose()?;
+        let scene = crate::commands::load(options.scene.as_deref(), &options.sets);
+        // A bad --set is a mistake on the command line, not in a file the user may want to
+        // fix from the panel: it stops the run like every other bad flag. A scene file
+        // that fails to load opens the default meadow with the error in the panel.
+        if let Err(e @ Error::Set { .. }) = scene {
+            return Err(e);
+        }
         Ok(Self {
+            scene: Some(scene),
             options,
             running: None,
             finished: false,
@@ -110,10 +120,10 @@ impl WindowApp {
         let surface = SurfaceState::new(&gpu, surface, (size.width, size.height), o.vsync)?;
         let format = surface.format();
 
-        let scene = match &o.scene {
-            Some(path) => crate::scene::load_scene(path),
-            None => super::state::default_scene(),
-        };
+        let scene = self
+            .scene
+            .take()
+            .unwrap_or_else(|| crate::commands::load(o.scene.as_deref(), &o.sets));
         let mut app = AppState::new(&gpu, format, surface.size(), scene, o.scene.as_deref())?;
         app.fixed_dt = o.fixed_dt;
         app.budget.target_ms = o.target_frame_ms.or_else(|| {
