@@ -117,6 +117,7 @@ impl WindowApp {
             Some(path) => Some(Player::new(Script::load(path)?)),
             None => None,
         };
+        gpu.check_errors()?;
         Ok(Running {
             window,
             surface,
@@ -323,6 +324,7 @@ impl Running {
         self.gpu
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
+        self.gpu.check_errors()?;
 
         let last = options.exit_after_frames == Some(self.app.frame);
         if last {
