@@ -19,6 +19,9 @@ const COLLISION_ROUNDS: u32 = 4u;
 @group(0) @binding(5) var<storage, read> patch_lists: array<u32>;
 // The broad phase's sphere list per patch: [count or SPHERES_ALL, sphere, ...].
 @group(0) @binding(6) var<storage, read> patch_spheres: array<u32>;
+// Blades reset to their rest pose because their new state was non-finite or absurd,
+// counted since the start (never cleared).
+@group(0) @binding(7) var<storage, read_write> resets: atomic<u32>;
 
 const THROTTLED: u32 = 0x80000000u;
 
@@ -73,6 +76,37 @@ fn validate(v0: vec3<f32>, v2_in: vec3<f32>, up: vec3<f32>, height: f32) -> arra
     let v1c = v0 + r * (v1 - v0);
     let v2c = v1c + r * (v2 - v1);
     return array<vec3<f32>, 2>(v1c, v2c);
+}
+
+// Whether x is a finite number. A bit test, because a compiler may assume that NaN never
+// occurs and fold `x == x` away. The twin of `f32::is_finite`.
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn finite3(v: vec3<f32>) -> bool {
+    return finite(v.x) && finite(v.y) && finite(v.z);
+}
+
+// Whether a blade's new state is sound: every value finite and the curve's length (Eq. 12)
+// within half a height of the height (the validation makes it equal; only overflow, e.g.
+// from an absurd force, breaks that). The twin of `reference::state_sound`.
+fn state_sound(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, height: f32, eta: f32) -> bool {
+    if !(finite3(v1) && finite3(v2) && finite(eta)) {
+        return false;
+    }
+    let len = (2.0 * length(v2 - v0) + length(v1 - v0) + length(v2 - v1)) / 3.0;
+    return abs(len - height) <= 0.5 * height;
+}
+
+// The rest pose from the blade's immutable data: the rest tip (straight up when that is not
+// finite) through the validation. The twin of `reference::rest_curve`.
+fn rest_curve(v0: vec3<f32>, rest: vec3<f32>, up: vec3<f32>, height: f32) -> array<vec3<f32>, 2> {
+    var tip = rest;
+    if !finite3(tip) {
+        tip = v0 + up * height;
+    }
+    return validate(v0, tip, up, height);
 }
 
 // Eq. 14-16: the spheres on the patch's broad-phase list (in index order, like the CPU twin
@@ -165,8 +199,10 @@ fn main(
     }
     // Eq. 1, the collision displacement follows below.
     v2 += (recovery + gravity + wind) * dt;
-    // Eq. 2: the collision strength fades.
-    eta = max(eta - params.collision_decay * dt, 0.0);
+    // Eq. 2: the collision strength fades. The unclamped value joins the soundness test:
+    // max() may swallow a NaN differently on every GPU.
+    let decayed = eta - params.collision_decay * dt;
+    eta = max(decayed, 0.0);
 
     // Validate first so that the midpoint m of the collision test is that of a valid curve
     // (v1 follows v2), then collide; the length correction after a push can pull a point
@@ -182,7 +218,16 @@ fn main(
             corrected = validate(v0, c.xyz, up, height);
         }
     }
-    eta = min(eta, params.max_eta);
+    // A non-finite or absurd state is never kept: the blade starts over from its rest
+    // pose, and the reset is counted. Tested before the ceiling, which is a comparison and
+    // not min(): min() and max() may swallow a NaN differently on every GPU.
+    let sound = finite(decayed) && state_sound(v0, corrected[0], corrected[1], height, eta);
+    eta = select(eta, params.max_eta, eta > params.max_eta);
+    if !sound {
+        corrected = rest_curve(v0, rest, up, height);
+        eta = 0.0;
+        atomicAdd(&resets, 1u);
+    }
     blades[i].v1_height = vec4<f32>(corrected[0], height);
     blades[i].v2_width = vec4<f32>(corrected[1], blade.v2_width.w);
     states[i].rest_eta.w = eta;

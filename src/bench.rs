@@ -355,6 +355,9 @@ pub struct ConfigReport {
     pub colliders_considered: u64,
     /// Blade-sphere tests of the last frame per stepped blade.
     pub sphere_tests_per_blade: f64,
+    /// Blades the update reset to their rest pose because their new state was non-finite
+    /// or absurd, since the start of this configuration (warm-up included).
+    pub blades_reset_nonfinite: u64,
     pub memory: Memory,
 }
 
@@ -421,6 +424,8 @@ struct Measured {
     /// Broad phase of the last frame: spheres on some list, blade-sphere tests.
     spheres_considered: u64,
     sphere_tests: u64,
+    /// Blades reset to their rest pose since the renderer started (warm-up included).
+    resets: u64,
 }
 
 impl Measured {
@@ -446,12 +451,14 @@ fn measure(
         &session.field,
         COLOR_FORMAT,
     )?;
+    gpu.check_errors()?;
     let size = (target.width, target.height);
     let mut passes = [0.0f64; timing::PASSES.len()];
     let mut wind = 0.0f64;
     let mut timed = 0u32;
     let mut wall = 0.0f64;
     let mut last = CullCounters::default();
+    let mut resets = 0;
     for i in 0..warmup + frames {
         let start = Instant::now();
         renderer.frame(
@@ -462,8 +469,10 @@ fn measure(
             &target.depth_view,
             size,
         );
+        gpu.check_errors()?;
         let stats = renderer.stats(gpu)?;
         let elapsed = start.elapsed().as_secs_f64() * 1000.0;
+        resets = stats.blades_reset_nonfinite;
         if i < warmup {
             continue;
         }
@@ -513,6 +522,7 @@ fn measure(
         image: target.read_image(gpu)?,
         spheres_considered: last.spheres_considered().into(),
         sphere_tests: u64::from(last.patch_sphere_pairs) * u64::from(renderer.buffers.patch_size),
+        resets: resets.into(),
     })
 }
 
@@ -651,6 +661,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             } else {
                 0.0
             },
+            blades_reset_nonfinite: m.resets,
             memory: memory(m.blades.total, m.gpu_bytes),
         });
         images.push((config, m.image));
@@ -858,6 +869,11 @@ pub fn format_report(r: &BenchReport) -> String {
         count(|b| b.stepped_throttled),
     );
     row(&mut s, "patches visible", count(|b| b.visible_patches));
+    row(
+        &mut s,
+        "blades reset, non-finite state (since start)",
+        each(&|x| thousands(x.blades_reset_nonfinite)),
+    );
     let gpu = |f: fn(&GpuMs) -> f64| each(&|x: &ConfigReport| ms(x.gpu_ms.as_ref().map(f)));
     let _ = writeln!(s, "GPU time (ms, mean)");
     row(
@@ -1135,6 +1151,7 @@ mod tests {
             colliders: 0,
             colliders_considered: 0,
             sphere_tests_per_blade: 0.0,
+            blades_reset_nonfinite: 0,
             memory: memory(1024, (90_000, 200_000)),
         };
         let configurations: Vec<_> = Config::COLUMNS.iter().map(|c| column(c.name())).collect();
@@ -1195,6 +1212,7 @@ mod tests {
                 colliders: 1000,
                 colliders_considered: 183,
                 sphere_tests_per_blade: 0.0,
+                blades_reset_nonfinite: 0,
                 memory: Memory::default(),
             };
         let patch = 397_881 - 168_333;

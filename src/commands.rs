@@ -135,6 +135,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     if o.wind_overlay {
         renderer.enable_overlay(&gpu, COLOR_FORMAT);
     }
+    gpu.check_errors()?;
     let mut sums = [0.0f64; PASSES.len()];
     let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
     let mut timed = 0u32;
@@ -148,6 +149,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             &target.depth_view,
             o.size,
         );
+        gpu.check_errors()?;
         if o.timings {
             let stats = renderer.stats(&gpu)?;
             if let Some(ms) = stats.pass_ms {
@@ -196,6 +198,10 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             c.culled_distance,
             c.culled_occlusion,
             c.culled_occlusion_grass
+        );
+        println!(
+            "blades reset (non-finite state, since start): {}",
+            stats.blades_reset_nonfinite
         );
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
@@ -290,8 +296,19 @@ fn to_json(blades: &[Blade], states: &[BladeState]) -> Vec<BladeJson> {
 /// Runs the CPU twin for `steps` steps of `dt` from time 0 (same clock and collider motion
 /// as the GPU path).
 pub fn simulate_cpu(session: &Session, steps: u32, dt: f32) -> CpuRun {
-    let mut blades = session.field.blades.clone();
-    let mut states = session.field.states.clone();
+    let (blades, states) = (session.field.blades.clone(), session.field.states.clone());
+    simulate_cpu_from(session, blades, states, steps, dt)
+}
+
+/// `simulate_cpu` from other blades and states than the session's field (same count).
+pub fn simulate_cpu_from(
+    session: &Session,
+    mut blades: Vec<Blade>,
+    mut states: Vec<BladeState>,
+    steps: u32,
+    dt: f32,
+) -> CpuRun {
+    let mut blades_reset_nonfinite = 0u64;
     let scene = &session.scene;
     let dt = dt.clamp(0.0, scene.physics.max_dt);
     let mut time = 0.0f32;
@@ -326,12 +343,19 @@ pub fn simulate_cpu(session: &Session, steps: u32, dt: f32) -> CpuRun {
                 .map(|w| w.velocity.as_slice())
                 .unwrap_or(&zero),
         };
-        reference::update_all(&mut blades, &mut states, &params, &spheres, &grid);
+        blades_reset_nonfinite += u64::from(reference::update_all(
+            &mut blades,
+            &mut states,
+            &params,
+            &spheres,
+            &grid,
+        ));
     }
     CpuRun {
         blades,
         states,
         wind,
+        blades_reset_nonfinite,
     }
 }
 
@@ -341,6 +365,9 @@ pub struct CpuRun {
     pub states: Vec<BladeState>,
     /// The wind grid after the last step, when the scene uses the fluid.
     pub wind: Option<FluidState>,
+    /// Blades reset to their rest pose because their new state was non-finite or absurd,
+    /// summed over the steps.
+    pub blades_reset_nonfinite: u64,
 }
 
 /// The wind grid as `--dump-wind` writes it (row-major, x fastest).
@@ -419,10 +446,12 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         ));
     }
     let mut wind_state = None;
+    let resets: u64;
     let (session, (blades, states)) = if o.cpu {
         let session = Session::new(scene, o.blades, None)?;
         let run = simulate_cpu(&session, o.steps, o.dt);
         wind_state = run.wind;
+        resets = run.blades_reset_nonfinite;
         (session, (run.blades, run.states))
     } else {
         let gpu = open_gpu(&o.adapter)?;
@@ -430,13 +459,24 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
         for _ in 0..o.steps {
             renderer.step(&gpu, o.dt);
+            gpu.check_errors()?;
         }
+        resets = renderer.blades_reset_nonfinite(&gpu)?.into();
         let out = renderer.buffers.read(&gpu)?;
         if let Some(f) = &renderer.fluid {
             wind_state = Some(f.read_state(&gpu)?);
         }
+        gpu.check_errors()?;
         (session, out)
     };
+    if let Some(line) = crate::sim::health::resets_line(resets) {
+        eprintln!("{line}");
+    }
+    crate::sim::health::check_dump(
+        &o.dump,
+        (&session.field.blades, &session.field.states),
+        (&blades, &states),
+    )?;
     let dump = Dump {
         initial: to_json(&session.field.blades, &session.field.states),
         last: to_json(&blades, &states),

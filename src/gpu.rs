@@ -2,6 +2,7 @@
 //! and the limit checks that run before any large allocation.
 
 use std::str::FromStr;
+use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 
@@ -40,6 +41,9 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// Whether timestamp queries were enabled (per-pass GPU times).
     pub timestamps: bool,
+    /// The first error the device reported outside an error scope (wgpu's default handler
+    /// would panic); `check_errors` turns it into an `Error`.
+    errors: Arc<Mutex<Option<String>>>,
 }
 
 fn describe_info(info: &wgpu::AdapterInfo) -> String {
@@ -98,6 +102,13 @@ impl Gpu {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", info.name)))?;
+        let errors: Arc<Mutex<Option<String>>> = Arc::default();
+        let slot = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            log::debug!("uncaptured wgpu error: {e}");
+            let mut first = slot.lock().unwrap_or_else(|p| p.into_inner());
+            first.get_or_insert_with(|| e.to_string());
+        }));
         Ok(Gpu {
             instance,
             adapter,
@@ -105,7 +116,24 @@ impl Gpu {
             queue,
             info,
             timestamps,
+            errors,
         })
+    }
+
+    /// Fails with the first error the device reported outside an error scope (validation,
+    /// out of memory, internal), if any. Call it after building the renderer, after each
+    /// submitted frame and before writing outputs: an erroneous device never makes a
+    /// picture or a dump, and never panics.
+    pub fn check_errors(&self) -> Result<()> {
+        let first = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        match first.as_ref() {
+            None => Ok(()),
+            Some(e) => Err(Error::Gpu(format!(
+                "{} reported an error: {}",
+                self.info.name,
+                e.trim_end()
+            ))),
+        }
     }
 
     /// One line naming the adapter, for logs and reports.
@@ -154,56 +182,236 @@ impl Gpu {
     }
 }
 
+/// Downlevel capabilities sward needs, with what needs them (from the shaders and the
+/// pipeline layouts in `src/render/` and `src/sim/`).
+const NEEDED_DOWNLEVEL: &[(wgpu::DownlevelFlags, &str, &str)] = &[
+    (
+        wgpu::DownlevelFlags::COMPUTE_SHADERS,
+        "COMPUTE_SHADERS",
+        "compute shaders (blade update, culling, wind solver, depth pyramid)",
+    ),
+    (
+        wgpu::DownlevelFlags::INDIRECT_EXECUTION,
+        "INDIRECT_EXECUTION",
+        "indirect dispatches and draws (the culled blades)",
+    ),
+    (
+        wgpu::DownlevelFlags::VERTEX_STORAGE,
+        "VERTEX_STORAGE",
+        "storage buffers in vertex shaders (the grass reads the blades)",
+    ),
+    (
+        wgpu::DownlevelFlags::FRAGMENT_STORAGE,
+        "FRAGMENT_STORAGE",
+        "storage buffers in fragment shaders (the wind overlay)",
+    ),
+    (
+        wgpu::DownlevelFlags::NON_POWER_OF_TWO_MIPMAPPED_TEXTURES,
+        "NON_POWER_OF_TWO_MIPMAPPED_TEXTURES",
+        "mipmapped textures of any size (the depth pyramid)",
+    ),
+];
+
+/// The limits sward needs: (name, the adapter's value, the least sward needs, what needs it).
+fn needed_limits(l: &wgpu::Limits) -> [(&'static str, u64, u64, &'static str); 11] {
+    [
+        ("max_bind_groups", l.max_bind_groups.into(), 2, "the blade cull"),
+        (
+            "max_bindings_per_bind_group",
+            l.max_bindings_per_bind_group.into(),
+            8,
+            "the blade update",
+        ),
+        (
+            "max_storage_buffers_per_shader_stage",
+            l.max_storage_buffers_per_shader_stage.into(),
+            8,
+            "the blade cull",
+        ),
+        (
+            "max_storage_textures_per_shader_stage",
+            l.max_storage_textures_per_shader_stage.into(),
+            1,
+            "the depth pyramid",
+        ),
+        (
+            "max_uniform_buffers_per_shader_stage",
+            l.max_uniform_buffers_per_shader_stage.into(),
+            3,
+            "the grass draw",
+        ),
+        (
+            "max_compute_invocations_per_workgroup",
+            l.max_compute_invocations_per_workgroup.into(),
+            64,
+            "workgroups of 64 and 8x8",
+        ),
+        (
+            "max_compute_workgroup_size_x",
+            l.max_compute_workgroup_size_x.into(),
+            64,
+            "workgroups of 64",
+        ),
+        (
+            "max_compute_workgroup_size_y",
+            l.max_compute_workgroup_size_y.into(),
+            8,
+            "workgroups of 8x8",
+        ),
+        (
+            "max_compute_workgroups_per_dimension",
+            l.max_compute_workgroups_per_dimension.into(),
+            65_535,
+            "the 2D blade dispatches",
+        ),
+        (
+            "max_storage_buffer_binding_size",
+            l.max_storage_buffer_binding_size,
+            128 << 20,
+            "the blade buffers",
+        ),
+        (
+            "max_texture_dimension_2d",
+            l.max_texture_dimension_2d.into(),
+            2048,
+            "render targets and the depth pyramid",
+        ),
+    ]
+}
+
+/// What an adapter lacks to run sward, one reason per item; empty when it can. Pure, so
+/// that made-up adapters can be tested: `features` are those sward needs unconditionally
+/// (none today: timestamps, wireframe and first-instance draws are optional).
+pub fn unmet_needs(
+    info: &wgpu::AdapterInfo,
+    features: wgpu::Features,
+    limits: &wgpu::Limits,
+    downlevel: &wgpu::DownlevelCapabilities,
+) -> Vec<String> {
+    let mut unmet = Vec::new();
+    match info.backend {
+        wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12 => {}
+        wgpu::Backend::Gl => unmet.push(
+            "the OpenGL backend is not supported (its shaders cannot load from depth \
+             textures, which the depth pyramid does; sward needs Vulkan, Metal or DX12)"
+                .to_string(),
+        ),
+        other => unmet.push(format!(
+            "the {other:?} backend is not supported (sward needs Vulkan, Metal or DX12)"
+        )),
+    }
+    let required = wgpu::Features::empty();
+    let missing = required - features;
+    if !missing.is_empty() {
+        unmet.push(format!("features {missing:?}"));
+    }
+    for (flag, name, why) in NEEDED_DOWNLEVEL {
+        if !downlevel.flags.contains(*flag) {
+            unmet.push(format!("{why} (downlevel flag {name})"));
+        }
+    }
+    if downlevel.shader_model < wgpu::ShaderModel::Sm5 {
+        unmet.push(format!(
+            "shader model 5 (compute and storage buffers): it has {:?}",
+            downlevel.shader_model
+        ));
+    }
+    for (name, have, need, why) in needed_limits(limits) {
+        if have < need {
+            unmet.push(format!("{name} >= {need} for {why}: it has {have}"));
+        }
+    }
+    unmet
+}
+
+/// Why `adapter` cannot run sward (empty: it can).
+fn adapter_unmet(adapter: &wgpu::Adapter) -> Vec<String> {
+    unmet_needs(
+        &adapter.get_info(),
+        adapter.features(),
+        &adapter.limits(),
+        &adapter.get_downlevel_capabilities(),
+    )
+}
+
 fn pick(adapters: Vec<wgpu::Adapter>, choice: &AdapterChoice) -> Result<wgpu::Adapter> {
     if adapters.is_empty() {
         return Err(Error::NoAdapter(format!(
             "no GPU adapter found: {INSTALL_HINT}"
         )));
     }
-    let names: Vec<String> = adapters
-        .iter()
-        .map(|a| describe_info(&a.get_info()))
+    // Every adapter is vetted before any device is opened or anything is built on it.
+    let vetted: Vec<(wgpu::Adapter, wgpu::AdapterInfo, Vec<String>)> = adapters
+        .into_iter()
+        .map(|a| {
+            let unmet = adapter_unmet(&a);
+            let info = a.get_info();
+            (a, info, unmet)
+        })
         .collect();
-    let is_cpu = |a: &wgpu::Adapter| a.get_info().device_type == wgpu::DeviceType::Cpu;
+    let report = |list: &[(wgpu::Adapter, wgpu::AdapterInfo, Vec<String>)]| {
+        list.iter()
+            .map(|(_, info, unmet)| {
+                if unmet.is_empty() {
+                    describe_info(info)
+                } else {
+                    format!("{} cannot run sward: {}", describe_info(info), unmet.join(", "))
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let summary = report(&vetted);
+    if let AdapterChoice::Name(n) = choice {
+        // An adapter named explicitly is refused with what it lacks, not skipped.
+        let needle = n.to_ascii_lowercase();
+        let matches = |info: &wgpu::AdapterInfo| info.name.to_ascii_lowercase().contains(&needle);
+        // The same device may come through several backends (Vulkan and GL): take one
+        // that can serve, else refuse the first match with its reasons.
+        let named = vetted
+            .iter()
+            .position(|(_, info, unmet)| matches(info) && unmet.is_empty())
+            .or_else(|| vetted.iter().position(|(_, info, _)| matches(info)));
+        return match named {
+            Some(k) if vetted[k].2.is_empty() => {
+                let mut vetted = vetted;
+                Ok(vetted.swap_remove(k).0)
+            }
+            Some(k) => Err(Error::NoAdapter(format!(
+                "adapter {} cannot run sward: {}; {INSTALL_HINT}",
+                describe_info(&vetted[k].1),
+                vetted[k].2.join(", ")
+            ))),
+            None => Err(Error::NoAdapter(format!(
+                "no adapter whose name contains {n:?} among: {summary}; {INSTALL_HINT}"
+            ))),
+        };
+    }
+    let mut usable = vetted.into_iter().filter(|(_, _, unmet)| unmet.is_empty());
     let found = match choice {
         AdapterChoice::Auto => {
-            // Prefer real hardware, then any CPU adapter; skip GL when Vulkan/Metal/DX12 exist
-            // because compute and indirect draws are weaker there.
-            let rank = |a: &wgpu::Adapter| {
-                let info = a.get_info();
-                let device = match info.device_type {
-                    wgpu::DeviceType::DiscreteGpu => 0,
-                    wgpu::DeviceType::IntegratedGpu => 1,
-                    wgpu::DeviceType::VirtualGpu => 2,
-                    wgpu::DeviceType::Cpu => 3,
-                    wgpu::DeviceType::Other => 4,
-                };
-                let backend = if info.backend == wgpu::Backend::Gl {
-                    1
-                } else {
-                    0
-                };
-                (backend, device)
+            // Prefer real hardware, then any CPU adapter.
+            let rank = |info: &wgpu::AdapterInfo| match info.device_type {
+                wgpu::DeviceType::DiscreteGpu => 0,
+                wgpu::DeviceType::IntegratedGpu => 1,
+                wgpu::DeviceType::VirtualGpu => 2,
+                wgpu::DeviceType::Cpu => 3,
+                wgpu::DeviceType::Other => 4,
             };
-            adapters.into_iter().min_by_key(rank)
+            usable.min_by_key(|(_, info, _)| rank(info))
         }
-        AdapterChoice::Software => adapters.into_iter().find(is_cpu),
-        AdapterChoice::Name(n) => {
-            let needle = n.to_ascii_lowercase();
-            adapters
-                .into_iter()
-                .find(|a| a.get_info().name.to_ascii_lowercase().contains(&needle))
+        AdapterChoice::Software => {
+            usable.find(|(_, info, _)| info.device_type == wgpu::DeviceType::Cpu)
         }
+        AdapterChoice::Name(_) => unreachable!("handled above"),
     };
-    found.ok_or_else(|| {
+    found.map(|(a, _, _)| a).ok_or_else(|| {
         let wanted = match choice {
-            AdapterChoice::Auto => "usable adapter".to_string(),
-            AdapterChoice::Software => "software (CPU) adapter".to_string(),
-            AdapterChoice::Name(n) => format!("adapter whose name contains {n:?}"),
+            AdapterChoice::Software => "software (CPU) adapter",
+            _ => "adapter",
         };
         Error::NoAdapter(format!(
-            "no {wanted} among: {}; {INSTALL_HINT}",
-            names.join("; ")
+            "no {wanted} that can run sward among: {summary}; {INSTALL_HINT}"
         ))
     })
 }
@@ -251,4 +459,94 @@ pub fn map_and_read(gpu: &Gpu, staging: &wgpu::Buffer) -> Result<Vec<u8>> {
         .to_vec();
     staging.unmap();
     Ok(data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lavapipe_like() -> (
+        wgpu::AdapterInfo,
+        wgpu::Limits,
+        wgpu::DownlevelCapabilities,
+    ) {
+        let mut info = wgpu::AdapterInfo::new(wgpu::DeviceType::Cpu, wgpu::Backend::Vulkan);
+        info.name = "llvmpipe (LLVM 19.1.7, 256 bits)".into();
+        (
+            info,
+            wgpu::Limits::default(),
+            wgpu::DownlevelCapabilities::default(),
+        )
+    }
+
+    #[test]
+    fn a_complete_vulkan_adapter_meets_every_need() {
+        let (info, limits, downlevel) = lavapipe_like();
+        let unmet = unmet_needs(&info, wgpu::Features::empty(), &limits, &downlevel);
+        assert!(unmet.is_empty(), "{unmet:?}");
+        for backend in [wgpu::Backend::Metal, wgpu::Backend::Dx12] {
+            let info = wgpu::AdapterInfo::new(wgpu::DeviceType::DiscreteGpu, backend);
+            assert!(unmet_needs(&info, wgpu::Features::empty(), &limits, &downlevel).is_empty());
+        }
+    }
+
+    #[test]
+    fn gl_is_refused_with_its_reason() {
+        let (_, limits, downlevel) = lavapipe_like();
+        let info = wgpu::AdapterInfo::new(wgpu::DeviceType::Cpu, wgpu::Backend::Gl);
+        let unmet = unmet_needs(&info, wgpu::Features::empty(), &limits, &downlevel);
+        assert_eq!(unmet.len(), 1, "{unmet:?}");
+        assert!(unmet[0].contains("OpenGL backend is not supported"), "{unmet:?}");
+        assert!(unmet[0].contains("depth"), "{unmet:?}");
+        let noop = wgpu::AdapterInfo::new(wgpu::DeviceType::Other, wgpu::Backend::Noop);
+        let unmet = unmet_needs(&noop, wgpu::Features::empty(), &limits, &downlevel);
+        assert!(unmet[0].contains("Noop backend is not supported"), "{unmet:?}");
+    }
+
+    #[test]
+    fn a_webgl2_class_adapter_lacks_compute_indirect_and_storage() {
+        let info = wgpu::AdapterInfo::new(wgpu::DeviceType::IntegratedGpu, wgpu::Backend::Gl);
+        let downlevel = wgpu::DownlevelCapabilities {
+            flags: wgpu::DownlevelFlags::empty(),
+            shader_model: wgpu::ShaderModel::Sm4,
+            ..Default::default()
+        };
+        let limits = wgpu::Limits::downlevel_webgl2_defaults();
+        let unmet = unmet_needs(&info, wgpu::Features::empty(), &limits, &downlevel);
+        let text = unmet.join("\n");
+        for want in [
+            "OpenGL",
+            "COMPUTE_SHADERS",
+            "INDIRECT_EXECUTION",
+            "VERTEX_STORAGE",
+            "FRAGMENT_STORAGE",
+            "NON_POWER_OF_TWO_MIPMAPPED_TEXTURES",
+            "shader model 5",
+            "max_storage_buffers_per_shader_stage >= 8 for the blade cull: it has 0",
+            "max_compute_invocations_per_workgroup >= 64",
+            "max_storage_textures_per_shader_stage",
+        ] {
+            assert!(text.contains(want), "{want} missing from:\n{text}");
+        }
+    }
+
+    #[test]
+    fn each_limit_below_need_is_named() {
+        let (info, limits, downlevel) = lavapipe_like();
+        let mut l = limits.clone();
+        l.max_storage_buffers_per_shader_stage = 7;
+        l.max_compute_workgroup_size_x = 32;
+        l.max_bind_groups = 1;
+        let unmet = unmet_needs(&info, wgpu::Features::empty(), &l, &downlevel);
+        assert_eq!(unmet.len(), 3, "{unmet:?}");
+        assert!(unmet[0].starts_with("max_bind_groups >= 2"), "{unmet:?}");
+        assert!(unmet
+            .iter()
+            .any(|u| u == "max_storage_buffers_per_shader_stage >= 8 for the blade cull: it has 7"));
+        assert!(unmet
+            .iter()
+            .any(|u| u.starts_with("max_compute_workgroup_size_x >= 64")));
+        // The WebGPU defaults every Vulkan, Metal and DX12 adapter offers are enough.
+        assert!(needed_limits(&limits).iter().all(|(_, have, need, _)| have >= need));
+    }
 }

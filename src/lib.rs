@@ -11,6 +11,7 @@ pub mod field;
 pub mod gpu;
 pub mod output;
 pub mod render;
+pub mod runtime_env;
 pub mod scene;
 pub mod session;
 pub mod shaders;

@@ -288,6 +288,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 fn main() -> ExitCode {
+    sward::runtime_env::ensure_runtime_dir();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
     let adapter: AdapterChoice = cli.adapter.adapter.parse().expect("infallible");

@@ -519,6 +519,10 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
                 "patches: {} visible, {} stepped ({} throttled)",
                 c.visible_patches, c.updated_patches, c.throttled_patches
             ));
+            ui.label(format!(
+                "blades reset (non-finite state, since start): {}",
+                app.stats.blades_reset_nonfinite
+            ));
             match app.stats.pass_ms {
                 Some(ms) => {
                     let text: Vec<String> = PASSES

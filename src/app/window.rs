@@ -149,6 +149,7 @@ impl WindowApp {
             egui_wgpu::RendererOptions::default(),
         );
         let player = self.script.take().map(Player::new);
+        gpu.check_errors()?;
         Ok(Running {
             window,
             surface,
@@ -410,6 +411,7 @@ impl Running {
         self.gpu
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
+        self.gpu.check_errors()?;
 
         let last = options.exit_after_frames == Some(self.app.frame);
         if last {

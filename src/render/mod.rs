@@ -42,6 +42,9 @@ pub struct FrameStats {
     pub pass_ms: Option<[f64; timing::PASSES.len()]>,
     /// GPU milliseconds of each wind-solver pass, when the fluid runs and timestamps exist.
     pub wind_ms: Option<Vec<(&'static str, f64)>>,
+    /// Blades the update reset to their rest pose since the start because their new state
+    /// was non-finite or absurd (`BladeBuffers::read_resets`).
+    pub blades_reset_nonfinite: u32,
 }
 
 /// A sphere moved by the caller rather than by the scene (the window's thrown balls): it
@@ -418,6 +421,7 @@ impl Renderer {
             &b.patch_spheres,
             &b.dispatch,
             &b.seen,
+            &b.resets,
         ]
         .iter()
         .map(|x| x.size())
@@ -576,6 +580,12 @@ impl Renderer {
         gpu.queue.submit([encoder.finish()]);
     }
 
+    /// Blades reset to their rest pose since the start (non-finite or absurd state; blocks
+    /// until the GPU is idle).
+    pub fn blades_reset_nonfinite(&self, gpu: &Gpu) -> Result<u32> {
+        self.buffers.read_resets(gpu)
+    }
+
     /// Reads back the counters and pass times of the last frame (blocks until it is done).
     pub fn stats(&self, gpu: &Gpu) -> Result<FrameStats> {
         let counters = self.cull.read_counters(gpu)?;
@@ -591,6 +601,7 @@ impl Renderer {
             counters,
             pass_ms,
             wind_ms,
+            blades_reset_nonfinite: self.buffers.read_resets(gpu)?,
         })
     }
 }

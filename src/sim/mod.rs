@@ -4,6 +4,7 @@
 pub mod agc;
 pub mod colliders;
 pub mod fluid;
+pub mod health;
 pub mod layout;
 pub mod params;
 pub mod reference;

@@ -195,14 +195,49 @@ pub fn collide(
     (v2, added)
 }
 
+/// Whether a blade's new state is sound: every value finite and the curve's length (Eq. 12)
+/// within half a height of the height (the validation makes it equal; only overflow, e.g.
+/// from an absurd force, breaks that). The twin of `state_sound` in `update.wgsl`.
+pub fn state_sound(v0: Vec3, v1: Vec3, v2: Vec3, height: f32, eta: f32) -> bool {
+    if !(v1.is_finite() && v2.is_finite() && eta.is_finite()) {
+        return false;
+    }
+    (curve_length(v0, v1, v2) - height).abs() <= 0.5 * height
+}
+
+/// The rest pose (v1, v2) of a blade from its immutable data: the rest tip `rest` (the
+/// state's `rest_eta.xyz`, straight up when that is not finite) through the validation.
+/// The generator's pose is a fixed point of the validation, so this is that pose to
+/// rounding. The twin of `rest_curve` in `update.wgsl`.
+pub fn rest_curve(v0: Vec3, rest: Vec3, up: Vec3, height: f32) -> (Vec3, Vec3) {
+    let tip = if rest.is_finite() {
+        rest
+    } else {
+        v0 + up * height
+    };
+    validate(v0, tip, up, height)
+}
+
+/// The rest pose of `blade` as the update resets it: (v1, v2), η = 0.
+pub fn blade_rest_pose(blade: &Blade, state: &BladeState) -> (Vec3, Vec3) {
+    rest_curve(
+        v4(blade.v0_dir).xyz(),
+        v4(state.rest_eta).xyz(),
+        v4(blade.up_stiffness).xyz(),
+        blade.v1_height[3],
+    )
+}
+
 /// One update step of one blade (Eq. 1–16 and the validation), the twin of `update.wgsl`.
+/// Returns true when the new state was non-finite or absurd and the blade was reset to
+/// its rest pose instead (see [`state_sound`]).
 pub fn update_blade(
     blade: &mut Blade,
     state: &mut BladeState,
     params: &SimParams,
     spheres: &[[f32; 4]],
     grid: &WindGrid,
-) {
+) -> bool {
     let v0 = v4(blade.v0_dir).xyz();
     let angle = blade.v0_dir[3];
     let height = blade.v1_height[3];
@@ -243,8 +278,9 @@ pub fn update_blade(
     }
     // Eq. 1 (the collision displacement d follows below).
     v2 += (recovery + gravity + wind) * dt;
-    // Eq. 2: the collision strength fades.
-    eta = (eta - params.collision_decay * dt).max(0.0);
+    // Eq. 2: the collision strength fades (the unclamped value joins the soundness test).
+    let decayed = eta - params.collision_decay * dt;
+    eta = decayed.max(0.0);
 
     // Validate first so that the midpoint m of the collision test is that of a valid curve
     // (v1 follows v2), then collide; the length correction after a push can pull a point
@@ -260,23 +296,37 @@ pub fn update_blade(
             (v1, v2) = validate(v0, cv2, up, height);
         }
     }
-    eta = eta.min(params.max_eta);
+    // A non-finite or absurd state is never kept: the blade starts over from its rest
+    // pose. Tested before the ceiling, a comparison as in WGSL (where min() of a NaN is
+    // undefined).
+    let sound = decayed.is_finite() && state_sound(v0, v1, v2, height, eta);
+    if eta > params.max_eta {
+        eta = params.max_eta;
+    }
+    if !sound {
+        (v1, v2) = rest_curve(v0, rest, up, height);
+        eta = 0.0;
+    }
     blade.v1_height = [v1.x, v1.y, v1.z, height];
     blade.v2_width = [v2.x, v2.y, v2.z, blade.v2_width[3]];
     state.rest_eta[3] = eta;
+    !sound
 }
 
-/// Runs one update step over every blade.
+/// Runs one update step over every blade; returns how many were reset to their rest pose
+/// because their new state was non-finite or absurd.
 pub fn update_all(
     blades: &mut [Blade],
     states: &mut [BladeState],
     params: &SimParams,
     spheres: &[[f32; 4]],
     grid: &WindGrid,
-) {
+) -> u32 {
+    let mut resets = 0;
     for (b, s) in blades.iter_mut().zip(states.iter_mut()) {
-        update_blade(b, s, params, spheres, grid);
+        resets += update_blade(b, s, params, spheres, grid) as u32;
     }
+    resets
 }
 
 /// Why a blade was culled, or the level of detail it is drawn at. The twin of the cull

@@ -32,6 +32,9 @@ pub struct BladeBuffers {
     pub dispatch: wgpu::Buffer,
     /// One `SEEN_*` word per blade: whether the grass-occlusion test saw it last frame.
     pub seen: wgpu::Buffer,
+    /// One u32: blades the update reset to their rest pose because their new state was
+    /// non-finite or absurd, counted since the start (never cleared).
+    pub resets: wgpu::Buffer,
     pub count: u32,
     pub patch_size: u32,
     pub patch_count: u32,
@@ -49,6 +52,7 @@ impl BladeBuffers {
             + (MAX_SPHERES * 16) as u64
             + 8
             + std::mem::size_of::<PatchDispatch>() as u64
+            + 4
     }
 
     /// Uploads a generated field after checking that it fits the device.
@@ -146,6 +150,12 @@ impl BladeBuffers {
             usage: storage,
             mapped_at_creation: false,
         });
+        let resets = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.update.resets"),
+            size: 4,
+            usage: storage,
+            mapped_at_creation: false,
+        });
         Ok(Self {
             blades,
             states,
@@ -156,6 +166,7 @@ impl BladeBuffers {
             patch_spheres,
             dispatch,
             seen,
+            resets,
             count: count as u32,
             patch_size: field.patch_size.max(1),
             patch_count,
@@ -201,6 +212,13 @@ impl BladeBuffers {
         }
         let bytes = read_buffer(gpu, &self.seen, self.count as u64 * 4)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Blades reset to their rest pose since the start because the update found their new
+    /// state non-finite or absurd (blocking read-back).
+    pub fn read_resets(&self, gpu: &Gpu) -> Result<u32> {
+        let bytes = read_buffer(gpu, &self.resets, 4)?;
+        Ok(bytemuck::pod_read_unaligned(&bytes))
     }
 
     /// Replaces the blades and states (tests and the CPU/GPU comparison).
@@ -283,6 +301,7 @@ impl UpdatePass {
                 storage_entry(4, true),
                 storage_entry(5, true),
                 storage_entry(6, true),
+                storage_entry(7, false),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -322,6 +341,10 @@ impl UpdatePass {
                 wgpu::BindGroupEntry {
                     binding: 6,
                     resource: buffers.patch_spheres.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: buffers.resets.as_entire_binding(),
                 },
             ],
         });
