@@ -429,7 +429,7 @@ mod tests {
             (
                 "(colliders: [(center: (0, 0, 0))])",
                 "/scenes/test.ron:1:32: colliders[0]: Unexpected missing field named `radius` in \
-                 `Sphere`",
+                 `Sphere`: allowed (center: (x, y, z), radius: .., motion: ..)",
             ),
             (
                 "(field: (height: (min: \"a\", max: 1)))",
