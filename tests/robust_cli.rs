@@ -453,3 +453,88 @@ fn set_eye_and_target_vary_the_scene_from_the_command_line() {
         simulate("wind.directional.strength=20", "windy.json")
     );
 }
+
+/// Point 5: force-like values without a bound used to give NaN blades with exit 0; now each
+/// is refused with its field and range, from the file (with its line) and from --set.
+#[test]
+fn huge_forces_are_refused_with_the_field_and_range() {
+    let t = Tmp::new("forces");
+    for (field, section, key) in [
+        ("wind.directional.strength", "wind: (directional: (strength: 1e38))", "strength"),
+        ("wind.point.strength", "wind: (point: (strength: 1e38))", "strength"),
+        ("physics.mass", "physics: (mass: 1e38)", "mass"),
+        ("physics.gravity_acceleration", "physics: (gravity_acceleration: 1e38)", "gravity_acceleration"),
+        (
+            "physics.gravity_center_acceleration",
+            "physics: (gravity_center_acceleration: 1e38)",
+            "gravity_center_acceleration",
+        ),
+    ] {
+        let scene = t.file("s.ron", &format!("(\n  {section},\n)\n"));
+        let dump = t.s("d.json");
+        let stderr = fails(&["simulate", "--scene", &scene, "--blades", "64", "--dump", &dump]);
+        assert!(stderr.contains("s.ron:2:"), "{field}: {stderr}");
+        assert!(stderr.contains(&format!("{field} = ")), "{field}: {stderr}");
+        assert!(stderr.contains("out of range: allowed"), "{field}: {stderr}");
+        assert!(stderr.contains(key), "{field}: {stderr}");
+        let set = format!("{field}=1e38");
+        let stderr = fails(&["simulate", "--blades", "64", "--dump", &dump, "--set", &set]);
+        assert!(stderr.contains(&format!("--set {set}: {field} = ")), "{stderr}");
+        assert!(!t.path("d.json").exists());
+    }
+}
+
+/// Point 6: the parser's own errors name the field and its range; an image's errors name the
+/// scene file, the field and the image, and a huge declared size says its size and the limit.
+#[test]
+fn parser_and_image_errors_name_the_field() {
+    let t = Tmp::new("parser");
+    let out = t.s("o.png");
+    for (text, expect) in [
+        (
+            "(\n  terrain: (resolution: 99999999999),\n)",
+            "s.ron:2:",
+        ),
+        ("(\n  terrain: (resolution: 1e3),\n)", "s.ron:2:"),
+        ("(\n  field: (density: \"lots\"),\n)", "s.ron:2:"),
+    ] {
+        let scene = t.file("s.ron", text);
+        let stderr = fails(&["render", "--scene", &scene, "--frames", "1", "--out", &out]);
+        assert!(stderr.contains(expect), "{stderr}");
+        assert!(stderr.contains("allowed"), "{stderr}");
+        assert!(
+            stderr.contains("terrain.resolution") || stderr.contains("field.density"),
+            "{stderr}"
+        );
+    }
+    // A PNG whose header declares 100000x100000 pixels: a 1x1 image with its IHDR patched.
+    let mut png = Vec::new();
+    image::GrayImage::new(1, 1)
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    png[16..20].copy_from_slice(&100_000u32.to_be_bytes());
+    png[20..24].copy_from_slice(&100_000u32.to_be_bytes());
+    let crc = crc32(&png[12..29]);
+    png[29..33].copy_from_slice(&crc.to_be_bytes());
+    std::fs::write(t.path("huge.png"), &png).unwrap();
+    let scene = t.file("s.ron", "(\n  terrain: (\n    density_map: \"huge.png\",\n  ),\n)");
+    let stderr = fails(&["render", "--scene", &scene, "--frames", "1", "--out", &out]);
+    assert!(stderr.contains("s.ron:3:"), "{stderr}");
+    assert!(stderr.contains("terrain.density_map"), "{stderr}");
+    assert!(stderr.contains("huge.png"), "{stderr}");
+    assert!(stderr.contains("100000x100000"), "{stderr}");
+    assert!(!stderr.contains("Memory limit exceeded"), "{stderr}");
+    assert!(!t.path("o.png").exists());
+}
+
+/// CRC-32 (IEEE) as PNG chunks use it.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = 0xffff_ffffu32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 { (crc >> 1) ^ 0xedb8_8320 } else { crc >> 1 };
+        }
+    }
+    !crc
+}
