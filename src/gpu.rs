@@ -215,7 +215,12 @@ const NEEDED_DOWNLEVEL: &[(wgpu::DownlevelFlags, &str, &str)] = &[
 /// The limits sward needs: (name, the adapter's value, the least sward needs, what needs it).
 fn needed_limits(l: &wgpu::Limits) -> [(&'static str, u64, u64, &'static str); 11] {
     [
-        ("max_bind_groups", l.max_bind_groups.into(), 2, "the blade cull"),
+        (
+            "max_bind_groups",
+            l.max_bind_groups.into(),
+            2,
+            "the blade cull",
+        ),
         (
             "max_bindings_per_bind_group",
             l.max_bindings_per_bind_group.into(),
@@ -355,7 +360,11 @@ fn pick(adapters: Vec<wgpu::Adapter>, choice: &AdapterChoice) -> Result<wgpu::Ad
                 if unmet.is_empty() {
                     describe_info(info)
                 } else {
-                    format!("{} cannot run sward: {}", describe_info(info), unmet.join(", "))
+                    format!(
+                        "{} cannot run sward: {}",
+                        describe_info(info),
+                        unmet.join(", ")
+                    )
                 }
             })
             .collect::<Vec<_>>()
@@ -465,11 +474,7 @@ pub fn map_and_read(gpu: &Gpu, staging: &wgpu::Buffer) -> Result<Vec<u8>> {
 mod tests {
     use super::*;
 
-    fn lavapipe_like() -> (
-        wgpu::AdapterInfo,
-        wgpu::Limits,
-        wgpu::DownlevelCapabilities,
-    ) {
+    fn lavapipe_like() -> (wgpu::AdapterInfo, wgpu::Limits, wgpu::DownlevelCapabilities) {
         let mut info = wgpu::AdapterInfo::new(wgpu::DeviceType::Cpu, wgpu::Backend::Vulkan);
         info.name = "llvmpipe (LLVM 19.1.7, 256 bits)".into();
         (
@@ -496,11 +501,17 @@ mod tests {
         let info = wgpu::AdapterInfo::new(wgpu::DeviceType::Cpu, wgpu::Backend::Gl);
         let unmet = unmet_needs(&info, wgpu::Features::empty(), &limits, &downlevel);
         assert_eq!(unmet.len(), 1, "{unmet:?}");
-        assert!(unmet[0].contains("OpenGL backend is not supported"), "{unmet:?}");
+        assert!(
+            unmet[0].contains("OpenGL backend is not supported"),
+            "{unmet:?}"
+        );
         assert!(unmet[0].contains("depth"), "{unmet:?}");
         let noop = wgpu::AdapterInfo::new(wgpu::DeviceType::Other, wgpu::Backend::Noop);
         let unmet = unmet_needs(&noop, wgpu::Features::empty(), &limits, &downlevel);
-        assert!(unmet[0].contains("Noop backend is not supported"), "{unmet:?}");
+        assert!(
+            unmet[0].contains("Noop backend is not supported"),
+            "{unmet:?}"
+        );
     }
 
     #[test]
@@ -540,13 +551,18 @@ mod tests {
         let unmet = unmet_needs(&info, wgpu::Features::empty(), &l, &downlevel);
         assert_eq!(unmet.len(), 3, "{unmet:?}");
         assert!(unmet[0].starts_with("max_bind_groups >= 2"), "{unmet:?}");
-        assert!(unmet
-            .iter()
-            .any(|u| u == "max_storage_buffers_per_shader_stage >= 8 for the blade cull: it has 7"));
+        assert!(
+            unmet
+                .iter()
+                .any(|u| u
+                    == "max_storage_buffers_per_shader_stage >= 8 for the blade cull: it has 7")
+        );
         assert!(unmet
             .iter()
             .any(|u| u.starts_with("max_compute_workgroup_size_x >= 64")));
         // The WebGPU defaults every Vulkan, Metal and DX12 adapter offers are enough.
-        assert!(needed_limits(&limits).iter().all(|(_, have, need, _)| have >= need));
+        assert!(needed_limits(&limits)
+            .iter()
+            .all(|(_, have, need, _)| have >= need));
     }
 }

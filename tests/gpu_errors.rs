@@ -17,7 +17,9 @@ fn an_invalid_buffer_is_an_error_not_a_panic() {
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
-    let e = gpu.check_errors().expect_err("the invalid buffer is reported");
+    let e = gpu
+        .check_errors()
+        .expect_err("the invalid buffer is reported");
     let text = e.to_string();
     println!("{text}");
     assert!(matches!(e, Error::Gpu(_)), "{e:?}");
@@ -64,9 +66,10 @@ fn an_invalid_pipeline_is_an_error_not_a_panic() {
 #[test]
 fn a_sound_renderer_and_frame_leave_no_error() {
     let gpu = common::gpu();
-    let session = sward::session::Session::new(common::still_scene(), Some(256), Some(&gpu))
-        .expect("field");
+    let session =
+        sward::session::Session::new(common::still_scene(), Some(256), Some(&gpu)).expect("field");
     let r = common::stepped(&gpu, &session, 2, 1.0 / 30.0);
-    gpu.check_errors().expect("no error after building and stepping");
+    gpu.check_errors()
+        .expect("no error after building and stepping");
     assert_eq!(r.blades_reset_nonfinite(&gpu).expect("count"), 0);
 }

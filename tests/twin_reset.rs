@@ -31,9 +31,10 @@ fn max_pose_diff(a: &Blade, b: &Blade) -> f32 {
 }
 
 fn all_finite(blades: &[Blade], states: &[BladeState]) -> bool {
-    blades.iter().zip(states).all(|(b, s)| {
-        sward::sim::health::first_non_finite(b, s).is_none()
-    })
+    blades
+        .iter()
+        .zip(states)
+        .all(|(b, s)| sward::sim::health::first_non_finite(b, s).is_none())
 }
 
 /// Blades in their rest pose (`rest`, within `REST_TOLERANCE`) with η = 0.
@@ -161,7 +162,10 @@ fn a_non_finite_force_resets_every_blade_every_step() {
         steps,
         DT,
     );
-    println!("non-finite force: {n} blades, GPU count {g_count}, CPU count {}", cpu.blades_reset_nonfinite);
+    println!(
+        "non-finite force: {n} blades, GPU count {g_count}, CPU count {}",
+        cpu.blades_reset_nonfinite
+    );
     assert_eq!(g_count as usize, n * steps as usize);
     assert_eq!(cpu.blades_reset_nonfinite, (n * steps as usize) as u64);
     assert!(all_finite(&g_b, &g_s) && all_finite(&cpu.blades, &cpu.states));

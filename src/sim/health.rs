@@ -88,8 +88,8 @@ mod tests {
         let (b, s) = blade();
         let mut bad = b;
         bad.v2_width[1] = f32::NAN;
-        let err = check_dump(Path::new("x.json"), (&[b], &[s]), (&[b, bad], &[s, s]))
-            .expect_err("NaN");
+        let err =
+            check_dump(Path::new("x.json"), (&[b], &[s]), (&[b, bad], &[s, s])).expect_err("NaN");
         let text = err.to_string();
         assert!(text.contains("x.json"), "{text}");
         assert!(text.contains("final blade 1"), "{text}");
@@ -99,7 +99,50 @@ mod tests {
         let text = check_finite("initial", &[b], &[s2])
             .expect_err("inf")
             .to_string();
-        assert!(text.contains("initial blade 0 has a non-finite eta (inf)"), "{text}");
+        assert!(
+            text.contains("initial blade 0 has a non-finite eta (inf)"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn an_absurd_but_finite_tip_is_reset_by_the_length_test() {
+        use crate::sim::layout::SimParams;
+        use crate::sim::reference::{blade_rest_pose, state_sound, update_blade, WindGrid};
+        use glam::Vec3;
+        let (b, s) = blade();
+        // Its squared length overflows: the validation collapses the curve to a point.
+        let mut absurd = b;
+        absurd.v2_width[2] = 1e38;
+        let params = SimParams {
+            dt: 1.0 / 30.0,
+            stiffness_scale: 1.0,
+            max_eta: 2.0,
+            ..Default::default()
+        };
+        let grid = WindGrid {
+            velocity: &[[0.0; 2]],
+        };
+        let mut state = s;
+        assert!(update_blade(&mut absurd, &mut state, &params, &[], &grid));
+        let (v1, v2) = blade_rest_pose(&b, &s);
+        assert_eq!(absurd.v1_height[..3], v1.to_array());
+        assert_eq!(absurd.v2_width[..3], v2.to_array());
+        assert_eq!(state.rest_eta[3], 0.0);
+        // A sound blade stays: the same step from the rest pose resets nothing.
+        let (mut sound, mut state) = (b, s);
+        assert!(!update_blade(&mut sound, &mut state, &params, &[], &grid));
+        // The test itself: a point-sized curve of a 0.5 m blade is absurd.
+        let v0 = Vec3::ZERO;
+        assert!(!state_sound(v0, v0, v0, 0.5, 0.0));
+        assert!(state_sound(v0, Vec3::Y * 0.25, Vec3::Y * 0.5, 0.5, 0.0));
+        assert!(!state_sound(
+            v0,
+            Vec3::Y * 0.25,
+            Vec3::Y * 0.5,
+            0.5,
+            f32::NAN
+        ));
     }
 
     #[test]
