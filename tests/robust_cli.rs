@@ -460,10 +460,22 @@ fn set_eye_and_target_vary_the_scene_from_the_command_line() {
 fn huge_forces_are_refused_with_the_field_and_range() {
     let t = Tmp::new("forces");
     for (field, section, key) in [
-        ("wind.directional.strength", "wind: (directional: (strength: 1e38))", "strength"),
-        ("wind.point.strength", "wind: (point: (strength: 1e38))", "strength"),
+        (
+            "wind.directional.strength",
+            "wind: (directional: (strength: 1e38))",
+            "strength",
+        ),
+        (
+            "wind.point.strength",
+            "wind: (point: (strength: 1e38))",
+            "strength",
+        ),
         ("physics.mass", "physics: (mass: 1e38)", "mass"),
-        ("physics.gravity_acceleration", "physics: (gravity_acceleration: 1e38)", "gravity_acceleration"),
+        (
+            "physics.gravity_acceleration",
+            "physics: (gravity_acceleration: 1e38)",
+            "gravity_acceleration",
+        ),
         (
             "physics.gravity_center_acceleration",
             "physics: (gravity_center_acceleration: 1e38)",
@@ -472,14 +484,22 @@ fn huge_forces_are_refused_with_the_field_and_range() {
     ] {
         let scene = t.file("s.ron", &format!("(\n  {section},\n)\n"));
         let dump = t.s("d.json");
-        let stderr = fails(&["simulate", "--scene", &scene, "--blades", "64", "--dump", &dump]);
+        let stderr = fails(&[
+            "simulate", "--scene", &scene, "--blades", "64", "--dump", &dump,
+        ]);
         assert!(stderr.contains("s.ron:2:"), "{field}: {stderr}");
         assert!(stderr.contains(&format!("{field} = ")), "{field}: {stderr}");
-        assert!(stderr.contains("out of range: allowed"), "{field}: {stderr}");
+        assert!(
+            stderr.contains("out of range: allowed"),
+            "{field}: {stderr}"
+        );
         assert!(stderr.contains(key), "{field}: {stderr}");
         let set = format!("{field}=1e38");
         let stderr = fails(&["simulate", "--blades", "64", "--dump", &dump, "--set", &set]);
-        assert!(stderr.contains(&format!("--set {set}: {field} = ")), "{stderr}");
+        assert!(
+            stderr.contains(&format!("--set {set}: {field} = ")),
+            "{stderr}"
+        );
         assert!(!t.path("d.json").exists());
     }
 }
@@ -491,10 +511,7 @@ fn parser_and_image_errors_name_the_field() {
     let t = Tmp::new("parser");
     let out = t.s("o.png");
     for (text, expect) in [
-        (
-            "(\n  terrain: (resolution: 99999999999),\n)",
-            "s.ron:2:",
-        ),
+        ("(\n  terrain: (resolution: 99999999999),\n)", "s.ron:2:"),
         ("(\n  terrain: (resolution: 1e3),\n)", "s.ron:2:"),
         ("(\n  field: (density: \"lots\"),\n)", "s.ron:2:"),
     ] {
@@ -517,7 +534,10 @@ fn parser_and_image_errors_name_the_field() {
     let crc = crc32(&png[12..29]);
     png[29..33].copy_from_slice(&crc.to_be_bytes());
     std::fs::write(t.path("huge.png"), &png).unwrap();
-    let scene = t.file("s.ron", "(\n  terrain: (\n    density_map: \"huge.png\",\n  ),\n)");
+    let scene = t.file(
+        "s.ron",
+        "(\n  terrain: (\n    density_map: \"huge.png\",\n  ),\n)",
+    );
     let stderr = fails(&["render", "--scene", &scene, "--frames", "1", "--out", &out]);
     assert!(stderr.contains("s.ron:3:"), "{stderr}");
     assert!(stderr.contains("terrain.density_map"), "{stderr}");
@@ -533,8 +553,56 @@ fn crc32(bytes: &[u8]) -> u32 {
     for &b in bytes {
         crc ^= u32::from(b);
         for _ in 0..8 {
-            crc = if crc & 1 != 0 { (crc >> 1) ^ 0xedb8_8320 } else { crc >> 1 };
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xedb8_8320
+            } else {
+                crc >> 1
+            };
         }
     }
     !crc
+}
+
+/// Point 9: an adapter that cannot run sward (OpenGL here, where Mesa's GL driver exists) is
+/// refused before anything is built, with what it lacks and what to install; never a panic.
+#[test]
+fn an_adapter_that_cannot_run_sward_is_refused_clearly() {
+    let t = Tmp::new("adapter");
+    let out = t.s("o.png");
+    for adapter in ["auto", "software", "llvmpipe"] {
+        let run = Command::new(env!("CARGO_BIN_EXE_sward"))
+            .args(["render", "--size", "16x16", "--frames", "1", "--out", &out])
+            .args(["--adapter", adapter])
+            .env("WGPU_BACKEND", "gl")
+            .env("RUST_BACKTRACE", "0")
+            .output()
+            .expect("run sward");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{adapter}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+        // Where Mesa's OpenGL driver is installed the adapter is listed with its reason.
+        if stderr.contains(", Gl,") {
+            assert!(
+                stderr.contains("OpenGL backend is not supported"),
+                "{stderr}"
+            );
+        }
+    }
+    let stderr = fails(&[
+        "render",
+        "--size",
+        "16x16",
+        "--frames",
+        "1",
+        "--out",
+        &out,
+        "--adapter",
+        "no-such-gpu",
+    ]);
+    assert!(
+        stderr.contains("\"no-such-gpu\"") && stderr.contains("among:"),
+        "{stderr}"
+    );
+    assert!(!t.path("o.png").exists());
 }
