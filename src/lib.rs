@@ -9,6 +9,7 @@ pub mod compare;
 pub mod error;
 pub mod field;
 pub mod gpu;
+pub mod input;
 pub mod output;
 pub mod render;
 pub mod runtime_env;

@@ -33,7 +33,7 @@ fn write_error(path: &Path, message: impl Into<String>) -> Error {
 }
 
 /// What kind of thing stands at a path, in words (for errors), when it is not a regular file.
-fn not_regular(meta: &std::fs::Metadata) -> Option<&'static str> {
+pub(crate) fn not_regular(meta: &std::fs::Metadata) -> Option<&'static str> {
     use std::os::unix::fs::FileTypeExt;
     let t = meta.file_type();
     if t.is_file() {

@@ -606,3 +606,50 @@ fn an_adapter_that_cannot_run_sward_is_refused_clearly() {
     );
     assert!(!t.path("o.png").exists());
 }
+
+/// Runs sward and kills it after `seconds`: a hang fails the test instead of stalling it.
+fn sward_within(args: &[&str], seconds: u64) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run sward");
+    let start = std::time::Instant::now();
+    while child.try_wait().expect("wait").is_none() {
+        if start.elapsed().as_secs() >= seconds {
+            let _ = child.kill();
+            panic!("sward {args:?} still ran after {seconds} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    child.wait_with_output().expect("output")
+}
+
+/// Point 4's class: no input hangs a run. A FIFO or a directory given as the scene, the
+/// replay script or an image is refused at once with what it is.
+#[test]
+fn inputs_that_are_not_regular_files_are_refused_without_hanging() {
+    let t = Tmp::new("inputs");
+    let fifo = t.fifo("fifo");
+    let out = t.s("o.png");
+    let scene = t.file("s.ron", "(terrain: (density_map: \"fifo\"))");
+    let dir = t.s("");
+    for args in [
+        vec!["render", "--scene", &fifo, "--out", &out],
+        vec!["render", "--scene", &dir, "--out", &out],
+        vec!["simulate", "--scene", &fifo, "--dump", &out],
+        vec!["render", "--scene", &scene, "--frames", "1", "--out", &out],
+        vec!["--replay", &fifo, "--exit-after-frames", "1"],
+    ] {
+        let run = sward_within(&args, 30);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(stderr.contains("not a regular file"), "{args:?}: {stderr}");
+    }
+    assert!(!t.path("o.png").exists());
+}

@@ -103,10 +103,7 @@ impl Script {
     /// column of a syntax error, an unknown key or event, a frame smaller than the step
     /// before, or a non-finite coordinate or scroll.
     pub fn load(path: &Path) -> Result<Script> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::input::read_text(path)?;
         Self::parse(&text, path)
     }
 

@@ -26,10 +26,7 @@ pub const MAX_IMAGE_SIDE: u32 = 16384;
 pub fn load_grey(path: &Path) -> Result<GreyImage> {
     // Reading and decoding apart so that a missing file is `Error::Read` (with the OS
     // reason) and a corrupt one is `Error::Image`, both naming the path.
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = crate::input::read_bytes(path, crate::input::MAX_IMAGE_BYTES)?;
     let image_error = |message: String| Error::Image {
         path: path.to_path_buf(),
         message,

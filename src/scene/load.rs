@@ -26,10 +26,7 @@ use crate::error::{Error, Result};
 /// UTF-8); [`Error::Scene`] with line and column for a syntax error, an unknown field, a
 /// wrong type or a value out of range.
 pub fn load_scene(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = crate::input::read_text(path)?;
     parse_scene(&text, path)
 }
 

@@ -36,10 +36,7 @@ use crate::error::{Error, Result};
 /// As [`crate::scene::load_scene`], and [`Error::Set`] for a malformed argument, a path
 /// that names no field, or a value that does not parse or is out of range.
 pub fn load_scene_with_sets(path: &Path, sets: &[String]) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = crate::input::read_text(path)?;
     parse_scene_with_sets(&text, path, sets)
 }
 
