@@ -46,6 +46,16 @@ impl Session {
         let count = blades
             .map(|n| n as f64)
             .unwrap_or_else(|| requested_blades(&scene));
+        // Without an adapter (the CPU twin) the field still has to fit in memory and be
+        // generated in reasonable time: the same bound as `--blades`.
+        if blades.is_none() && count > MAX_BLADES as f64 {
+            return Err(Error::Limits(format!(
+                "the scene asks for {count:.0} blades (field.density {} blades/m² × \
+                 terrain.size {} m squared); allowed at most {MAX_BLADES}: lower field.density \
+                 or terrain.size",
+                scene.field.density, scene.terrain.size
+            )));
+        }
         if let Some(gpu) = gpu {
             check_blade_count(gpu, count)?;
         }

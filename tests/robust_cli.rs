@@ -653,3 +653,31 @@ fn inputs_that_are_not_regular_files_are_refused_without_hanging() {
     }
     assert!(!t.path("o.png").exists());
 }
+
+/// The CPU twin has no adapter to vet a field against: a scene that asks for more blades
+/// than sward generates is refused at once instead of running out of memory.
+#[test]
+fn a_huge_field_is_refused_on_the_cpu_path_too() {
+    let t = Tmp::new("cpu_huge");
+    let dump = t.s("d.json");
+    let run = sward_within(
+        &[
+            "simulate",
+            "--cpu",
+            "--set",
+            "terrain.size=10000",
+            "--set",
+            "field.density=10000",
+            "--dump",
+            &dump,
+        ],
+        30,
+    );
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("1000000000000 blades") && stderr.contains("allowed at most 50000000"),
+        "{stderr}"
+    );
+    assert!(!t.path("d.json").exists());
+}
