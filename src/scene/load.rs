@@ -9,11 +9,10 @@ use std::path::Path;
 use ron::error::{Error as RonError, SpannedError};
 use ron::{extensions::Extensions, Options};
 
-use super::origin::Origin;
 use super::types::Scene;
 use super::validate::locate::{field_at, field_value, offset_of};
-use super::validate::{allowed_for, validate};
-use crate::error::{Error, Result};
+use super::validate::allowed_for;
+use crate::error::Result;
 
 /// Reads, parses and validates the scene file at `path`.
 ///
@@ -49,18 +48,8 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 /// [`Error::Scene`] with line and column for a syntax error, an unknown field, a wrong type
 /// or a value out of range.
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene> {
-    // Editors on Windows may save a byte-order mark, which `ron` rejects as a syntax error
-    // at 1:1 although the user cannot see it.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut scene: Scene = options().from_str(text).map_err(|e| Error::Scene {
-        path: path.to_path_buf(),
-        line: e.position.line,
-        column: e.position.col,
-        message: parse_error_message(text, &e),
-    })?;
-    validate(&mut scene, text, path)?;
-    scene.origin = Origin::new(path, text, Vec::new());
-    Ok(scene)
+    // The same path as with `--set` arguments, with none.
+    super::parse_scene_with_sets(text, path, &[])
 }
 
 /// The message for `ron`'s error `e` in `text`: when it is about a value (a wrong type, an
@@ -164,6 +153,8 @@ mod tests {
     use std::path::PathBuf;
 
     use super::*;
+    use crate::error::Error;
+    use crate::scene::validate::validate;
     use crate::scene::{DirectionalWind, HeightSource, Motion};
 
     fn parse(text: &str) -> Result<Scene> {
