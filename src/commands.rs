@@ -494,7 +494,7 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         eprintln!("wrote {} ({}² wind grid)", path.display(), state.resolution);
     }
     eprintln!(
-        "wrote {} ({} blades, {} steps)",
+        "wrote {} ({} blades, {} steps; blades reset from a non-finite state: {resets})",
         o.dump.display(),
         blades.len(),
         o.steps

@@ -197,6 +197,12 @@ fn a_link_to_a_file_keeps_the_link() {
     assert!(t.path("dump.json").is_symlink());
     let text = std::fs::read_to_string(t.path("real.json")).unwrap();
     assert!(text.starts_with("{\"initial\""), "{text}");
+    // Point 5: simulate always says how many blades it had to reset (none here).
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("blades reset from a non-finite state: 0"),
+        "{stderr}"
+    );
     assert_eq!(t.entries(), ["dump.json", "real.json"]);
 }
 
