@@ -318,6 +318,24 @@ fn no_display_is_explained() {
     assert!(!stderr.contains("GPU error"), "{stderr}");
     assert!(!stderr.contains(".rs:"), "{stderr}");
     assert!(!stderr.contains("registry"), "{stderr}");
+    // A display that is named but not there.
+    let run = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(["--exit-after-frames", "1"])
+        .env("DISPLAY", ":4321")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run sward");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("cannot connect to the display"), "{stderr}");
+    assert!(
+        stderr.contains("DISPLAY=:4321") && stderr.contains("xvfb-run"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains(".rs:") && !stderr.contains("GPU error"),
+        "{stderr}"
+    );
 }
 
 /// Point 6: replay script errors name the step and the field (found before a window is

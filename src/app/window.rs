@@ -533,8 +533,9 @@ pub fn run(options: AppOptions) -> Result<()> {
     check_display()?;
     let event_loop = EventLoop::new().map_err(|e| {
         Error::Window(format!(
-            "cannot connect to the display: {} ({}); `sward render` draws the same frames \
-             to PNG without a display",
+            "cannot connect to the display: {} ({}); is a display server running there? \
+             `xvfb-run sward …` gives sward a virtual one (Debian/Ubuntu: apt-get install \
+             xvfb), and `sward render` draws the same frames to PNG without a display",
             os_message(&e),
             display_names()
         ))

@@ -10,8 +10,8 @@ use ron::error::{Error as RonError, SpannedError};
 use ron::{extensions::Extensions, Options};
 
 use super::types::Scene;
-use super::validate::locate::{field_at, field_value, offset_of};
 use super::validate::allowed_for;
+use super::validate::locate::{field_at, field_value, offset_of};
 use crate::error::Result;
 
 /// Reads, parses and validates the scene file at `path`.
