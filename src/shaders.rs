@@ -15,6 +15,7 @@ const FILES: &[(&str, &str)] = &[
     ("spheres.wgsl", include_str!("../shaders/spheres.wgsl")),
     ("overlay.wgsl", include_str!("../shaders/overlay.wgsl")),
     ("arrows.wgsl", include_str!("../shaders/arrows.wgsl")),
+    ("upscale.wgsl", include_str!("../shaders/upscale.wgsl")),
     (
         "fluid_common.wgsl",
         include_str!("../shaders/fluid_common.wgsl"),
@@ -60,6 +61,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "spheres.wgsl",
     "overlay.wgsl",
     "arrows.wgsl",
+    "upscale.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",
     "fluid_diffuse.wgsl",

@@ -1,6 +1,6 @@
-//! "Target frame time": a small controller that adapts distance culling (the paper's
-//! Eq. 20, `id mod n < floor(n·(1 − d/d_max))`) so that the window holds a frame time the
-//! user asked for.
+//! "Target frame time": a small controller that adapts first the render resolution of the
+//! 3D passes, then distance culling (the paper's Eq. 20, `id mod n < floor(n·(1 −
+//! d/d_max))`), so that the window holds a frame time the user asked for.
 //!
 //! # Control law
 //!
@@ -10,12 +10,17 @@
 //!   change: by then the smoothed time mostly shows the effect of that change (the old
 //!   value's weight is `(1 − SMOOTHING)^ACT_EVERY` ≈ 10 %), so it does not keep cutting
 //!   while the last cut is still on its way into the average.
-//! * Over `target · `[`OVER`]: cull more. First `d_max × `[`SHRINK`] (down to
+//! * Over `target · `[`OVER`]: cull more. First the render scale of the 3D passes ×
+//!   [`SHRINK`] (down to [`MIN_SCALE`]; the window upscales the smaller image and draws
+//!   the panel sharp on top): this costs sharpness, never grass. Only then the grass:
+//!   `d_max × `[`SHRINK`] (down to
 //!   [`MIN_DISTANCE`] m); once `d_max` is at its floor, the number of levels `n` drops by
 //!   one (down to [`MIN_LEVELS`]; n = 1 would cull every blade beyond d = 0). Lower d_max
 //!   and lower n both cull more.
 //! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
-//!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*).
+//!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*),
+//!   and last the render scale × [`GROW`] up to 1: the grass comes back before the
+//!   sharpness.
 //! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
 //!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
 //!   step does not carry the time from one edge of the band across the other, and the
@@ -42,6 +47,8 @@ pub const SHRINK: f32 = 0.85;
 pub const GROW: f32 = 1.08;
 /// Smallest d_max the budget sets, in metres (or the base, if that is smaller).
 pub const MIN_DISTANCE: f32 = 4.0;
+/// Smallest render scale of the 3D passes the budget sets (a quarter of the pixels).
+pub const MIN_SCALE: f32 = 0.5;
 /// Fewest distance levels the budget sets (or the base, if that is smaller): n = 1 culls
 /// everything beyond d = 0.
 pub const MIN_LEVELS: u32 = 2;
@@ -51,6 +58,8 @@ pub const MIN_LEVELS: u32 = 2;
 pub struct Adjustment {
     pub levels: u32,
     pub max_distance: f32,
+    /// Render scale of the 3D passes (1 = the window's resolution).
+    pub scale: f32,
 }
 
 /// Holds a target frame time by adapting distance culling (see the module docs).
@@ -69,6 +78,10 @@ pub struct FrameBudget {
     /// The values at the last observe, for the status line.
     levels: u32,
     max_distance: f32,
+    /// Render scale of the 3D passes, in [`FrameBudget::scale_floor`, 1].
+    scale: f32,
+    /// The lowest scale the budget sets: [`MIN_SCALE`], or 1 to keep the resolution.
+    scale_floor: f32,
 }
 
 impl FrameBudget {
@@ -83,7 +96,22 @@ impl FrameBudget {
             switched_on: false,
             levels: culling.distance_levels,
             max_distance: culling.max_distance,
+            scale: 1.0,
+            scale_floor: MIN_SCALE,
         }
+    }
+
+    /// The same budget with the render scale held at or above `floor` (1 keeps the
+    /// window's resolution and adapts only the culling).
+    pub fn with_scale_floor(mut self, floor: f32) -> Self {
+        self.scale_floor = floor.clamp(0.05, 1.0);
+        self.scale = self.scale.max(self.scale_floor);
+        self
+    }
+
+    /// The render scale of the 3D passes the window should use now.
+    pub fn scale(&self) -> f32 {
+        self.scale
     }
 
     /// The user edited the culling block by hand: its values become the new base, and the
@@ -148,10 +176,16 @@ impl FrameBudget {
         Some(Adjustment {
             levels: culling.distance_levels,
             max_distance: culling.max_distance,
+            scale: self.scale,
         })
     }
 
     fn cull_more(&mut self, culling: &mut Culling) -> bool {
+        // Pixels first: a smaller image costs sharpness, not a single blade.
+        if self.scale > self.scale_floor {
+            self.scale = (self.scale * SHRINK).max(self.scale_floor);
+            return true;
+        }
         if !culling.distance {
             // The cheapest first step: the user's own levels and d_max, now applied.
             culling.distance = true;
@@ -171,16 +205,19 @@ impl FrameBudget {
     }
 
     fn cull_less(&mut self, culling: &mut Culling) -> bool {
-        if !culling.distance {
-            // Nothing is culled by distance: there is no detail to give back.
-            return false;
+        // Grass first (while distance culling thins it), then the resolution.
+        if culling.distance {
+            if culling.distance_levels < self.base_levels {
+                culling.distance_levels += 1;
+                return true;
+            }
+            if culling.max_distance < self.base_distance {
+                culling.max_distance = (culling.max_distance * GROW).min(self.base_distance);
+                return true;
+            }
         }
-        if culling.distance_levels < self.base_levels {
-            culling.distance_levels += 1;
-            return true;
-        }
-        if culling.max_distance < self.base_distance {
-            culling.max_distance = (culling.max_distance * GROW).min(self.base_distance);
+        if self.scale < 1.0 {
+            self.scale = (self.scale * GROW).min(1.0);
             return true;
         }
         false
@@ -203,6 +240,7 @@ impl FrameBudget {
         if self.switched_on {
             line.push_str(" (distance culling switched on)");
         }
+        line.push_str(&format!(", resolution scale {:.2}", self.scale));
         line
     }
 }
@@ -251,10 +289,72 @@ mod tests {
         }
     }
 
+    /// The culling tests below keep the resolution (scale floor 1); these two show the
+    /// resolution going first and coming back last.
+    #[test]
+    fn the_resolution_drops_before_any_grass_is_culled() {
+        let mut c = culling();
+        let base = (c.distance_levels, c.max_distance);
+        let mut b = FrameBudget::new(&c, Some(100.0));
+        // 150 ms at full resolution; the 3D passes (140 ms) scale with the pixels.
+        let mut seed = 7u64;
+        let mut frame = |scale: f32| {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            let noise = ((seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.08;
+            (10.0 + 140.0 * scale * scale) * (1.0 + noise)
+        };
+        let mut scales = Vec::new();
+        for _ in 0..600 {
+            let ms = frame(b.scale());
+            if let Some(a) = b.observe(ms, &mut c) {
+                scales.push(a.scale);
+                // The grass near the camera is untouched while the scale is enough.
+                assert_eq!((a.levels, a.max_distance), base, "{}", b.status());
+                assert_eq!((c.distance_levels, c.max_distance), base);
+            }
+        }
+        assert!(!scales.is_empty());
+        assert!(scales.windows(2).all(|w| w[1] < w[0]), "{scales:?}");
+        assert!(b.scale() < 1.0 && b.scale() >= MIN_SCALE, "{}", b.status());
+        assert!(b.smoothed_ms() < 100.0 * OVER, "{}", b.status());
+        assert!(b.status().contains("resolution scale 0."), "{}", b.status());
+    }
+
+    #[test]
+    fn grass_comes_back_before_the_resolution() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(100.0));
+        // A very slow machine: down to the scale floor, then d_max.
+        let mut m = Machine {
+            fixed: 15.0,
+            k: 0.2,
+            seed: 3,
+        };
+        for _ in 0..300 {
+            let ms = m.frame_ms(&c) * b.scale().powi(2);
+            b.observe(ms, &mut c);
+        }
+        assert_eq!(b.scale(), MIN_SCALE, "{}", b.status());
+        assert!(c.max_distance < 60.0, "{}", b.status());
+        // Now fast: every d_max / level step comes back before the first scale step.
+        let mut order = Vec::new();
+        for _ in 0..2000 {
+            if let Some(a) = b.observe(5.0, &mut c) {
+                order.push((a.max_distance < 60.0 || a.levels < 8, a.scale < 1.0));
+            }
+        }
+        let first_scale_up = order.iter().position(|&(_, s)| s).unwrap_or(order.len());
+        assert!(order[..first_scale_up]
+            .iter()
+            .all(|&(grass_cut, _)| grass_cut));
+        assert_eq!((c.distance_levels, c.max_distance), (8, 60.0));
+        assert_eq!(b.scale(), 1.0, "{}", b.status());
+    }
+
     #[test]
     fn a_slow_machine_is_brought_under_target_and_held_there() {
         let mut c = culling();
-        let mut b = FrameBudget::new(&c, Some(100.0));
+        let mut b = FrameBudget::new(&c, Some(100.0)).with_scale_floor(1.0);
         // 15 + 0.05·60² = 195 ms at the base values.
         let mut m = Machine {
             fixed: 15.0,
@@ -298,7 +398,7 @@ mod tests {
     #[test]
     fn a_very_slow_machine_lowers_the_levels_once_d_max_is_at_its_floor() {
         let mut c = culling();
-        let mut b = FrameBudget::new(&c, Some(20.0));
+        let mut b = FrameBudget::new(&c, Some(20.0)).with_scale_floor(1.0);
         // Even at d_max = 4 m and 8 levels: 15 + 1.0·16 = 31 ms > 22.
         let mut m = Machine {
             fixed: 15.0,
@@ -326,7 +426,7 @@ mod tests {
     #[test]
     fn a_machine_that_cannot_make_it_stops_at_the_floors() {
         let mut c = culling();
-        let mut b = FrameBudget::new(&c, Some(5.0));
+        let mut b = FrameBudget::new(&c, Some(5.0)).with_scale_floor(1.0);
         let mut m = Machine {
             fixed: 50.0,
             k: 0.05,
@@ -347,7 +447,7 @@ mod tests {
     #[test]
     fn a_fast_machine_returns_to_the_base_values() {
         let mut c = culling();
-        let mut b = FrameBudget::new(&c, Some(100.0));
+        let mut b = FrameBudget::new(&c, Some(100.0)).with_scale_floor(1.0);
         let mut m = Machine {
             fixed: 15.0,
             k: 1.0,
@@ -369,7 +469,8 @@ mod tests {
         }
         assert_eq!((c.distance_levels, c.max_distance), (8, 60.0));
         assert!(
-            b.status().ends_with("d_max 60 -> 60 m, levels 8 -> 8"),
+            b.status()
+                .ends_with("d_max 60 -> 60 m, levels 8 -> 8, resolution scale 1.00"),
             "{}",
             b.status()
         );
@@ -378,7 +479,7 @@ mod tests {
     #[test]
     fn levels_come_back_before_d_max() {
         let mut c = culling();
-        let mut b = FrameBudget::new(&c, Some(10.0));
+        let mut b = FrameBudget::new(&c, Some(10.0)).with_scale_floor(1.0);
         c.max_distance = 10.0;
         c.distance_levels = 5;
         for _ in 0..ACT_EVERY {
@@ -400,7 +501,7 @@ mod tests {
     fn no_target_changes_nothing() {
         let mut c = culling();
         let before = c.clone();
-        let mut b = FrameBudget::new(&c, None);
+        let mut b = FrameBudget::new(&c, None).with_scale_floor(1.0);
         for i in 0..500 {
             assert_eq!(b.observe(1000.0 + i as f32, &mut c), None);
         }
@@ -419,7 +520,7 @@ mod tests {
     fn nan_and_non_positive_frame_times_are_ignored() {
         let mut c = culling();
         let before = c.clone();
-        let mut b = FrameBudget::new(&c, Some(10.0));
+        let mut b = FrameBudget::new(&c, Some(10.0)).with_scale_floor(1.0);
         for bad in [f32::NAN, f32::INFINITY, -5.0, 0.0, f32::NEG_INFINITY] {
             for _ in 0..100 {
                 assert_eq!(b.observe(bad, &mut c), None);
@@ -439,7 +540,7 @@ mod tests {
             distance: false,
             ..culling()
         };
-        let mut b = FrameBudget::new(&c, Some(50.0));
+        let mut b = FrameBudget::new(&c, Some(50.0)).with_scale_floor(1.0);
         let mut m = Machine {
             fixed: 15.0,
             k: 0.05,
@@ -458,7 +559,8 @@ mod tests {
             first,
             Some(Adjustment {
                 levels: 8,
-                max_distance: 60.0
+                max_distance: 60.0,
+                scale: 1.0,
             })
         );
         assert!(b.status().contains("switched on"), "{}", b.status());
@@ -468,7 +570,7 @@ mod tests {
             distance: false,
             ..culling()
         };
-        let mut fast = FrameBudget::new(&off, Some(50.0));
+        let mut fast = FrameBudget::new(&off, Some(50.0)).with_scale_floor(1.0);
         for _ in 0..100 {
             assert_eq!(fast.observe(1.0, &mut off), None);
         }
@@ -478,7 +580,7 @@ mod tests {
     #[test]
     fn rebase_takes_the_users_new_values_as_the_ceiling() {
         let mut c = culling();
-        let mut b = FrameBudget::new(&c, Some(100.0));
+        let mut b = FrameBudget::new(&c, Some(100.0)).with_scale_floor(1.0);
         c.max_distance = 30.0;
         c.distance_levels = 4;
         b.rebase(&c);
@@ -500,7 +602,7 @@ mod tests {
             max_distance: 2.0,
             ..culling()
         };
-        let mut lb = FrameBudget::new(&low, Some(1.0));
+        let mut lb = FrameBudget::new(&low, Some(1.0)).with_scale_floor(1.0);
         for _ in 0..200 {
             lb.observe(500.0, &mut low);
         }

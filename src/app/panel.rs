@@ -537,6 +537,13 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
                 }
             }
             ui.label(format!("frame budget: {}", app.budget.status()));
+            let (w, h) = app.render_size();
+            ui.label(format!(
+                "resolution scale {:.2}: 3D passes at {w}x{h} of {}x{}",
+                app.budget.scale(),
+                app.size.0,
+                app.size.1
+            ));
             if let Some(wind) = &app.stats.wind_ms {
                 let total: f64 = wind.iter().map(|(_, t)| t).sum();
                 ui.label(format!("wind solver GPU ms: {total:.2}"));

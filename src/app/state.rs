@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
 use crate::render::camera::CameraView;
+use crate::render::upscale::{scaled_size, Upscale};
 use crate::render::{DynamicSphere, FrameStats, Renderer};
 use crate::scene::save::save_scene;
 use crate::scene::{load_scene, parse_scene, Scene, WindSource};
@@ -64,6 +65,8 @@ pub struct AppState {
     pub mode: Mode,
     pub input: InputState,
     arrows: ArrowPass,
+    /// The 3D passes at the frame budget's render scale, stretched over the window.
+    upscale: Upscale,
     pub hover: Option<Selection>,
     /// Path typed in the panel for Save / Load.
     pub scene_path: String,
@@ -146,6 +149,7 @@ impl AppState {
         let field_draft = renderer.scene.field.clone();
         Ok(Self {
             arrows: ArrowPass::new(gpu, format),
+            upscale: Upscale::new(gpu, format),
             renderer,
             camera,
             editor,
@@ -552,12 +556,23 @@ impl AppState {
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         dt: f32,
-        color: &wgpu::TextureView,
+        output: &wgpu::TextureView,
         depth: &wgpu::TextureView,
     ) {
+        let color = output;
         let view = self.view();
+        // Below scale 1 the 3D passes draw into a smaller target, stretched over `color`
+        // at the end; the panel is drawn after, at the window's resolution.
+        let size = self.render_size();
+        let scaled = size != self.size;
+        let (color, depth) = if scaled {
+            self.upscale.target(gpu, size)
+        } else {
+            (color, depth)
+        };
+        self.renderer.display_aspect = Some(self.size.0 as f32 / self.size.1.max(1) as f32);
         self.renderer
-            .encode_frame(gpu, encoder, dt, &view, color, depth, self.size);
+            .encode_frame(gpu, encoder, dt, &view, color, depth, size);
         let show_arrows = self.mode == Mode::Edit || self.renderer.overlay_enabled();
         let mesh = if show_arrows {
             ArrowMesh::build(
@@ -573,7 +588,15 @@ impl AppState {
         let sun = Vec3::from(self.renderer.scene.render.sun_direction);
         self.arrows.prepare(gpu, &mesh, view.view_proj(aspect), sun);
         self.arrows.encode(encoder, color, depth);
+        if scaled {
+            self.upscale.encode(encoder, output);
+        }
         self.frame += 1;
+    }
+
+    /// The size the 3D passes draw at: the window's, scaled by the frame budget.
+    pub fn render_size(&self) -> (u32, u32) {
+        scaled_size(self.size, self.budget.scale())
     }
 
     /// Reads the last frame's counters and GPU times for the Stats section (blocks until

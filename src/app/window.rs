@@ -173,12 +173,16 @@ impl WindowApp {
             let last: Vec<f32> = t.iter().rev().take(100).copied().collect();
             if !last.is_empty() {
                 let mean = last.iter().sum::<f32>() / last.len() as f32;
+                let (w, h) = r.app.render_size();
                 eprintln!(
-                    "{} frames; mean frame time of the last {}: {mean:.1} ms ({:.1} fps) on {}; frame budget: {}",
+                    "{} frames; mean frame time of the last {}: {mean:.1} ms ({:.1} fps) on {}; \
+                     blades drawn in the last read-back: {}; 3D passes at {w}x{h}; frame \
+                     budget: {}",
                     r.app.frame,
                     last.len(),
                     1000.0 / mean,
                     r.gpu.info.name,
+                    r.app.stats.counters.drawn(),
                     r.app.budget.status()
                 );
             }

@@ -13,6 +13,7 @@ pub mod mesh;
 pub mod overlay;
 pub mod target;
 pub mod timing;
+pub mod upscale;
 
 use glam::Vec3;
 
@@ -87,6 +88,10 @@ pub struct Renderer {
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
     /// culling camera" in the panel: fly out and look at what the frozen view keeps).
     pub cull_camera: Option<CameraView>,
+    /// The aspect ratio of the image as shown, when the 3D passes draw at a scaled size
+    /// (the window's frame budget): the projection keeps the window's shape, so a lower
+    /// render scale stretches no blade and culls the same ones. `None`: the target's.
+    pub display_aspect: Option<f32>,
     /// Colour format of the targets the pipelines were built for.
     format: wgpu::TextureFormat,
 }
@@ -173,6 +178,7 @@ impl Renderer {
             frame_count: 0,
             last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),
+            display_aspect: None,
             cull_camera: None,
             format,
         };
@@ -252,7 +258,7 @@ impl Renderer {
         let mut p = cull_params(
             &self.scene.culling,
             &CullInputs {
-                view_proj: camera.view_proj(size.0 as f32 / size.1.max(1) as f32),
+                view_proj: camera.view_proj(self.aspect(size.0, size.1)),
                 camera: camera.eye,
                 fov_y: camera.fov_y,
                 near: camera.near,
@@ -301,9 +307,15 @@ impl Renderer {
         gpu.queue.submit([encoder.finish()]);
     }
 
+    /// The projection's aspect ratio for a target of `width` × `height`.
+    fn aspect(&self, width: u32, height: u32) -> f32 {
+        self.display_aspect
+            .unwrap_or(width as f32 / height.max(1) as f32)
+    }
+
     /// Uniforms of the draw pass for a camera and viewport.
     pub fn frame_uniforms(&self, camera: &CameraView, width: u32, height: u32) -> FrameUniforms {
-        let view_proj = camera.view_proj(width as f32 / height.max(1) as f32);
+        let view_proj = camera.view_proj(self.aspect(width, height));
         let sun = Vec3::from(self.scene.render.sun_direction).normalize_or(Vec3::Y);
         let f = &self.scene.field;
         FrameUniforms {
