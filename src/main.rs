@@ -175,9 +175,16 @@ enum Command {
         #[arg(long)]
         json: bool,
         /// Save the last all-features frame, the last culling-off frame and their
-        /// difference (worst channel ×4, red) as PNGs in this existing folder.
+        /// difference (worst channel ×4, red) as PNGs in this existing folder; with
+        /// --flight, every flight frame as frame_0000.png, frame_0001.png, …
         #[arg(long)]
         images: Option<PathBuf>,
+        /// Fly the camera along a straight line (from the scene's eye, along its view, at
+        /// 4 m/s and a constant height above the terrain) for --frames frames and report
+        /// GPU and wall frame times (p50, p95), blades drawn, memory and the pop ratio
+        /// (largest over median frame-to-frame difference).
+        #[arg(long)]
+        flight: bool,
     },
 }
 
@@ -372,6 +379,7 @@ fn main() -> ExitCode {
             sweep,
             json,
             images,
+            flight,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -383,6 +391,7 @@ fn main() -> ExitCode {
         )
         .map(|mut b| {
             b.sets = overrides.insert(o).sets();
+            b.flight = flight;
             b
         })
         .and_then(|o| o.with_images(images))

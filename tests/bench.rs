@@ -339,3 +339,57 @@ fn missing_scene_is_named() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("no-such-scene.ron"), "{stderr}");
 }
+
+/// `bench --flight`: the report's keys, a pop ratio under a bound along a slow flight over
+/// the small scene, and every flight frame saved by `--images`.
+#[test]
+fn a_flight_reports_percentiles_pops_and_saves_its_frames() {
+    let dir = std::env::temp_dir().join(format!("sward-flight-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let frames = 12;
+    let v = bench_json(&[
+        "--flight",
+        "--frames",
+        &frames.to_string(),
+        "--warmup",
+        "2",
+        "--size",
+        "96x54",
+        "--images",
+        dir.to_str().unwrap(),
+    ]);
+    for key in [
+        "p50_ms",
+        "p95_ms",
+        "pop_ratio",
+        "blades_drawn",
+        "billboards_drawn",
+        "tiles_generated",
+        "gpu_bytes",
+    ] {
+        assert!(v.get(key).is_some(), "no {key} in {v}");
+    }
+    assert!(f(&v, &["p95_ms"]) >= f(&v, &["p50_ms"]) && f(&v, &["p50_ms"]) > 0.0);
+    assert!(u(&v, &["blades_drawn"]) > 0);
+    assert!(u(&v, &["gpu_bytes"]) > 0);
+    let pop = f(&v, &["pop_ratio"]);
+    eprintln!("flight pop ratio {pop}");
+    // A slow flight with swaying grass and no level switching: no frame differs from the
+    // last more than 3x the median change.
+    assert!((1.0..3.0).contains(&pop), "pop ratio {pop}");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let expected: Vec<String> = (0..frames).map(|i| format!("frame_{i:04}.png")).collect();
+    assert_eq!(names, expected);
+    let img = image::open(dir.join("frame_0011.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (96, 54));
+    std::fs::remove_dir_all(&dir).unwrap();
+    // A sweep means a fixed camera: refused with the flight.
+    let out = sward(&["bench", "--flight", "--sweep", "1000", "--frames", "1"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--sweep and --flight"));
+}

@@ -38,6 +38,7 @@ use crate::session::{check_blade_count, Session, MAX_BLADES};
 use crate::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_SIZE};
 
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
+pub mod flight;
 mod table;
 
 pub use table::{format_report, thousands};
@@ -52,7 +53,7 @@ pub const DEFAULT_WARMUP: u32 = 5;
 /// Largest image side of `--size`.
 pub const MAX_SIDE: u32 = 16384;
 
-const MIB: f64 = 1024.0 * 1024.0;
+pub(crate) const MIB: f64 = 1024.0 * 1024.0;
 
 /// What `sward bench` runs, already checked.
 #[derive(Clone, Debug)]
@@ -74,6 +75,9 @@ pub struct BenchOptions {
     /// Folder to save the last all-features frame, the last culling-off frame and their
     /// difference in (`all.png`, `unculled.png`, `difference.png`).
     pub images: Option<PathBuf>,
+    /// `--flight`: fly the camera along a line and report frame-time percentiles and pops
+    /// instead of the three configurations.
+    pub flight: bool,
 }
 
 impl BenchOptions {
@@ -101,6 +105,7 @@ impl BenchOptions {
             },
             adapter,
             images: None,
+            flight: false,
         })
     }
 
@@ -755,6 +760,18 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if o.flight {
+        flight::check_flight_options(o)?;
+        let report = flight::run_flight(o)?;
+        if o.json {
+            let text = serde_json::to_string_pretty(&report)
+                .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
+            println!("{text}");
+        } else {
+            print!("{}", flight::format_flight(&report));
+        }
+        return Ok(());
+    }
     let report = run_bench(o)?;
     if o.json {
         let text = serde_json::to_string_pretty(&report)

@@ -1,0 +1,328 @@
+//! `sward bench --flight`: the camera flies a straight line over the scene (from its eye,
+//! along its view direction on the ground, at a constant height above the terrain, at
+//! [`FLIGHT_SPEED`]) and every frame is timed and kept for a pop measurement.
+//!
+//! Reported: GPU and wall frame times (median and 95th percentile), blades drawn, GPU
+//! memory, and the **pop ratio**: the largest mean absolute frame-to-frame difference
+//! divided by the median one. A smooth flight changes every frame by about the same
+//! amount; an object that pops in or out (a level of detail switching, grass appearing at a
+//! culling distance) makes one frame differ much more than the rest, and the ratio spikes.
+//! `billboards_drawn` and `tiles_generated` are reported too; they stay 0 until the
+//! billboard level and the tile streaming exist.
+
+use std::path::Path;
+use std::time::Instant;
+
+use glam::{Vec2, Vec3};
+use serde::Serialize;
+
+use super::{BenchOptions, BENCH_DT, MIB};
+use crate::commands::{load, DEFAULT_SCENE_PATH};
+use crate::error::{Error, Result};
+use crate::field::HeightField;
+use crate::gpu::Gpu;
+use crate::output::Outputs;
+use crate::render::camera::CameraView;
+use crate::render::target::{Target, COLOR_FORMAT};
+use crate::render::Renderer;
+use crate::scene::Camera;
+use crate::session::Session;
+
+/// Flight speed in metres per second: a slow walk-to-jog, where pops are easiest to see.
+pub const FLIGHT_SPEED: f32 = 4.0;
+
+/// The report of one flight (JSON keys as the issue names them).
+#[derive(Clone, Debug, Serialize)]
+pub struct FlightReport {
+    pub adapter: String,
+    pub date: String,
+    pub scene: String,
+    pub size: [u32; 2],
+    pub frames: u32,
+    pub warmup: u32,
+    pub dt: f32,
+    pub speed_m_per_s: f32,
+    /// Whether the adapter had timestamp queries (else the `p50_ms` / `p95_ms` are wall).
+    pub timestamps: bool,
+    /// GPU frame time, median and 95th percentile (wall time without timestamps).
+    pub p50_ms: f64,
+    pub p95_ms: f64,
+    /// Wall time of a frame (submit to finished), median and 95th percentile.
+    pub wall_p50_ms: f64,
+    pub wall_p95_ms: f64,
+    /// Largest frame-to-frame mean absolute difference over the median one (0–255 scale
+    /// per channel); `null` when fewer than three frames were measured.
+    pub pop_ratio: Option<f64>,
+    pub largest_difference: f64,
+    pub median_difference: f64,
+    /// Blades drawn in the last frame, and the mean over the flight.
+    pub blades_drawn: u64,
+    pub blades_drawn_mean: f64,
+    /// Billboards drawn in the last frame (no billboard level yet: 0).
+    pub billboards_drawn: u64,
+    /// Tiles of blades generated during the flight (no tile streaming yet: 0).
+    pub tiles_generated: u64,
+    pub gpu_bytes: u64,
+    pub gpu_mib: f64,
+    pub blades_reset_nonfinite: u64,
+}
+
+/// The camera `t` seconds into the flight: the scene camera moved along its view direction
+/// projected on the ground, its eye kept at the same height above the terrain below it, the
+/// target moved alongside.
+pub fn flight_camera(scene: &Camera, terrain: &HeightField, t: f32) -> CameraView {
+    let start = CameraView::from_scene(scene);
+    let view = start.target - start.eye;
+    let heading = Vec2::new(view.x, view.z).normalize_or(Vec2::NEG_Y);
+    let offset = heading * FLIGHT_SPEED * t;
+    let clearance = start.eye.y - terrain.height(start.eye.x, start.eye.z);
+    let eye_xz = Vec2::new(start.eye.x, start.eye.z) + offset;
+    let eye = Vec3::new(
+        eye_xz.x,
+        terrain.height(eye_xz.x, eye_xz.y) + clearance,
+        eye_xz.y,
+    );
+    CameraView {
+        eye,
+        target: eye + view,
+        ..start
+    }
+}
+
+/// Mean absolute difference of the RGB channels of two images of one size (0–255).
+pub fn mean_abs_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    let mut sum = 0u64;
+    let mut n = 0u64;
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        for i in 0..3 {
+            sum += u64::from(p[i].abs_diff(q[i]));
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        sum as f64 / n as f64
+    }
+}
+
+/// The value below which a fraction `q` of `values` lies (nearest rank; 0 when empty).
+pub fn percentile(values: &[f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let rank = (q.clamp(0.0, 1.0) * v.len() as f64).ceil() as usize;
+    v[rank.clamp(1, v.len()) - 1]
+}
+
+/// Largest over median of the frame-to-frame differences; `None` with fewer than two
+/// differences. A median of (almost) zero — a still picture — counts as 1/1000 so that
+/// one change in a still flight still reads as a pop.
+pub fn pop_ratio(differences: &[f64]) -> Option<f64> {
+    if differences.len() < 2 {
+        return None;
+    }
+    let largest = differences.iter().copied().fold(0.0, f64::max);
+    let median = percentile(differences, 0.5).max(1e-3);
+    Some(if largest <= 1e-3 {
+        1.0
+    } else {
+        largest / median
+    })
+}
+
+/// The PNG name of flight frame `i` in `--images DIR`.
+pub fn frame_name(i: u32) -> String {
+    format!("frame_{i:04}.png")
+}
+
+/// Flies the scene's camera for `o.warmup` frames in place, then `o.frames` frames along
+/// the line, and reports.
+pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
+    let date = super::utc_now();
+    let mut outputs = Outputs::new();
+    if let Some(scene) = &o.scene {
+        outputs.input("--scene", scene)?;
+    }
+    if let Some(dir) = &o.images {
+        for i in 0..o.frames {
+            outputs.add("--images", &dir.join(frame_name(i)))?;
+        }
+    }
+    let scene = load(o.scene.as_deref(), &o.sets)?;
+    let scene_name = o
+        .scene
+        .as_deref()
+        .unwrap_or(Path::new(DEFAULT_SCENE_PATH))
+        .display()
+        .to_string();
+    let gpu = Gpu::new(&o.adapter)?;
+    eprintln!("adapter: {}", gpu.describe());
+    let target = Target::new(&gpu, o.size.0, o.size.1)?;
+    let session = Session::new(scene, None, Some(&gpu))?;
+    let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
+    gpu.check_errors()?;
+    eprintln!(
+        "bench: flight over {} blades, {} warm-up + {} frames at {FLIGHT_SPEED} m/s",
+        renderer.buffers.count, o.warmup, o.frames
+    );
+    let size = (target.width, target.height);
+    let (mut gpu_ms, mut wall_ms, mut drawn, mut differences) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut previous: Option<image::RgbaImage> = None;
+    let mut resets = 0;
+    for i in 0..o.warmup + o.frames {
+        let flying = i.saturating_sub(o.warmup);
+        let camera = flight_camera(
+            &session.scene.camera,
+            &session.terrain,
+            flying as f32 * BENCH_DT,
+        );
+        let start = Instant::now();
+        renderer.frame(
+            &gpu,
+            BENCH_DT,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+        gpu.check_errors()?;
+        let stats = renderer.stats(&gpu)?;
+        let wall = start.elapsed().as_secs_f64() * 1000.0;
+        resets = stats.blades_reset_nonfinite;
+        if i < o.warmup {
+            continue;
+        }
+        wall_ms.push(wall);
+        if let Some(ms) = stats.pass_ms {
+            let wind: f64 = stats.wind_ms.iter().flatten().map(|(_, m)| m).sum();
+            gpu_ms.push(ms.iter().sum::<f64>() + wind);
+        }
+        drawn.push(u64::from(stats.counters.drawn()));
+        let image = target.read_image(&gpu)?;
+        if let Some(p) = &previous {
+            differences.push(mean_abs_difference(p, &image));
+        }
+        if let Some(dir) = &o.images {
+            outputs.write_png(&dir.join(frame_name(flying)), &image)?;
+        }
+        previous = Some(image);
+    }
+    outputs.commit()?;
+    let timestamps = gpu_ms.len() == wall_ms.len() && !gpu_ms.is_empty();
+    let frame_ms = if timestamps { &gpu_ms } else { &wall_ms };
+    let gpu_bytes = renderer.gpu_bytes().1;
+    Ok(FlightReport {
+        adapter: gpu.describe(),
+        date,
+        scene: scene_name,
+        size: [o.size.0, o.size.1],
+        frames: o.frames,
+        warmup: o.warmup,
+        dt: BENCH_DT,
+        speed_m_per_s: FLIGHT_SPEED,
+        timestamps,
+        p50_ms: percentile(frame_ms, 0.5),
+        p95_ms: percentile(frame_ms, 0.95),
+        wall_p50_ms: percentile(&wall_ms, 0.5),
+        wall_p95_ms: percentile(&wall_ms, 0.95),
+        pop_ratio: pop_ratio(&differences),
+        largest_difference: differences.iter().copied().fold(0.0, f64::max),
+        median_difference: percentile(&differences, 0.5),
+        blades_drawn: drawn.last().copied().unwrap_or(0),
+        blades_drawn_mean: drawn.iter().sum::<u64>() as f64 / drawn.len().max(1) as f64,
+        billboards_drawn: 0,
+        tiles_generated: 0,
+        gpu_bytes,
+        gpu_mib: gpu_bytes as f64 / MIB,
+        blades_reset_nonfinite: resets.into(),
+    })
+}
+
+/// The flight report as text.
+pub fn format_flight(r: &FlightReport) -> String {
+    let what = if r.timestamps { "GPU" } else { "wall" };
+    let pop = r
+        .pop_ratio
+        .map_or("n/a (fewer than 3 frames)".into(), |p| format!("{p:.2}"));
+    format!(
+        "sward bench --flight: {}\nadapter: {}\ndate: {}\n{}x{}, {} frames after {} warm-up \
+         frames, dt = 1/30 s, {} m/s\n{what} frame ms: p50 {:.2}, p95 {:.2}\nwall frame ms: \
+         p50 {:.2}, p95 {:.2}\npop ratio (largest / median frame-to-frame difference): {pop} \
+         ({:.3} / {:.3})\nblades drawn: {} (last frame), {:.0} (mean)\nbillboards drawn: {}, \
+         tiles generated: {}\nGPU memory: {:.1} MiB\nblades reset (non-finite state): {}\n",
+        r.scene,
+        r.adapter,
+        r.date,
+        r.size[0],
+        r.size[1],
+        r.frames,
+        r.warmup,
+        r.speed_m_per_s,
+        r.p50_ms,
+        r.p95_ms,
+        r.wall_p50_ms,
+        r.wall_p95_ms,
+        r.largest_difference,
+        r.median_difference,
+        r.blades_drawn,
+        r.blades_drawn_mean,
+        r.billboards_drawn,
+        r.tiles_generated,
+        r.gpu_mib,
+        r.blades_reset_nonfinite,
+    )
+}
+
+/// Refuses options that mean nothing in a flight.
+pub fn check_flight_options(o: &BenchOptions) -> Result<()> {
+    if !o.sweep.is_empty() {
+        return Err(Error::Invalid(
+            "--sweep and --flight do not go together: the sweep times a fixed camera".into(),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_and_the_pop_ratio() {
+        let v = [5.0, 1.0, 3.0, 2.0, 4.0];
+        assert_eq!(percentile(&v, 0.5), 3.0);
+        assert_eq!(percentile(&v, 0.95), 5.0);
+        assert_eq!(percentile(&[], 0.5), 0.0);
+        assert_eq!(pop_ratio(&[1.0]), None);
+        assert_eq!(pop_ratio(&[2.0, 2.0, 2.0]), Some(1.0));
+        assert_eq!(pop_ratio(&[1.0, 1.0, 1.0, 9.0]), Some(9.0));
+        assert_eq!(pop_ratio(&[0.0, 0.0, 0.0]), Some(1.0));
+        assert_eq!(frame_name(7), "frame_0007.png");
+    }
+
+    #[test]
+    fn the_flight_keeps_its_height_above_the_terrain_and_its_heading() {
+        let terrain = HeightField::from_scene(&crate::scene::Terrain::default()).unwrap();
+        let camera = Camera::default();
+        let start = flight_camera(&camera, &terrain, 0.0);
+        assert!((start.eye - Vec3::from(camera.eye)).length() < 1e-4);
+        let later = flight_camera(&camera, &terrain, 1.0);
+        let moved = Vec2::new(later.eye.x - start.eye.x, later.eye.z - start.eye.z);
+        assert!((moved.length() - FLIGHT_SPEED).abs() < 1e-3);
+        let clearance = |c: &CameraView| c.eye.y - terrain.height(c.eye.x, c.eye.z);
+        assert!((clearance(&later) - clearance(&start)).abs() < 1e-3);
+        assert!(((later.target - later.eye) - (start.target - start.eye)).length() < 1e-4);
+    }
+
+    #[test]
+    fn differences_are_per_channel_means() {
+        let a = image::RgbaImage::from_pixel(2, 2, image::Rgba([10, 20, 30, 255]));
+        let b = image::RgbaImage::from_pixel(2, 2, image::Rgba([13, 20, 27, 0]));
+        assert_eq!(mean_abs_difference(&a, &b), 2.0);
+        assert_eq!(mean_abs_difference(&a, &a), 0.0);
+    }
+}
