@@ -36,11 +36,13 @@ fn point(position: (f32, f32), parent: Option<usize>) -> GuidePoint {
 fn guides() -> Vec<Guide> {
     vec![
         Guide {
+            started: 0.0,
             strength: 20.0,
             radius: 1.0,
             points: vec![point((-2.0, 0.0), None), point((2.0, 0.0), Some(0))],
         },
         Guide {
+            started: 0.0,
             strength: 5.0,
             radius: 1.0,
             points: vec![

@@ -34,6 +34,7 @@ fn blades_downstream_of_an_arrow_bend_along_it() {
     let mut control = scene.clone();
     // The flat field of 8192 blades at density 80 is about 10 m wide, centred on 0.
     scene.wind.guides = vec![Guide {
+        started: 0.0,
         strength: 6.0,
         radius: 1.0,
         points: vec![

@@ -104,6 +104,20 @@ impl Editor {
         &self.set.guides
     }
 
+    /// Sets the scene time at which guides added from now on start their sequence.
+    pub fn set_clock(&mut self, time: f32) {
+        self.set.set_clock(time);
+    }
+
+    /// Starts the sequence again now (at the clock): of the selected point's guide, or of
+    /// every guide when nothing is selected. Not an undo step: it moves no point.
+    pub fn replay_sequence(&mut self) {
+        let guide = self.selection.map(|(guide, _)| guide);
+        if self.set.restart(guide).is_ok() {
+            self.changed();
+        }
+    }
+
     /// The guides with their terrain size.
     pub fn guide_set(&self) -> &GuideSet {
         &self.set
@@ -485,6 +499,7 @@ mod tests {
     /// One guide: 0 → 1 → 2 and 1 → 3.
     fn tree() -> Editor {
         let guide = Guide {
+            started: 0.0,
             strength: 4.0,
             radius: 1.5,
             points: vec![
@@ -495,6 +510,28 @@ mod tests {
             ],
         };
         Editor::new(vec![guide], SIZE).expect("tree editor")
+    }
+
+    #[test]
+    fn replaying_the_sequence_restarts_the_selected_guide_or_all() {
+        let mut e = tree();
+        e.set_clock(3.0);
+        let revision = e.revision();
+        e.replay_sequence();
+        assert_eq!(e.guides()[0].started, 3.0);
+        assert_eq!(e.revision(), revision + 1, "the arrows are uploaded again");
+        assert!(!e.can_undo(), "a replay moves nothing: no undo step");
+        // A new guide starts at the clock.
+        e.set_clock(7.5);
+        e.press(None, Some(v(-8.0, -8.0)), false);
+        e.release();
+        assert_eq!(e.guides().len(), 2);
+        assert_eq!(e.guides()[1].started, 7.5);
+        // With guide 1 selected only guide 1 restarts.
+        e.set_clock(9.0);
+        e.select(Some((1, 0)));
+        e.replay_sequence();
+        assert_eq!((e.guides()[0].started, e.guides()[1].started), (3.0, 9.0));
     }
 
     fn parents(e: &Editor, g: usize) -> Vec<Option<usize>> {

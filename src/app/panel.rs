@@ -147,6 +147,18 @@ fn editor_section(ui: &mut Ui, app: &mut AppState) {
                     app.editor.redo();
                 }
                 ui.label(format!("{} guide(s)", app.editor.guides().len()));
+                let which = if app.editor.selection().is_some() {
+                    "the selected guide's arrows switch off and come on again from its root"
+                } else {
+                    "every guide's arrows switch off and come on again from the roots"
+                };
+                if ui
+                    .add_enabled(!app.editor.guides().is_empty(), egui::Button::new("Replay the sequence"))
+                    .on_hover_text(which)
+                    .clicked()
+                {
+                    app.editor.replay_sequence();
+                }
             });
             ui.horizontal(|ui| {
                 ui.label("New guides:");

@@ -257,6 +257,7 @@ mod tests {
 
     fn guide(points: &[(f32, f32)]) -> Guide {
         Guide {
+            started: 0.0,
             strength: 1.0,
             radius: 1.0,
             points: points

@@ -476,6 +476,8 @@ impl AppState {
         }
         let dt = self.fixed_dt.unwrap_or(wall.min(0.1));
 
+        // New guides and "replay the sequence" start at the simulation's clock.
+        self.editor.set_clock(self.renderer.time);
         let camera_input = self.input.take_camera();
         let follow = self.followed();
         self.camera
@@ -575,11 +577,12 @@ impl AppState {
             .encode_frame(gpu, encoder, dt, &view, color, depth, size);
         let show_arrows = self.mode == Mode::Edit || self.renderer.overlay_enabled();
         let mesh = if show_arrows {
-            ArrowMesh::build(
+            ArrowMesh::build_at(
                 self.editor.guides(),
                 &self.renderer.terrain,
                 self.editor.selection(),
                 self.hover,
+                Some(self.renderer.time),
             )
         } else {
             ArrowMesh::build(&[], &self.renderer.terrain, None, None)

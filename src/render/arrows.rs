@@ -61,6 +61,9 @@ pub const POINT_COLOR: [f32; 4] = [0.85, 0.85, 0.85, 1.0];
 pub const ROOT_COLOR: [f32; 4] = [0.15, 0.9, 0.95, 1.0];
 /// Colour of the selected point: white-yellow.
 pub const SELECTED_COLOR: [f32; 4] = [1.0, 1.0, 0.65, 1.0];
+/// An arrow the AGC sequence has not switched on yet: a dim grey, so that the arrows that
+/// push the air stand out (`ArrowMesh::build_at`).
+pub const OFF_COLOR: [f32; 4] = [0.35, 0.35, 0.38, 1.0];
 
 /// One vertex of the arrow mesh (world position, face normal, linear RGBA colour).
 #[repr(C)]
@@ -148,9 +151,23 @@ impl ArrowMesh {
         selection: Option<(GuideId, PointId)>,
         hover: Option<(GuideId, PointId)>,
     ) -> Self {
+        Self::build_at(guides, terrain, selection, hover, None)
+    }
+
+    /// [`ArrowMesh::build`] showing which arrows are on at scene time `time`: an arrow the
+    /// sequence has not reached yet is grey ([`OFF_COLOR`]), one ramping up blends from grey
+    /// to its strength colour. `None` draws every arrow as on.
+    pub fn build_at(
+        guides: &[Guide],
+        terrain: &HeightField,
+        selection: Option<(GuideId, PointId)>,
+        hover: Option<(GuideId, PointId)>,
+        time: Option<f32>,
+    ) -> Self {
         let mut mesh = Self::default();
         for arrow in arrows(guides) {
-            mesh.add_arrow(&arrow, terrain);
+            let on = time.map_or(1.0, |t| arrow.activation(t));
+            mesh.add_arrow(&arrow, terrain, on);
         }
         for (g, guide) in guides.iter().enumerate() {
             for (i, p) in guide.points.iter().enumerate() {
@@ -223,7 +240,7 @@ impl ArrowMesh {
             .extend([first, first + 1, first + 2, first, first + 2, first + 3]);
     }
 
-    fn add_arrow(&mut self, arrow: &Arrow, terrain: &HeightField) {
+    fn add_arrow(&mut self, arrow: &Arrow, terrain: &HeightField, on: f32) {
         let length = arrow.start.distance(arrow.end);
         if !(length.is_finite() && length > 0.0) {
             return;
@@ -231,7 +248,9 @@ impl ArrowMesh {
         let dir = (arrow.end - arrow.start) / length;
         // Horizontal, to the left of the arrow: the section stays upright on slopes.
         let side = Vec2::new(-dir.y, dir.x);
-        let color = strength_color(arrow.strength);
+        let full = strength_color(arrow.strength);
+        let on = on.clamp(0.0, 1.0);
+        let color: [f32; 4] = std::array::from_fn(|i| OFF_COLOR[i] + (full[i] - OFF_COLOR[i]) * on);
         let head_length = (HEAD_FRACTION * length).min(HEAD_MAX_LENGTH);
         let base = arrow.end - dir * head_length;
         let shaft_length = length - head_length;
@@ -538,6 +557,7 @@ mod tests {
     /// root → A, A → B, A → C, each arrow with its own strength (so its own colour).
     fn branching() -> Guide {
         Guide {
+            started: 0.0,
             strength: 2.0,
             radius: 1.0,
             points: vec![
@@ -577,6 +597,36 @@ mod tests {
     }
 
     const OCTAHEDRON_VERTICES: usize = 24;
+
+    /// The editor's view shows which arrows are on: before the front reaches an arrow it is
+    /// grey, after the ramp it has its strength colour.
+    #[test]
+    fn arrows_not_yet_on_are_grey() {
+        let mut guide = branching();
+        guide.started = 2.0;
+        let guides = vec![guide];
+        let terrain = HeightField::flat(32.0, 9);
+        let list = arrows(&guides);
+        let total: usize = list.iter().map(arrow_vertices).sum();
+        let before = ArrowMesh::build_at(&guides, &terrain, None, None, Some(1.0));
+        assert_eq!(count_color(&before, OFF_COLOR), total);
+        let after = ArrowMesh::build_at(&guides, &terrain, None, None, Some(60.0));
+        assert_eq!(count_color(&after, OFF_COLOR), 0);
+        for a in &list {
+            assert_eq!(
+                count_color(&after, strength_color(a.strength)),
+                arrow_vertices(a)
+            );
+        }
+        // Just after the start: the root's arrows ramp, the deeper ones are still grey.
+        let ramping = ArrowMesh::build_at(&guides, &terrain, None, None, Some(2.0 + 1e-3));
+        let deep: usize = list
+            .iter()
+            .filter(|a| a.start_distance > 0.0)
+            .map(arrow_vertices)
+            .sum();
+        assert_eq!(count_color(&ramping, OFF_COLOR), deep);
+    }
 
     #[test]
     fn a_branching_guide_has_three_arrows_and_four_points() {

@@ -358,6 +358,12 @@ pub struct Guide {
     /// Half-width of the band each arrow pushes, in metres.
     pub radius: f32,
     pub points: Vec<GuidePoint>,
+    /// Scene time in seconds at which this guide's sequence starts (see `sim::agc`): 0 for
+    /// a guide loaded with the scene, the time of creation for one added in the editor, the
+    /// time of the click for "replay the sequence". Not saved: a loaded guide starts when
+    /// its scene does.
+    #[serde(skip)]
+    pub started: f32,
 }
 
 /// A constant push on the whole fluid grid.

@@ -20,11 +20,13 @@
 //! # The timing rule
 //!
 //! The paper applies the forces "in a sequence based on the direction of the arrow's flow
-//! to make it appear continuous". Here that sequence is a front that leaves every root at
-//! time 0 and runs along every branch at [`FRONT_SPEED`] m/s. An arrow switches on when the
-//! front reaches its start:
+//! to make it appear continuous". Here that sequence is a front that leaves a guide's root
+//! when the guide's sequence starts (`Guide::started`: the scene's start for a loaded
+//! guide, the moment of creation for one added in the editor, the click for "replay the
+//! sequence") and runs along every branch at [`FRONT_SPEED`] m/s. An arrow switches on when
+//! the front reaches its start:
 //!
-//! `t_on = start_distance / FRONT_SPEED`,
+//! `t_on = started + start_distance / FRONT_SPEED`,
 //!
 //! where `start_distance` is the path length from the root to the arrow's start, and then
 //! ramps up over [`RAMP_TIME`] seconds with a smoothstep to its full strength, where it
@@ -119,6 +121,8 @@ pub enum AgcError {
 pub struct GuideSet {
     pub guides: Vec<Guide>,
     terrain_size: f32,
+    /// Scene time in seconds: a guide added now starts its sequence at this time.
+    clock: f32,
 }
 
 impl GuideSet {
@@ -136,6 +140,7 @@ impl GuideSet {
         Ok(Self {
             guides: Vec::new(),
             terrain_size,
+            clock: 0.0,
         })
     }
 
@@ -156,6 +161,27 @@ impl GuideSet {
     /// The terrain's side length in metres.
     pub fn terrain_size(&self) -> f32 {
         self.terrain_size
+    }
+
+    /// Sets the scene time (seconds) at which guides added from now on start their
+    /// sequence. Non-finite or negative times count as 0.
+    pub fn set_clock(&mut self, time: f32) {
+        self.clock = if time.is_finite() { time.max(0.0) } else { 0.0 };
+    }
+
+    /// Starts the sequence of `guide` (or of every guide with `None`) again at the clock:
+    /// its arrows switch off and come on again from the root outwards.
+    ///
+    /// # Errors
+    ///
+    /// [`AgcError::NoGuide`] for a guide that does not exist.
+    pub fn restart(&mut self, guide: Option<GuideId>) -> Result<(), AgcError> {
+        let clock = self.clock;
+        match guide {
+            Some(g) => self.guide_mut(g)?.started = clock,
+            None => self.guides.iter_mut().for_each(|g| g.started = clock),
+        }
+        Ok(())
     }
 
     /// Checks every guide against the rules the editing API keeps (see the type's docs).
@@ -213,6 +239,7 @@ impl GuideSet {
         self.check_strength(strength)?;
         self.check_radius(radius)?;
         self.guides.push(Guide {
+            started: self.clock,
             strength,
             radius,
             points: vec![point(root, None)],
@@ -493,12 +520,15 @@ pub struct Arrow {
     pub depth: u32,
     /// Path length in metres from the root to this arrow's start, along the tree.
     pub start_distance: f32,
+    /// Scene time at which the guide's sequence started (`Guide::started`).
+    pub sequence_start: f32,
 }
 
 impl Arrow {
-    /// When the front reaches the arrow's start, in seconds: `start_distance / FRONT_SPEED`.
+    /// When the front reaches the arrow's start, in seconds of scene time:
+    /// `sequence_start + start_distance / FRONT_SPEED`.
     pub fn switch_on_time(&self) -> f32 {
-        self.start_distance / FRONT_SPEED
+        self.sequence_start + self.start_distance / FRONT_SPEED
     }
 
     /// The fraction of full strength at `time` (see the module docs): 0 until
@@ -550,6 +580,11 @@ pub fn arrows(guides: &[Guide]) -> Vec<Arrow> {
                 radius: p.radius.unwrap_or(guide.radius),
                 depth,
                 start_distance: distance,
+                sequence_start: if guide.started.is_finite() {
+                    guide.started
+                } else {
+                    0.0
+                },
             });
         }
     }
@@ -907,6 +942,46 @@ mod tests {
         assert_eq!(arrows_of(&s)[1].radius, 2.0);
     }
 
+    /// Each guide's sequence starts when the guide does: a guide added at t = 5 s leaves
+    /// the first guide's arrows on and switches its own on from t = 5 s; a restart at
+    /// t = 9 s switches the restarted guide's arrows off and on again.
+    #[test]
+    fn each_guide_starts_its_sequence_when_it_is_created_or_restarted() {
+        let mut s = set();
+        let a = s.add_guide((0.0, 0.0), 10.0, 1.0).unwrap();
+        s.add_child(a, 0, (3.0, 0.0)).unwrap();
+        s.set_clock(5.0);
+        let b = s.add_guide((0.0, 5.0), 10.0, 1.0).unwrap();
+        s.add_child(b, 0, (3.0, 5.0)).unwrap();
+        s.add_child(b, 1, (9.0, 5.0)).unwrap();
+        assert_eq!((s.guides[a].started, s.guides[b].started), (0.0, 5.0));
+        let arrows = arrows_of(&s);
+        assert_eq!(arrows[0].switch_on_time(), 0.0);
+        assert_eq!(arrows[1].switch_on_time(), 5.0);
+        assert_eq!(arrows[2].switch_on_time(), 5.0 + 3.0 / FRONT_SPEED);
+        // At t = 4.9 s only guide a's arrow pushes; at 5 + ramp the new root's arrow too.
+        assert_eq!(arrows_at(&s.guides, 4.9).len(), 1);
+        assert_eq!(arrows_at(&s.guides, 5.0 + RAMP_TIME).len(), 2);
+        assert_eq!(arrows_at(&s.guides, 6.0 + RAMP_TIME).len(), 3);
+        // Replay guide b at t = 9 s: its arrows are off again just after, a's stay on.
+        s.set_clock(9.0);
+        s.restart(Some(b)).unwrap();
+        let after = arrows_at(&s.guides, 9.0 + 1e-3);
+        assert_eq!(after.len(), 2, "a's arrow and b's root arrow ramping");
+        assert!(after[1].strength < 0.01 * 10.0);
+        assert_eq!(after[0].strength, 10.0);
+        // Replay everything.
+        s.set_clock(20.0);
+        s.restart(None).unwrap();
+        assert!(s.guides.iter().all(|g| g.started == 20.0));
+        assert!(arrows_at(&s.guides, 19.9).is_empty());
+        assert!(s.restart(Some(7)).is_err());
+        // A bad clock counts as 0.
+        s.set_clock(f32::NAN);
+        let c = s.add_guide((5.0, 5.0), 1.0, 1.0).unwrap();
+        assert_eq!(s.guides[c].started, 0.0);
+    }
+
     #[test]
     fn arrows_switch_on_with_the_front_and_ramp_up() {
         let mut s = set();
@@ -955,6 +1030,7 @@ mod tests {
     #[test]
     fn arrows_skip_broken_trees() {
         let guide = Guide {
+            started: 0.0,
             strength: 1.0,
             radius: 1.0,
             points: vec![

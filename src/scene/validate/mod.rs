@@ -574,6 +574,7 @@ mod tests {
             motion: path.clone(),
         });
         scene.wind.guides.push(Guide {
+            started: 0.0,
             strength: 1.0,
             radius: 1.0,
             points: vec![GuidePoint {

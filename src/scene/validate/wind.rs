@@ -268,6 +268,7 @@ mod tests {
             radius: None,
         };
         Guide {
+            started: 0.0,
             strength: 5.0,
             radius: 1.0,
             points: vec![
