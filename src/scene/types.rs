@@ -57,6 +57,10 @@ pub struct Terrain {
     pub height: HeightSource,
     /// Optional grey PNG: white = full density, black = no grass.
     pub density_map: Option<String>,
+    /// Whether the ground goes on past the square to the horizon (drawn around the camera
+    /// out to the far plane); `false` draws only the square. Blades grow only inside the
+    /// square either way.
+    pub unbounded: bool,
 }
 
 fn noise_seed() -> u64 {
@@ -84,6 +88,7 @@ impl Default for Terrain {
                 octaves: noise_octaves(),
             },
             density_map: None,
+            unbounded: true,
         }
     }
 }
