@@ -103,8 +103,13 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // mean self-shadow, sun on blades that lean with the ground, a little translucency.
     let grass = terrain.grass_albedo.rgb
         * (AMBIENT_COLOR * 0.9 * 0.85 + SUN_COLOR * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+    // Soil shows between the near blades; with distance the blades cover it, and past
+    // the culling distance only their colour is left. Outside the square, where no blades
+    // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):
+    // it stands for the prairie that continues, not for bare earth where the world ends.
     let dist = distance(in.world, frame.camera_pos.xyz);
-    let cover = smoothstep(terrain.blend.x, terrain.blend.y, dist) * grass_density(q);
+    let outside = smoothstep(0.0, 2.0, max(abs(q.x), abs(q.y)) - 0.5 * terrain.noise.w);
+    let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
     var color = mix(near, grass, cover);
     color = apply_fog(color, in.world, frame);
     return vec4<f32>(tonemap(color), 1.0);
