@@ -213,9 +213,13 @@ pub fn terrain_uniforms(
     } else {
         // Bounded: the square seen from wherever the camera is.
         let corner = Vec2::splat(0.5 * terrain.size);
-        (eye.truncate().abs() + corner)
-            .length()
-            .min(far.max(1.0) * 4.0)
+        let eye_xz = Vec2::new(eye.x, eye.z).abs();
+        let eye_xz = if eye_xz.is_finite() {
+            eye_xz
+        } else {
+            Vec2::ZERO
+        };
+        (eye_xz + corner).length().min(far * 4.0)
     };
     let levels = level_count(cell0, reach);
     u.info[3] = levels;
@@ -363,6 +367,10 @@ mod tests {
                 assert!(p.x.abs() <= 16.0 && p.y.abs() <= 16.0);
             }
         }
+        // The levels reach the far corner of the square from the eye.
+        let last = u.levels[u.info[3] as usize - 1];
+        let reach = (RING_CELLS / 2 - 1) as f32 * last[2];
+        assert!(reach >= Vec2::new(56.0, 21.0).length(), "{reach}");
     }
 
     /// The closed form against a Monte-Carlo average of `grass.wgsl`'s albedo over random

@@ -46,7 +46,8 @@ pub enum HeightSource {
     Flat,
 }
 
-/// The ground: a square height field centred on the origin, in the x/z plane.
+/// The ground: heights over the x/z plane; grass grows in the square of side `size`
+/// centred on the origin, and the ground itself runs on past it when `unbounded`.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Terrain {
