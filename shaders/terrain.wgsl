@@ -53,7 +53,8 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32)
     let h = terrain_height(xz);
     let world = vec3<f32>(xz.x, h.x, xz.y);
     var out: VertexOut;
-    var clip = frame.view_proj * vec4<f32>(world, 1.0);
+    // Camera-relative: world − eye is small and exact near the camera, wherever it flies.
+    var clip = terrain.view_proj_relative * vec4<f32>(world - frame.camera_pos.xyz, 1.0);
     if clip.w > 0.0 {
         clip.z = min(clip.z, clip.w * FAR_DEPTH);
     }

@@ -4,6 +4,8 @@
 // 2 (the height grid of a Png terrain; a dummy otherwise).
 
 struct TerrainParams {
+    // The camera's view-projection for positions relative to the eye.
+    view_proj_relative: mat4x4<f32>,
     // x: mode (0 analytic fBm, 1 grid), y: octaves, z: 1 = unbounded, w: clipmap levels.
     info: vec4<u32>,
     // x: wavelength m, y: mid, z: scale m, w: terrain size m.

@@ -24,9 +24,10 @@
 //!
 //! Precision: level centres are multiples of `c_0`, a power of two, so vertex (x, z) are
 //! exact in f32 out to about 4000 km at `c_0` = 0.25 m; the noise is evaluated at those
-//! world coordinates (lattice coordinates in f32 keep about 1e-4 of a cell at 10 km). The
-//! view-projection is not camera-relative (the frame uniforms are shared by every pass),
-//! which at 10 km from the origin leaves about a millimetre of vertex jitter.
+//! world coordinates (lattice coordinates in f32 keep about 1e-4 of a cell at 10 km).
+//! The terrain is drawn camera-relative: the vertex shader subtracts the eye from the
+//! world position (exact for nearby vertices) and applies a view-projection built for a
+//! camera at the origin, so no large translation cancels inside the matrix product.
 //!
 //! Past the far plane the vertex shader clamps depth just in front of the sky, so the
 //! ground runs on to the horizon instead of ending in a clipped edge.
@@ -51,6 +52,8 @@ pub const VARIANTS: usize = 10;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable, PartialEq)]
 pub struct TerrainUniforms {
+    /// The camera's view-projection for positions relative to the eye.
+    pub view_proj_relative: [[f32; 4]; 4],
     /// x: mode (0 analytic fBm, 1 grid), y: octaves, z: 1 = unbounded, w: levels.
     pub info: [u32; 4],
     /// x: wavelength m, y: mid, z: scale m, w: terrain size m.
@@ -67,7 +70,7 @@ pub struct TerrainUniforms {
     pub levels: [[f32; 4]; MAX_LEVELS],
 }
 
-const _: () = assert!(std::mem::size_of::<TerrainUniforms>() == 384);
+const _: () = assert!(std::mem::size_of::<TerrainUniforms>() == 448);
 
 /// The mean albedo of the grass as `shaders/grass.wgsl` colours it, averaged over the
 /// per-blade random tints (uniform in [0, 1)) and over the upper three quarters of the
@@ -181,6 +184,7 @@ pub fn terrain_uniforms(
     fog: f32,
 ) -> TerrainUniforms {
     let mut u = TerrainUniforms {
+        view_proj_relative: glam::Mat4::IDENTITY.to_cols_array_2d(),
         info: [0, 0, terrain.unbounded as u32, 1],
         noise: [1.0, 0.0, 0.0, terrain.size],
         seeds: [[0; 4]; 3],

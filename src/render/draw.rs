@@ -5,6 +5,7 @@
 
 use wgpu::util::DeviceExt;
 
+use super::camera::CameraView;
 use super::mesh::{sphere_mesh, LodMeshes};
 use super::terrain::TerrainPass;
 use crate::field::{DensityMap, HeightField};
@@ -441,13 +442,13 @@ impl DrawPass {
         &self.frame
     }
 
-    /// Writes this frame's uniforms and places the terrain's levels around the camera
-    /// (`far`: the far plane; the fog distance is in `frame.viewport_time.w`).
-    pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms, far: f32) {
+    /// Writes this frame's uniforms (made for `camera`) and places the terrain's levels
+    /// around the camera (the viewport and fog distance are in `frame.viewport_time`).
+    pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms, camera: &CameraView) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
-        let eye = glam::Vec4::from(frame.camera_pos).truncate();
+        let [w, h, _, fog] = frame.viewport_time;
         self.terrain_pass
-            .prepare(queue, eye, far, frame.viewport_time[3]);
+            .prepare(queue, camera, w / h.max(1.0), fog);
     }
 
     fn draw_terrain<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {

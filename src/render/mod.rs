@@ -497,7 +497,7 @@ impl Renderer {
         self.draw.prepare(
             &gpu.queue,
             &self.frame_uniforms(camera, size.0, size.1),
-            camera.far,
+            camera,
         );
         let timer = self.timer.as_ref();
         if occlusion {

@@ -9,6 +9,7 @@ use std::cell::Cell;
 use glam::{Vec2, Vec3};
 use wgpu::util::DeviceExt;
 
+use super::camera::CameraView;
 use super::clipmap::{self, TerrainUniforms, MAX_LEVELS, VARIANTS};
 use super::draw::read_storage;
 use crate::error::Result;
@@ -212,9 +213,18 @@ impl TerrainPass {
             + u64::from(s.width) * u64::from(s.height)
     }
 
-    /// Places the levels around `eye` for a far plane `far` and fog distance `fog`.
-    pub fn prepare(&self, queue: &wgpu::Queue, eye: Vec3, far: f32, fog: f32) {
-        let u = clipmap::terrain_uniforms(&self.shape, self.has_density, self.blend, eye, far, fog);
+    /// Places the levels around the camera for a viewport of `aspect` and fog distance
+    /// `fog`.
+    pub fn prepare(&self, queue: &wgpu::Queue, camera: &CameraView, aspect: f32, fog: f32) {
+        let mut u = clipmap::terrain_uniforms(
+            &self.shape,
+            self.has_density,
+            self.blend,
+            camera.eye,
+            camera.far,
+            fog,
+        );
+        u.view_proj_relative = camera.view_proj_relative(aspect).to_cols_array_2d();
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let levels = u.info[3].min(MAX_LEVELS as u32);
         let mut variants = [0u8; MAX_LEVELS];
