@@ -19,10 +19,12 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
 }
 
-// Depth of everything past the far plane: just in front of the sky (drawn at depth 1), so
-// the ground runs on to the horizon instead of being clipped; the fog has made it the sky's
-// colour by then, so the lost ordering among such far hills does not show.
-const FAR_DEPTH: f32 = 0.999999;
+// Past the far plane the ground is not clipped: its depth is squeezed into the last
+// FAR_BAND below 1 (the sky's depth), as 1 − FAR_BAND·far/w, which still grows with the
+// view depth w, so far hills keep their order (about 160 Depth32 steps from the far plane
+// to infinity). Nearer than about 283 m of a 300 m far plane the normal depth is below that
+// band, so nothing in range is ordered wrongly against it.
+const FAR_BAND: f32 = 1e-5;
 
 // Twin of `clipmap::vertex_xz`: where vertex `vid` of level `level` lies for a camera at
 // `eye` (x, z).
@@ -55,8 +57,9 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32)
     var out: VertexOut;
     // Camera-relative: world − eye is small and exact near the camera, wherever it flies.
     var clip = terrain.view_proj_relative * vec4<f32>(world - frame.camera_pos.xyz, 1.0);
-    if clip.w > 0.0 {
-        clip.z = min(clip.z, clip.w * FAR_DEPTH);
+    let far = terrain.blend.w;
+    if clip.w > far && far > 0.0 {
+        clip.z = clip.w * (1.0 - FAR_BAND * far / clip.w);
     }
     out.clip = clip;
     out.world = world;

@@ -14,7 +14,8 @@ struct TerrainParams {
     seeds: array<vec4<u32>, 3>,
     // x: grid resolution, y: cells per ring side, z: morph band in cells, w: unused.
     grid: vec4<u32>,
-    // x: soil-to-grass blend start m, y: blend end m, z: 1 = density map bound, w: unused.
+    // x: soil-to-grass blend start m, y: blend end m, z: 1 = density map bound, w: the
+    // camera's far plane m.
     blend: vec4<f32>,
     // rgb: the grass's mean albedo (see `clipmap::FAR_GRASS_ALBEDO`), w: unused.
     grass_albedo: vec4<f32>,

@@ -29,8 +29,9 @@
 //! world position (exact for nearby vertices) and applies a view-projection built for a
 //! camera at the origin, so no large translation cancels inside the matrix product.
 //!
-//! Past the far plane the vertex shader clamps depth just in front of the sky, so the
-//! ground runs on to the horizon instead of ending in a clipped edge.
+//! Past the far plane the vertex shader squeezes depth into a thin band just in front of
+//! the sky (still growing with distance, so far hills keep their order), so the ground
+//! runs on to the horizon instead of ending in a clipped edge.
 
 use glam::{Vec2, Vec3};
 
@@ -62,7 +63,7 @@ pub struct TerrainUniforms {
     pub seeds: [[u32; 4]; 3],
     /// x: grid resolution, y: cells per ring side, z: morph band cells.
     pub grid: [u32; 4],
-    /// x: soil-to-grass blend start m, y: end m, z: 1 = density map bound.
+    /// x: soil-to-grass blend start m, y: end m, z: 1 = density map bound, w: far plane m.
     pub blend: [f32; 4],
     /// rgb: the grass's mean albedo.
     pub grass_albedo: [f32; 4],
@@ -212,6 +213,7 @@ pub fn terrain_uniforms(
     } else {
         1000.0
     };
+    u.blend[3] = far;
     let reach = if terrain.unbounded {
         far.max(FOG_REACH * fog.max(0.0)).min(1e6)
     } else {
