@@ -249,6 +249,21 @@ impl HeightField {
         Vec3::new(-dx, 1.0, -dz).normalize()
     }
 
+    /// Bounds that every height inside the square lies within: the grid's own for a grid;
+    /// for analytic noise the fBm's range [−1, 1] rescaled (between grid vertices the
+    /// function may pass the sampled extremes).
+    pub fn height_bounds(&self) -> (f32, f32) {
+        let (lo, hi) = self.min_max();
+        match &self.surface {
+            Surface::Noise(n) if !n.seeds.is_empty() && n.scale != 0.0 => {
+                let a = ((-1.0 - n.mid) * n.scale) as f32;
+                let b = ((1.0 - n.mid) * n.scale) as f32;
+                (lo.min(a.min(b)), hi.max(a.max(b)))
+            }
+            _ => (lo, hi),
+        }
+    }
+
     /// Lowest and highest grid height.
     pub fn min_max(&self) -> (f32, f32) {
         self.heights
@@ -334,6 +349,34 @@ mod tests {
         let (lo, hi) = field.min_max();
         assert!((hi - lo - 2.0).abs() < 1e-4, "{lo} {hi}");
         assert!((hi + lo).abs() < 1e-4, "{lo} {hi}");
+    }
+
+    #[test]
+    fn analytic_heights_match_the_grid_and_stay_in_bounds() {
+        let field = HeightField::from_scene(&noise_terrain()).unwrap();
+        let (lo, hi) = field.height_bounds();
+        for j in (0..129).step_by(8) {
+            for i in (0..129).step_by(8) {
+                let v = field.vertex(i, j);
+                assert!((field.height(v.x, v.z) - v.y).abs() < 1e-5, "{v}");
+            }
+        }
+        // Far outside the square the function goes on (not the edge height) and stays in
+        // the fBm's bounds.
+        let mut differs = 0;
+        for k in 0..200 {
+            let (x, z) = (100.0 + k as f32 * 7.3, -5000.0 + k as f32 * 3.1);
+            let h = field.height(x, z);
+            assert!((lo..=hi).contains(&h), "{h}");
+            differs += usize::from((h - field.height(20.0, 0.0)).abs() > 1e-3);
+        }
+        assert!(differs > 150);
+        // Bounded: the edge heights continue, level.
+        let mut bounded = noise_terrain();
+        bounded.unbounded = false;
+        let field = HeightField::from_scene(&bounded).unwrap();
+        assert_eq!(field.height(300.0, 5.0), field.height(20.0, 5.0));
+        assert_eq!(field.normal(300.0, 5.0).x, 0.0);
     }
 
     #[test]
