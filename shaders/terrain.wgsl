@@ -1,13 +1,16 @@
-// Terrain: the height-field mesh, lit by the sun and the sky, with a soil/grass colour that
-// varies over the ground so that thin grass does not sit on a flat colour.
+// Terrain: a geometry clipmap around the camera (src/render/clipmap.rs). Each instance is
+// one level: a grid of `terrain.grid.y` cells per side whose vertex position comes from the
+// vertex index, its height and normal from `terrain_height` (the twin of the CPU's
+// HeightField). Near its outer edge a level's odd vertices slide onto their even
+// neighbours, so the edge it shares with the next, twice as coarse level is the same line
+// on both sides: no cracks. Lit by the sun and the sky; the colour blends from soil under
+// the near blades to the grass's own mean colour with distance, then into the fog.
 //!include common.wgsl
+//!include terrain_height.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-
-struct VertexIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
+@group(0) @binding(3) var density_map: texture_2d<f32>;
+@group(0) @binding(4) var density_sampler: sampler;
 
 struct VertexOut {
     // Invariant: the depth prepass and the colour pass must produce the same depth.
@@ -16,12 +19,51 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
 }
 
+// Past the far plane the ground is not clipped: its depth is squeezed into the last
+// FAR_BAND below 1 (the sky's depth), as 1 − FAR_BAND·far/w, which still grows with the
+// view depth w, so far hills keep their order (about 160 Depth32 steps from the far plane
+// to infinity). Nearer than about 283 m of a 300 m far plane the normal depth is below that
+// band, so nothing in range is ordered wrongly against it.
+const FAR_BAND: f32 = 1e-5;
+
+// Twin of `clipmap::vertex_xz`: where vertex `vid` of level `level` lies for a camera at
+// `eye` (x, z).
+fn clipmap_xz(vid: u32, level: u32, eye: vec2<f32>) -> vec2<f32> {
+    let n = terrain.grid.y;
+    let ij = vec2<u32>(vid % (n + 1u), vid / (n + 1u));
+    let l = terrain.levels[level];
+    let cell = l.z;
+    let local = vec2<f32>(vec2<i32>(ij) - vec2<i32>(i32(n / 2u)));
+    var xz = l.xy + local * cell;
+    // Morph factor: 0 inside, 1 from one cell inside the outer edge (Chebyshev distance
+    // from the camera, in cells); the band is `terrain.grid.z` cells wide.
+    let d = max(abs(xz.x - eye.x), abs(xz.y - eye.y)) / cell;
+    let band = f32(terrain.grid.z);
+    let outer = f32(n / 2u) - 1.0;
+    let morph = clamp((d - (outer - band)) / band, 0.0, 1.0);
+    xz -= vec2<f32>(ij % vec2<u32>(2u)) * morph * cell;
+    if terrain.info.z == 0u {
+        let half = 0.5 * terrain.noise.w;
+        xz = clamp(xz, vec2<f32>(-half), vec2<f32>(half));
+    }
+    return xz;
+}
+
 @vertex
-fn vs_main(in: VertexIn) -> VertexOut {
+fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) -> VertexOut {
+    let xz = clipmap_xz(vid, level, frame.camera_pos.xz);
+    let h = terrain_height(xz);
+    let world = vec3<f32>(xz.x, h.x, xz.y);
     var out: VertexOut;
-    out.clip = frame.view_proj * vec4<f32>(in.position, 1.0);
-    out.world = in.position;
-    out.normal = in.normal;
+    // Camera-relative: world − eye is small and exact near the camera, wherever it flies.
+    var clip = terrain.view_proj_relative * vec4<f32>(world - frame.camera_pos.xyz, 1.0);
+    let far = terrain.blend.w;
+    if clip.w > far && far > 0.0 {
+        clip.z = clip.w * (1.0 - FAR_BAND * far / clip.w);
+    }
+    out.clip = clip;
+    out.world = world;
+    out.normal = normalize(vec3<f32>(-h.y, 1.0, -h.z));
     return out;
 }
 
@@ -38,6 +80,17 @@ fn value_noise(p: vec2<f32>) -> f32 {
     return mix(mix(h.x, h.y, s.x), mix(h.z, h.w, s.x), s.y);
 }
 
+// Grass density at world (x, z): the scene's density map stretched over the square, its
+// edge continuing outside; 1 without a map.
+fn grass_density(xz: vec2<f32>) -> f32 {
+    if terrain.blend.z < 0.5 {
+        return 1.0;
+    }
+    let dims = vec2<f32>(textureDimensions(density_map));
+    let g = (xz / terrain.noise.w + 0.5) * (dims - 1.0);
+    return textureSampleLevel(density_map, density_sampler, (g + 0.5) / dims, 0.0).r;
+}
+
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
@@ -46,9 +99,22 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let patchy = value_noise(q * 0.35) * 0.6 + value_noise(q * 1.7) * 0.3 + value_noise(q * 7.0) * 0.1;
     let soil = vec3<f32>(0.13, 0.11, 0.06);
     let turf = vec3<f32>(0.06, 0.15, 0.03);
-    let albedo = mix(soil, turf, smoothstep(0.15, 0.55, patchy));
+    let ground = mix(soil, turf, smoothstep(0.15, 0.55, patchy));
     let diffuse = max(dot(n, sun), 0.0);
-    var color = albedo * (AMBIENT_COLOR * (0.5 + 0.5 * n.y) + SUN_COLOR * diffuse * 1.5);
+    let near = ground * (AMBIENT_COLOR * (0.5 + 0.5 * n.y) + SUN_COLOR * diffuse * 1.5);
+    // The grass seen from afar: its mean albedo under the grass shader's lighting averaged
+    // over blade azimuths and heights (`clipmap::FAR_GRASS_LIGHT`): ambient with the blades'
+    // mean self-shadow, sun on blades that lean with the ground, a little translucency.
+    let grass = terrain.grass_albedo.rgb
+        * (AMBIENT_COLOR * 0.9 * 0.85 + SUN_COLOR * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+    // Soil shows between the near blades; with distance the blades cover it, and past
+    // the culling distance only their colour is left. Outside the square, where no blades
+    // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):
+    // it stands for the prairie that continues, not for bare earth where the world ends.
+    let dist = distance(in.world, frame.camera_pos.xyz);
+    let outside = smoothstep(0.0, 2.0, max(abs(q.x), abs(q.y)) - 0.5 * terrain.noise.w);
+    let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
+    var color = mix(near, grass, cover);
     color = apply_fog(color, in.world, frame);
     return vec4<f32>(tonemap(color), 1.0);
 }

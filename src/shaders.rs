@@ -11,6 +11,14 @@ const FILES: &[(&str, &str)] = &[
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
     ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
+    (
+        "terrain_height.wgsl",
+        include_str!("../shaders/terrain_height.wgsl"),
+    ),
+    (
+        "terrain_probe.wgsl",
+        include_str!("../shaders/terrain_probe.wgsl"),
+    ),
     ("sky.wgsl", include_str!("../shaders/sky.wgsl")),
     ("spheres.wgsl", include_str!("../shaders/spheres.wgsl")),
     ("overlay.wgsl", include_str!("../shaders/overlay.wgsl")),
@@ -57,6 +65,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "hiz.wgsl",
     "grass.wgsl",
     "terrain.wgsl",
+    "terrain_probe.wgsl",
     "sky.wgsl",
     "spheres.wgsl",
     "overlay.wgsl",

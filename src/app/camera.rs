@@ -311,12 +311,17 @@ fn angles_of(dir: Vec3, fallback_yaw: f32) -> (f32, f32) {
     (yaw, pitch)
 }
 
-/// Terrain height below `p`, sampled at `p` clamped into the square.
+/// Terrain height below `p`: the terrain's own height there (an unbounded terrain is a
+/// function defined everywhere; a bounded one continues its edge heights), sampled at `p`
+/// clamped into the square for a bounded terrain.
 fn ground(terrain: &HeightField, p: Vec3) -> f32 {
     let half = 0.5 * terrain.size;
     let half = if half.is_finite() { half.abs() } else { 0.0 };
     if !(p.x.is_finite() && p.z.is_finite()) {
         return f32::NAN;
+    }
+    if terrain.unbounded {
+        return terrain.height(p.x, p.z);
     }
     terrain.height(p.x.clamp(-half, half), p.z.clamp(-half, half))
 }

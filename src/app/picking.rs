@@ -125,7 +125,7 @@ pub fn pick_terrain(ray: &Ray, terrain: &HeightField, max_distance: f32) -> Opti
         dir: ray.dir.try_normalize()?,
     };
     let half = 0.5 * terrain.size;
-    let (lo, hi) = terrain.min_max();
+    let (lo, hi) = terrain.height_bounds();
     if !(half.is_finite() && half > 0.0 && lo.is_finite() && hi.is_finite()) {
         return None;
     }

@@ -65,6 +65,11 @@ impl DensityMap {
         bilinear(&self.values, self.width, self.height, u, v).clamp(0.0, 1.0)
     }
 
+    /// Width, height and the row-major values (x fastest) in `[0, 1]`.
+    pub fn texels(&self) -> (u32, u32, &[f32]) {
+        (self.width, self.height, &self.values)
+    }
+
     /// The largest density anywhere: 0 means the map allows no grass at all, which lets
     /// placement skip its rejection loop instead of burning its whole attempt budget.
     pub fn max(&self) -> f32 {

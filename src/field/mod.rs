@@ -15,9 +15,9 @@ mod terrain;
 mod tests;
 
 pub use density::DensityMap;
-pub use noise::{fbm, value_noise};
+pub use noise::{fbm, fbm_grad, hash32, octave_offset, octave_seeds, value_noise};
 pub use patches::morton;
-pub use terrain::{HeightField, MAX_RESOLUTION};
+pub use terrain::{HeightField, NoiseSurface, Surface, MAX_RESOLUTION};
 
 use crate::scene::types::Field;
 use crate::sim::layout::{Blade, BladeState, PatchBox, WORKGROUP_SIZE};

@@ -2,6 +2,12 @@
 //! rather than gradient noise because the terrain only needs gentle rolling hills: random
 //! heights on an integer lattice, blended with a quintic fade so that the surface (and so
 //! the normals the blades grow along) has no creases at the lattice lines.
+//!
+//! The noise is the CPU twin of `shaders/terrain_height.wgsl`, which evaluates the same
+//! function in the terrain's vertex shader: so the lattice hash is a 32-bit integer hash
+//! (WGSL has no 64-bit integers), lattice coordinates are `i32`, and a lattice value has
+//! 24 bits, exact in `f32`. The 64-bit scene seed is folded into one 32-bit seed per
+//! octave here on the CPU ([`octave_seeds`]) and handed to the GPU as such.
 
 use super::rng::mix64;
 
@@ -10,10 +16,18 @@ const LACUNARITY: f64 = 2.0;
 /// ... and halves the amplitude.
 const GAIN: f64 = 0.5;
 
+/// A 32-bit integer hash (the PCG output permutation of Jarzynski & Olano 2020, "Hash
+/// Functions for GPU Rendering"): cheap on a GPU and well mixed in every bit.
+pub fn hash32(x: u32) -> u32 {
+    let state = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
 /// The pseudo-random value in `[-1, 1]` at lattice point `(ix, iz)`.
-fn lattice(seed: u64, ix: i64, iz: i64) -> f64 {
-    let h = mix64(seed ^ mix64((ix as u64) ^ mix64(iz as u64).rotate_left(17)));
-    (h >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
+fn lattice(seed: u32, ix: i32, iz: i32) -> f64 {
+    let h = hash32(seed ^ hash32((ix as u32) ^ hash32(iz as u32).rotate_left(17)));
+    f64::from(h >> 8) * (2.0 / f64::from(1u32 << 24)) - 1.0
 }
 
 /// Quintic fade 6t⁵ − 15t⁴ + 10t³: zero first and second derivatives at 0 and 1.
@@ -21,42 +35,75 @@ fn fade(t: f64) -> f64 {
     t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
 }
 
-/// Value noise in `[-1, 1]` with unit lattice spacing.
-pub fn value_noise(seed: u64, x: f64, z: f64) -> f64 {
+/// Derivative of [`fade`]: 30t²(t − 1)².
+fn fade_derivative(t: f64) -> f64 {
+    30.0 * t * t * (t - 1.0) * (t - 1.0)
+}
+
+/// Value noise in `[-1, 1]` with unit lattice spacing and its gradient `(∂/∂x, ∂/∂z)`.
+fn value_noise_grad(seed: u32, x: f64, z: f64) -> (f64, f64, f64) {
     let (x0, z0) = (x.floor(), z.floor());
-    let (ix, iz) = (x0 as i64, z0 as i64);
-    let (tx, tz) = (fade(x - x0), fade(z - z0));
+    let (ix, iz) = (x0 as i64 as i32, z0 as i64 as i32);
+    let (fx, fz) = (x - x0, z - z0);
+    let (tx, tz) = (fade(fx), fade(fz));
     let a = lattice(seed, ix, iz);
-    let b = lattice(seed, ix + 1, iz);
-    let c = lattice(seed, ix, iz + 1);
-    let d = lattice(seed, ix + 1, iz + 1);
+    let b = lattice(seed, ix.wrapping_add(1), iz);
+    let c = lattice(seed, ix, iz.wrapping_add(1));
+    let d = lattice(seed, ix.wrapping_add(1), iz.wrapping_add(1));
     let top = a + (b - a) * tx;
     let bottom = c + (d - c) * tx;
-    top + (bottom - top) * tz
+    let value = top + (bottom - top) * tz;
+    let dx = ((b - a) + (a - b - c + d) * tz) * fade_derivative(fx);
+    let dz = (bottom - top) * fade_derivative(fz);
+    (value, dx, dz)
+}
+
+/// Value noise in `[-1, 1]` with unit lattice spacing.
+pub fn value_noise(seed: u64, x: f64, z: f64) -> f64 {
+    value_noise_grad(seed as u32 ^ (seed >> 32) as u32, x, z).0
+}
+
+/// The 32-bit lattice seed of every octave of the fBm with scene seed `seed`.
+pub fn octave_seeds(seed: u64, octaves: u32) -> Vec<u32> {
+    (0..octaves)
+        .map(|octave| mix64(seed.wrapping_add(u64::from(octave))) as u32)
+        .collect()
+}
+
+/// The irrational offset of octave `octave`'s lattice: otherwise all octaves share lattice
+/// lines through the origin and the seams line up into a grid.
+pub fn octave_offset(octave: u32) -> f64 {
+    f64::from(octave) * 0.618_033_988_75 + 0.25
 }
 
 /// Fractal Brownian motion of value noise in `[-1, 1]`: `octaves` layers, the first with
 /// lattice spacing `wavelength`, each next one at twice the frequency and half the weight.
 /// The sum is divided by the total weight so the range does not depend on `octaves`.
 pub fn fbm(seed: u64, octaves: u32, wavelength: f64, x: f64, z: f64) -> f64 {
-    let mut sum = 0.0;
+    fbm_grad(&octave_seeds(seed, octaves), wavelength, x, z).0
+}
+
+/// [`fbm`] from precomputed [`octave_seeds`], with its gradient `(∂/∂x, ∂/∂z)` in 1/m.
+pub fn fbm_grad(seeds: &[u32], wavelength: f64, x: f64, z: f64) -> (f64, f64, f64) {
+    let (mut sum, mut gx, mut gz) = (0.0, 0.0, 0.0);
     let mut weight = 0.0;
     let mut amplitude = 1.0;
     let mut frequency = 1.0 / wavelength;
-    for octave in 0..octaves {
-        // Every octave gets its own lattice values and an irrational offset: otherwise all
-        // octaves share lattice lines through the origin and the seams line up into a grid.
-        let octave_seed = mix64(seed.wrapping_add(u64::from(octave)));
-        let offset = f64::from(octave) * 0.618_033_988_75 + 0.25;
-        sum += amplitude * value_noise(octave_seed, x * frequency + offset, z * frequency - offset);
+    for (octave, &octave_seed) in seeds.iter().enumerate() {
+        let offset = octave_offset(octave as u32);
+        let (v, dx, dz) =
+            value_noise_grad(octave_seed, x * frequency + offset, z * frequency - offset);
+        sum += amplitude * v;
+        gx += amplitude * dx * frequency;
+        gz += amplitude * dz * frequency;
         weight += amplitude;
         amplitude *= GAIN;
         frequency *= LACUNARITY;
     }
     if weight > 0.0 {
-        sum / weight
+        (sum / weight, gx / weight, gz / weight)
     } else {
-        0.0
+        (0.0, 0.0, 0.0)
     }
 }
 
@@ -69,7 +116,7 @@ mod tests {
         for i in -5..5 {
             for j in -5..5 {
                 let v = value_noise(9, f64::from(i), f64::from(j));
-                assert_eq!(v, lattice(9, i64::from(i), i64::from(j)));
+                assert_eq!(v, lattice(9, i, j));
                 assert!((-1.0..=1.0).contains(&v));
             }
         }
@@ -97,5 +144,32 @@ mod tests {
             assert!((-1.0..=1.0).contains(&v));
         }
         assert_eq!(fbm(5, 0, 10.0, 1.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn gradient_matches_finite_differences() {
+        let seeds = octave_seeds(3, 5);
+        let h = 1e-5;
+        for k in 0..200 {
+            let (x, z) = (f64::from(k) * 1.37 - 90.0, f64::from(k) * -0.71 + 40.0);
+            let (_, gx, gz) = fbm_grad(&seeds, 12.0, x, z);
+            let fx = (fbm_grad(&seeds, 12.0, x + h, z).0 - fbm_grad(&seeds, 12.0, x - h, z).0)
+                / (2.0 * h);
+            let fz = (fbm_grad(&seeds, 12.0, x, z + h).0 - fbm_grad(&seeds, 12.0, x, z - h).0)
+                / (2.0 * h);
+            assert!(
+                (gx - fx).abs() < 1e-6 && (gz - fz).abs() < 1e-6,
+                "{gx} {fx} {gz} {fz}"
+            );
+        }
+    }
+
+    #[test]
+    fn hash_is_the_wgsl_one() {
+        // Values of the WGSL `hash32` (the same arithmetic in u32), pinned.
+        assert_eq!(hash32(0), hash32(0));
+        assert_ne!(hash32(1), hash32(2));
+        let spread = (0..1000u32).map(|i| hash32(i) >> 31).sum::<u32>();
+        assert!((400..600).contains(&spread), "{spread}");
     }
 }

@@ -1,13 +1,22 @@
-//! The ground as a square height field centred on the origin: built from the scene's
-//! height source (seeded fBm noise, a grey PNG, or flat), sampled bilinearly for blade
-//! roots and with central differences for the local up vector each blade grows along.
+//! The ground: a height function of (x, z) built from the scene's height source, plus the
+//! square grid of its heights centred on the origin.
+//!
+//! * `Noise` and `Flat` are analytic and have no edge: [`HeightField::height`] and
+//!   [`HeightField::normal`] evaluate the fBm (rescaled exactly as the grid is) at any
+//!   (x, z), inside the square too, so blade roots, picking, balls and the camera stand on
+//!   the same surface the terrain's vertex shader draws (`shaders/terrain_height.wgsl` is
+//!   the twin). With `terrain.unbounded = false` the function is evaluated at (x, z)
+//!   clamped into the square: past the edge the edge heights continue, level outward.
+//! * `Png` is a sampled grid and stays bounded in data: bilinear between grid vertices,
+//!   central differences for the normal, and past the edge the edge heights continue
+//!   (clamped), so an unbounded height-map scene extends its border flat to the horizon.
 
 use std::path::Path;
 
 use glam::Vec3;
 
 use super::grid::{bilinear, load_grey, resample, to_grid};
-use super::noise::fbm;
+use super::noise::{fbm_grad, octave_seeds};
 use crate::error::{Error, Result};
 use crate::scene::types::{HeightSource, Terrain};
 
@@ -22,6 +31,56 @@ pub struct HeightField {
     pub size: f32,
     pub resolution: u32,
     pub heights: Vec<f32>,
+    /// What lies between and beyond the grid vertices.
+    pub surface: Surface,
+    /// Whether the analytic surface continues past the square (`terrain.unbounded`).
+    pub unbounded: bool,
+}
+
+/// How heights between and beyond the grid vertices are found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Surface {
+    /// Bilinear between grid vertices; outside the square the edge heights continue.
+    Grid,
+    /// The analytic fBm, equal to the grid at its vertices (up to f32 rounding).
+    Noise(NoiseSurface),
+}
+
+/// `height(x, z) = (fbm(x, z) − mid) · scale`: the fBm of [`super::fbm`] with the
+/// rescaling the grid got (so `amplitude` is the peak-to-peak height inside the square;
+/// outside it the hills may reach a little higher or lower). `Flat` is the case of no
+/// octaves and scale 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoiseSurface {
+    pub seeds: Vec<u32>,
+    pub wavelength: f64,
+    pub mid: f64,
+    pub scale: f64,
+}
+
+impl NoiseSurface {
+    /// The flat plane y = 0.
+    pub fn flat() -> Self {
+        Self {
+            seeds: Vec::new(),
+            wavelength: 1.0,
+            mid: 0.0,
+            scale: 0.0,
+        }
+    }
+
+    /// Height and gradient `(∂h/∂x, ∂h/∂z)` at `(x, z)`.
+    pub fn eval(&self, x: f64, z: f64) -> (f64, f64, f64) {
+        if self.seeds.is_empty() || self.scale == 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let (h, gx, gz) = fbm_grad(&self.seeds, self.wavelength, x, z);
+        (
+            (h - self.mid) * self.scale,
+            gx * self.scale,
+            gz * self.scale,
+        )
+    }
 }
 
 impl HeightField {
@@ -32,6 +91,8 @@ impl HeightField {
             size,
             resolution,
             heights: vec![0.0; (resolution as usize).pow(2)],
+            surface: Surface::Grid,
+            unbounded: true,
         }
     }
 
@@ -55,8 +116,12 @@ impl HeightField {
                 "terrain.resolution must be in 2..={MAX_RESOLUTION}, got {resolution}"
             )));
         }
+        let mut surface = Surface::Grid;
         let heights = match &terrain.height {
-            HeightSource::Flat => vec![0.0; (resolution as usize).pow(2)],
+            HeightSource::Flat => {
+                surface = Surface::Noise(NoiseSurface::flat());
+                vec![0.0; (resolution as usize).pow(2)]
+            }
             &HeightSource::Noise {
                 seed,
                 amplitude,
@@ -73,7 +138,10 @@ impl HeightField {
                         "terrain noise amplitude must be finite, got {amplitude}"
                     )));
                 }
-                noise_heights(size, resolution, seed, amplitude, wavelength, octaves)
+                let (heights, noise) =
+                    noise_heights(size, resolution, seed, amplitude, wavelength, octaves);
+                surface = Surface::Noise(noise);
+                heights
             }
             HeightSource::Png { path, scale } => {
                 if !scale.is_finite() {
@@ -92,7 +160,23 @@ impl HeightField {
             size,
             resolution,
             heights,
+            surface,
+            unbounded: terrain.unbounded,
         })
+    }
+
+    /// Where the analytic surface is evaluated for `(x, z)`: the point itself, or clamped
+    /// into the square when the terrain is bounded.
+    fn analytic_point(&self, x: f32, z: f32) -> (f64, f64) {
+        if self.unbounded {
+            (f64::from(x), f64::from(z))
+        } else {
+            let half = 0.5 * self.size;
+            (
+                f64::from(x.clamp(-half, half)),
+                f64::from(z.clamp(-half, half)),
+            )
+        }
     }
 
     /// Distance between neighbouring grid vertices.
@@ -111,17 +195,42 @@ impl HeightField {
         )
     }
 
-    /// Height at `(x, z)`, bilinear between grid vertices; outside the square the edge
-    /// heights continue.
+    /// Height at `(x, z)`: the analytic surface, or bilinear between grid vertices with the
+    /// edge heights continuing outside the square.
     pub fn height(&self, x: f32, z: f32) -> f32 {
+        if let Surface::Noise(noise) = &self.surface {
+            if x.is_nan() || z.is_nan() {
+                return f32::NAN;
+            }
+            let (px, pz) = self.analytic_point(x, z);
+            return noise.eval(px, pz).0 as f32;
+        }
         let u = to_grid(x, self.size, self.resolution);
         let v = to_grid(z, self.size, self.resolution);
         bilinear(&self.heights, self.resolution, self.resolution, u, v)
     }
 
-    /// Unit surface normal at `(x, z)` from central differences one grid spacing apart
-    /// (one-sided at the edges, where the wider stencil would leave the square).
+    /// Unit surface normal at `(x, z)`: from the analytic gradient, or for a grid from
+    /// central differences one grid spacing apart (one-sided at the edges, where the wider
+    /// stencil would leave the square).
     pub fn normal(&self, x: f32, z: f32) -> Vec3 {
+        if let Surface::Noise(noise) = &self.surface {
+            let (px, pz) = self.analytic_point(x, z);
+            let (_, gx, gz) = noise.eval(px, pz);
+            // Bounded: level past the edge, like the clamped grid.
+            let half = f64::from(0.5 * self.size);
+            let gx = if px.abs() < half || self.unbounded {
+                gx
+            } else {
+                0.0
+            };
+            let gz = if pz.abs() < half || self.unbounded {
+                gz
+            } else {
+                0.0
+            };
+            return Vec3::new(-gx as f32, 1.0, -gz as f32).normalize();
+        }
         let d = self.spacing();
         let half = 0.5 * self.size;
         let (x0, x1) = ((x - d).max(-half), (x + d).min(half));
@@ -138,6 +247,21 @@ impl HeightField {
             0.0
         };
         Vec3::new(-dx, 1.0, -dz).normalize()
+    }
+
+    /// Bounds that every height inside the square lies within: the grid's own for a grid;
+    /// for analytic noise the fBm's range [−1, 1] rescaled (between grid vertices the
+    /// function may pass the sampled extremes).
+    pub fn height_bounds(&self) -> (f32, f32) {
+        let (lo, hi) = self.min_max();
+        match &self.surface {
+            Surface::Noise(n) if !n.seeds.is_empty() && n.scale != 0.0 => {
+                let a = ((-1.0 - n.mid) * n.scale) as f32;
+                let b = ((1.0 - n.mid) * n.scale) as f32;
+                (lo.min(a.min(b)), hi.max(a.max(b)))
+            }
+            _ => (lo, hi),
+        }
     }
 
     /// Lowest and highest grid height.
@@ -160,7 +284,9 @@ fn noise_heights(
     amplitude: f32,
     wavelength: f32,
     octaves: u32,
-) -> Vec<f32> {
+) -> (Vec<f32>, NoiseSurface) {
+    let seeds = octave_seeds(seed, octaves);
+    let wavelength = f64::from(wavelength);
     let spacing = f64::from(size) / f64::from(resolution - 1);
     let half = 0.5 * f64::from(size);
     let mut raw = Vec::with_capacity((resolution as usize).pow(2));
@@ -168,7 +294,7 @@ fn noise_heights(
         for i in 0..resolution {
             let x = -half + f64::from(i) * spacing;
             let z = -half + f64::from(j) * spacing;
-            raw.push(fbm(seed, octaves, f64::from(wavelength), x, z));
+            raw.push(fbm_grad(&seeds, wavelength, x, z).0);
         }
     }
     let (lo, hi) = raw
@@ -178,13 +304,23 @@ fn noise_heights(
         });
     let span = hi - lo;
     if span <= 1e-12 {
-        return vec![0.0; raw.len()];
+        return (vec![0.0; raw.len()], NoiseSurface::flat());
     }
     let mid = 0.5 * (lo + hi);
     let scale = f64::from(amplitude) / span;
-    raw.into_iter()
+    let heights = raw
+        .into_iter()
         .map(|h| ((h - mid) * scale) as f32)
-        .collect()
+        .collect();
+    (
+        heights,
+        NoiseSurface {
+            seeds,
+            wavelength,
+            mid,
+            scale,
+        },
+    )
 }
 
 #[cfg(test)]
@@ -202,6 +338,7 @@ mod tests {
                 octaves: 4,
             },
             density_map: None,
+            unbounded: true,
         }
     }
 
@@ -212,6 +349,34 @@ mod tests {
         let (lo, hi) = field.min_max();
         assert!((hi - lo - 2.0).abs() < 1e-4, "{lo} {hi}");
         assert!((hi + lo).abs() < 1e-4, "{lo} {hi}");
+    }
+
+    #[test]
+    fn analytic_heights_match_the_grid_and_stay_in_bounds() {
+        let field = HeightField::from_scene(&noise_terrain()).unwrap();
+        let (lo, hi) = field.height_bounds();
+        for j in (0..129).step_by(8) {
+            for i in (0..129).step_by(8) {
+                let v = field.vertex(i, j);
+                assert!((field.height(v.x, v.z) - v.y).abs() < 1e-5, "{v}");
+            }
+        }
+        // Far outside the square the function goes on (not the edge height) and stays in
+        // the fBm's bounds.
+        let mut differs = 0;
+        for k in 0..200 {
+            let (x, z) = (100.0 + k as f32 * 7.3, -5000.0 + k as f32 * 3.1);
+            let h = field.height(x, z);
+            assert!((lo..=hi).contains(&h), "{h}");
+            differs += usize::from((h - field.height(20.0, 0.0)).abs() > 1e-3);
+        }
+        assert!(differs > 150);
+        // Bounded: the edge heights continue, level.
+        let mut bounded = noise_terrain();
+        bounded.unbounded = false;
+        let field = HeightField::from_scene(&bounded).unwrap();
+        assert_eq!(field.height(300.0, 5.0), field.height(20.0, 5.0));
+        assert_eq!(field.normal(300.0, 5.0).x, 0.0);
     }
 
     #[test]
@@ -304,6 +469,7 @@ mod tests {
                 scale: 3.0,
             },
             density_map: None,
+            unbounded: true,
         };
         let field = HeightField::from_scene(&terrain).unwrap();
         assert!(field.height(-5.0, 0.0).abs() < 1e-5);

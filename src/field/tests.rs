@@ -19,6 +19,7 @@ fn hills() -> HeightField {
             octaves: 4,
         },
         density_map: None,
+        unbounded: true,
     })
     .unwrap()
 }

@@ -45,4 +45,16 @@ impl CameraView {
         );
         proj * view
     }
+
+    /// The view-projection of the same camera moved to the origin: applied to positions
+    /// relative to the eye, it keeps their precision far from the world origin (the
+    /// terrain is drawn this way; its vertices are world positions minus the eye).
+    pub fn view_proj_relative(&self, aspect: f32) -> Mat4 {
+        Self {
+            eye: Vec3::ZERO,
+            target: self.target - self.eye,
+            ..*self
+        }
+        .view_proj(aspect)
+    }
 }

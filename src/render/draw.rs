@@ -5,8 +5,10 @@
 
 use wgpu::util::DeviceExt;
 
-use super::mesh::{sphere_mesh, terrain_mesh, LodMeshes, TerrainVertex};
-use crate::field::HeightField;
+use super::camera::CameraView;
+use super::mesh::{sphere_mesh, LodMeshes};
+use super::terrain::TerrainPass;
+use crate::field::{DensityMap, HeightField};
 use crate::gpu::Gpu;
 use crate::shaders;
 use crate::sim::layout::{FrameUniforms, LOD_LEVELS};
@@ -38,7 +40,8 @@ pub struct DrawPass {
     grass: wgpu::RenderPipeline,
     /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
     grass_lines: Option<wgpu::RenderPipeline>,
-    terrain_mesh: Mesh,
+    /// The clipmap terrain's buffers and bind group.
+    terrain_pass: TerrainPass,
     sphere_mesh: Mesh,
     /// A coarse sphere for the occluder pass: its vertices lie on the sphere, so it is
     /// inside it and occludes no more than the sphere does (and the colour pass's finer
@@ -143,11 +146,15 @@ fn pipeline(
 impl DrawPass {
     /// `cull_params` is the cull pass's uniform buffer (the grass morph reads it);
     /// `multi_draw` draws all levels with one multi-draw-indirect (the device must have
-    /// `INDIRECT_FIRST_INSTANCE`, and the cull pass must write first instances).
+    /// `INDIRECT_FIRST_INSTANCE`, and the cull pass must write first instances);
+    /// `density` and `blend` shade the far ground ([`super::clipmap::grass_blend`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         buffers: &BladeBuffers,
         terrain: &HeightField,
+        density: Option<&DensityMap>,
+        blend: (f32, f32),
         lod: &LodMeshes,
         cull_params: &wgpu::Buffer,
         multi_draw: bool,
@@ -253,12 +260,7 @@ impl DrawPass {
             ],
         });
 
-        let terrain_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let terrain_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<TerrainVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &terrain_attrs,
-        })];
+        let terrain_pass = TerrainPass::new(gpu, terrain, density, blend, &frame);
         let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
         let sphere_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: 12,
@@ -285,8 +287,8 @@ impl DrawPass {
             PipelineSpec {
                 label: "sward.draw.terrain",
                 shader: "terrain.wgsl",
-                layout: &frame_layout,
-                buffers: &terrain_buffers,
+                layout: &terrain_pass.layout,
+                buffers: &[],
                 depth_write: true,
                 cull_back: false,
                 lines: false,
@@ -326,8 +328,8 @@ impl DrawPass {
         let terrain_depth = depth_only(
             "sward.draw.terrain_depth",
             "terrain.wgsl",
-            &frame_layout,
-            &terrain_buffers,
+            &terrain_pass.layout,
+            &[],
         );
         let spheres_depth = depth_only(
             "sward.draw.spheres_depth",
@@ -372,20 +374,6 @@ impl DrawPass {
                 )
             });
 
-        let (tv, ti) = terrain_mesh(terrain);
-        let terrain_mesh = Mesh {
-            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward.terrain.vertices"),
-                contents: bytemuck::cast_slice(&tv),
-                usage: wgpu::BufferUsages::VERTEX,
-            }),
-            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward.terrain.indices"),
-                contents: bytemuck::cast_slice(&ti),
-                usage: wgpu::BufferUsages::INDEX,
-            }),
-            count: ti.len() as u32,
-        };
         let sphere = |rings, sectors, label: &str| {
             let (sv, si) = sphere_mesh(rings, sectors);
             Mesh {
@@ -421,7 +409,7 @@ impl DrawPass {
             spheres_depth,
             grass,
             grass_lines,
-            terrain_mesh,
+            terrain_pass,
             sphere_mesh,
             occluder_sphere,
             blade_indices,
@@ -432,8 +420,6 @@ impl DrawPass {
     pub fn gpu_bytes(&self) -> u64 {
         [
             &self.frame,
-            &self.terrain_mesh.vertices,
-            &self.terrain_mesh.indices,
             &self.sphere_mesh.vertices,
             &self.sphere_mesh.indices,
             &self.occluder_sphere.vertices,
@@ -442,7 +428,8 @@ impl DrawPass {
         ]
         .iter()
         .map(|b| b.size())
-        .sum()
+        .sum::<u64>()
+            + self.terrain_pass.gpu_bytes()
     }
 
     /// Whether the grass can be drawn as lines (the adapter supports line rasterisation).
@@ -455,19 +442,17 @@ impl DrawPass {
         &self.frame
     }
 
-    /// Writes this frame's uniforms.
-    pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms) {
+    /// Writes this frame's uniforms (made for `camera`) and places the terrain's levels
+    /// around the camera (the viewport and fog distance are in `frame.viewport_time`).
+    pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms, camera: &CameraView) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
+        let [w, h, _, fog] = frame.viewport_time;
+        self.terrain_pass
+            .prepare(queue, camera, w / h.max(1.0), fog);
     }
 
     fn draw_terrain<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
-        pass.set_bind_group(0, &self.frame_group, &[]);
-        pass.set_vertex_buffer(0, self.terrain_mesh.vertices.slice(..));
-        pass.set_index_buffer(
-            self.terrain_mesh.indices.slice(..),
-            wgpu::IndexFormat::Uint32,
-        );
-        pass.draw_indexed(0..self.terrain_mesh.count, 0, 0..1);
+        self.terrain_pass.draw(pass);
     }
 
     fn draw_spheres<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, mesh: &'a Mesh, count: u32) {

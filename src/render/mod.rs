@@ -6,12 +6,14 @@
 
 pub mod arrows;
 pub mod camera;
+pub mod clipmap;
 pub mod cull;
 pub mod draw;
 pub mod hiz;
 pub mod mesh;
 pub mod overlay;
 pub mod target;
+pub mod terrain;
 pub mod timing;
 pub mod upscale;
 
@@ -144,10 +146,13 @@ impl Renderer {
             .device
             .features()
             .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+        let density = crate::field::DensityMap::from_scene(&scene.terrain)?;
         let draw = DrawPass::new(
             gpu,
             &buffers,
             &terrain,
+            density.as_ref(),
+            clipmap::grass_blend(scene.culling.max_distance),
             &lod,
             &cull.params,
             multi_draw,
@@ -501,8 +506,11 @@ impl Renderer {
         let cp = self.cull_uniforms(&cull_camera, size, hiz);
         self.cull.prepare(&gpu.queue, &cp);
         self.last_cull = cp;
-        self.draw
-            .prepare(&gpu.queue, &self.frame_uniforms(camera, size.0, size.1));
+        self.draw.prepare(
+            &gpu.queue,
+            &self.frame_uniforms(camera, size.0, size.1),
+            camera,
+        );
         let timer = self.timer.as_ref();
         if occlusion {
             self.draw.encode_occluders(

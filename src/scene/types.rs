@@ -46,7 +46,8 @@ pub enum HeightSource {
     Flat,
 }
 
-/// The ground: a square height field centred on the origin, in the x/z plane.
+/// The ground: heights over the x/z plane; grass grows in the square of side `size`
+/// centred on the origin, and the ground itself runs on past it when `unbounded`.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Terrain {
@@ -57,6 +58,10 @@ pub struct Terrain {
     pub height: HeightSource,
     /// Optional grey PNG: white = full density, black = no grass.
     pub density_map: Option<String>,
+    /// Whether the ground goes on past the square to the horizon (drawn around the camera
+    /// out to the far plane); `false` draws only the square. Blades grow only inside the
+    /// square either way.
+    pub unbounded: bool,
 }
 
 fn noise_seed() -> u64 {
@@ -84,6 +89,7 @@ impl Default for Terrain {
                 octaves: noise_octaves(),
             },
             density_map: None,
+            unbounded: true,
         }
     }
 }

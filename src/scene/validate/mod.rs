@@ -19,6 +19,7 @@
 //! | `terrain.height: Noise` | 0 ≤ amplitude ≤ 1000 m, 0.01 ≤ wavelength ≤ 100000 m, 1 ≤ octaves ≤ 12 |
 //! | `terrain.height: Png` | path not empty, 0 ≤ scale ≤ 1000 m |
 //! | `terrain.density_map` | not empty |
+//! | `terrain.unbounded` | true or false |
 //! | `field.density` | 0 < density ≤ 10000 blades/m² |
 //! | `field.height` | 0.01 ≤ min ≤ max ≤ 10 m |
 //! | `field.width` | 0 < min ≤ max ≤ 1 m |

@@ -50,6 +50,7 @@ pub(super) const RULES: &[(&str, Rule)] = &[
         "terrain.density_map",
         Rule::Text("None or the path of a grey PNG file"),
     ),
+    ("terrain.unbounded", Rule::Bool),
     ("field.density", Rule::Real(DENSITY)),
     ("field.height", Rule::Range(HEIGHT)),
     ("field.width", Rule::Range(WIDTH)),
@@ -117,6 +118,23 @@ pub(super) fn field(check: &Checker, field: &Field) -> Result<()> {
 mod tests {
     use super::super::tests::{check, rejected};
     use crate::scene::Scene;
+
+    #[test]
+    fn unbounded_is_a_bool_with_a_rule_and_defaults_to_true() {
+        assert!(Scene::default().terrain.unbounded);
+        assert_eq!(
+            super::super::allowed_for("terrain.unbounded").as_deref(),
+            Some("true or false")
+        );
+        for unbounded in [true, false] {
+            let mut scene = Scene::default();
+            scene.terrain.unbounded = unbounded;
+            check(&mut scene).unwrap();
+            assert_eq!(scene.terrain.unbounded, unbounded);
+        }
+        let parsed: Result<Scene, _> = ron::from_str("(terrain: (unbounded: 3))");
+        assert!(parsed.is_err());
+    }
 
     #[test]
     fn patch_size_must_fill_workgroups() {

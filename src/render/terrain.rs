@@ -1,0 +1,338 @@
+//! The terrain's GPU resources: the clipmap's index buffer ([`super::clipmap`]), the
+//! height-function uniforms, the height grid of a `Png` terrain, the density map as a
+//! texture for the far ground colour, and their bind group; plus [`probe_heights`], the
+//! compute kernel that evaluates the WGSL height function at given points so that tests
+//! can hold it against the CPU's [`HeightField`].
+
+use std::cell::Cell;
+
+use glam::{Vec2, Vec3};
+use wgpu::util::DeviceExt;
+
+use super::camera::CameraView;
+use super::clipmap::{self, TerrainUniforms, MAX_LEVELS, VARIANTS};
+use super::draw::read_storage;
+use crate::error::Result;
+use crate::field::{DensityMap, HeightField, Surface};
+use crate::gpu::{read_buffer, Gpu};
+use crate::shaders;
+use crate::sim::update::uniform_entry;
+
+/// Buffers, texture and bind group of the terrain draw.
+pub struct TerrainPass {
+    pub layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    grid: wgpu::Buffer,
+    density: wgpu::Texture,
+    group: wgpu::BindGroup,
+    indices: wgpu::Buffer,
+    ranges: [(u32, u32); VARIANTS],
+    /// The terrain without its grid heights: what the uniforms are computed from.
+    shape: HeightField,
+    has_density: bool,
+    blend: (f32, f32),
+    /// What `prepare` placed: the variant each level draws, and the level count.
+    drawn: Cell<([u8; MAX_LEVELS], u32)>,
+}
+
+/// The height grid a `Png` terrain binds (a single 0 for analytic terrains).
+fn grid_values(terrain: &HeightField) -> &[f32] {
+    match terrain.surface {
+        Surface::Grid if !terrain.heights.is_empty() => &terrain.heights,
+        _ => &[0.0],
+    }
+}
+
+fn grid_buffer(device: &wgpu::Device, terrain: &HeightField) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("sward.terrain.grid"),
+        contents: bytemuck::cast_slice(grid_values(terrain)),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+fn params_buffer(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: std::mem::size_of::<TerrainUniforms>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// The density map as an R8 texture (every `step`-th texel where the map is larger than
+/// the device allows), or one white texel.
+fn density_texture(gpu: &Gpu, density: Option<&DensityMap>) -> wgpu::Texture {
+    let max = gpu.device.limits().max_texture_dimension_2d.max(1);
+    let (w, h, texels) = match density {
+        Some(map) => {
+            let (w, h, values) = map.texels();
+            let step = w.max(h).div_ceil(max).max(1);
+            let (tw, th) = (w.div_ceil(step), h.div_ceil(step));
+            let mut texels = Vec::with_capacity((tw * th) as usize);
+            for j in 0..th {
+                for i in 0..tw {
+                    let v = values[((j * step).min(h - 1) * w + (i * step).min(w - 1)) as usize];
+                    texels.push((v.clamp(0.0, 1.0) * 255.0).round() as u8);
+                }
+            }
+            (tw, th, texels)
+        }
+        None => (1, 1, vec![255]),
+    };
+    gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("sward.terrain.density"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &texels,
+    )
+}
+
+impl TerrainPass {
+    /// Uploads the terrain; `frame` is the draw pass's frame-uniform buffer and `blend`
+    /// the soil-to-grass distances ([`clipmap::grass_blend`]).
+    pub fn new(
+        gpu: &Gpu,
+        terrain: &HeightField,
+        density: Option<&DensityMap>,
+        blend: (f32, f32),
+        frame: &wgpu::Buffer,
+    ) -> Self {
+        let device = &gpu.device;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.terrain.layout"),
+            entries: &[
+                uniform_entry(0, vf),
+                uniform_entry(1, vf),
+                read_storage(2, wgpu::ShaderStages::VERTEX),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let params = params_buffer(device, "sward.terrain.params");
+        let grid = grid_buffer(device, terrain);
+        let density_tex = density_texture(gpu, density);
+        let view = density_tex.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("sward.terrain.density_view"),
+            ..Default::default()
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sward.terrain.density_sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.terrain.group"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: frame.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: grid.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+            ],
+        });
+        let (indices, ranges) = clipmap::ring_indices();
+        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward.terrain.indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        let shape = HeightField {
+            size: terrain.size,
+            resolution: terrain.resolution,
+            heights: Vec::new(),
+            surface: terrain.surface.clone(),
+            unbounded: terrain.unbounded,
+        };
+        Self {
+            layout,
+            params,
+            grid,
+            density: density_tex,
+            group,
+            indices,
+            ranges,
+            shape,
+            has_density: density.is_some(),
+            blend,
+            drawn: Cell::new(([0; MAX_LEVELS], 0)),
+        }
+    }
+
+    /// Bytes of the terrain's buffers and texture.
+    pub fn gpu_bytes(&self) -> u64 {
+        let s = self.density.size();
+        self.params.size()
+            + self.grid.size()
+            + self.indices.size()
+            + u64::from(s.width) * u64::from(s.height)
+    }
+
+    /// Places the levels around the camera for a viewport of `aspect` and fog distance
+    /// `fog`.
+    pub fn prepare(&self, queue: &wgpu::Queue, camera: &CameraView, aspect: f32, fog: f32) {
+        let mut u = clipmap::terrain_uniforms(
+            &self.shape,
+            self.has_density,
+            self.blend,
+            camera.eye,
+            camera.far,
+            fog,
+        );
+        u.view_proj_relative = camera.view_proj_relative(aspect).to_cols_array_2d();
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
+        let levels = u.info[3].min(MAX_LEVELS as u32);
+        let mut variants = [0u8; MAX_LEVELS];
+        for (k, v) in variants.iter_mut().enumerate().take(levels as usize) {
+            *v = clipmap::variant(&u, k) as u8;
+        }
+        self.drawn.set((variants, levels));
+    }
+
+    /// Draws every level (the pipeline is set by the caller).
+    pub fn draw<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let (variants, levels) = self.drawn.get();
+        for k in 0..levels {
+            let (first, count) = self.ranges[variants[k as usize] as usize];
+            pass.draw_indexed(first..first + count, 0, k..k + 1);
+        }
+    }
+}
+
+/// The WGSL height function (`terrain_height`) at `points`: height, ∂h/∂x, ∂h/∂z each,
+/// read back from the GPU. The twin of [`HeightField::height`] and [`HeightField::normal`].
+pub fn probe_heights(gpu: &Gpu, terrain: &HeightField, points: &[Vec2]) -> Result<Vec<Vec3>> {
+    let device = &gpu.device;
+    let count = points.len().max(1);
+    let c = wgpu::ShaderStages::COMPUTE;
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sward.terrain_probe.layout"),
+        entries: &[
+            uniform_entry(1, c),
+            read_storage(2, c),
+            read_storage(3, c),
+            crate::sim::update::compute_storage_entry(4, false),
+        ],
+    });
+    let params = params_buffer(device, "sward.terrain_probe.params");
+    let u = clipmap::terrain_uniforms(terrain, false, (0.0, 1.0), Vec3::ZERO, 1.0, 0.0);
+    gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&u));
+    let grid = grid_buffer(device, terrain);
+    let mut flat: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
+    flat.resize(count, [0.0; 2]);
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("sward.terrain_probe.points"),
+        contents: bytemuck::cast_slice(&flat),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let out_size = (count * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.terrain_probe.out"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sward.terrain_probe.group"),
+        layout: &layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: params.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: grid.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let module = shaders::module(device, "terrain_probe.wgsl");
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("sward.terrain_probe.pipeline_layout"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("sward.terrain_probe"),
+        layout: Some(&pipeline_layout),
+        module: &module,
+        entry_point: Some("probe"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("sward.terrain_probe"),
+    });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.terrain_probe"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((count as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(gpu, &output, out_size)?;
+    let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    Ok(values
+        .iter()
+        .take(points.len())
+        .map(|v| Vec3::new(v[0], v[1], v[2]))
+        .collect())
+}
