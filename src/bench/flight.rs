@@ -10,18 +10,14 @@
 //! `billboards_drawn` and `tiles_generated` are reported too; they stay 0 until the
 //! billboard level and the tile streaming exist.
 
-use std::path::Path;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 use serde::Serialize;
 
 use super::{BenchOptions, BENCH_DT, MIB};
-use crate::commands::{load, DEFAULT_SCENE_PATH};
 use crate::error::{Error, Result};
 use crate::field::HeightField;
-use crate::gpu::Gpu;
-use crate::output::Outputs;
 use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::Renderer;
@@ -142,24 +138,12 @@ pub fn frame_name(i: u32) -> String {
 /// the line, and reports.
 pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
     let date = super::utc_now();
-    let mut outputs = Outputs::new();
-    if let Some(scene) = &o.scene {
-        outputs.input("--scene", scene)?;
-    }
-    if let Some(dir) = &o.images {
-        for i in 0..o.frames {
-            outputs.add("--images", &dir.join(frame_name(i)))?;
-        }
-    }
-    let scene = load(o.scene.as_deref(), &o.sets)?;
-    let scene_name = o
-        .scene
-        .as_deref()
-        .unwrap_or(Path::new(DEFAULT_SCENE_PATH))
-        .display()
-        .to_string();
-    let gpu = Gpu::new(&o.adapter)?;
-    eprintln!("adapter: {}", gpu.describe());
+    let super::Start {
+        mut outputs,
+        scene,
+        scene_name,
+        gpu,
+    } = super::start(o, (0..o.frames).map(frame_name))?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
     let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;

@@ -598,16 +598,25 @@ fn colliders(scene: &Scene) -> u64 {
 /// their difference.
 const IMAGE_NAMES: [&str; 3] = ["all.png", "unculled.png", "difference.png"];
 
-/// Runs the benchmark and returns its report (progress goes to stderr).
-pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
-    let date = utc_now();
-    // The three images are checked before any frame and renamed into place together.
+/// What every bench run begins with.
+struct Start {
+    /// `--images DIR`'s files, checked (nothing is written yet).
+    outputs: Outputs,
+    /// The scene with its `--set` overrides, and the name the report gives it.
+    scene: Scene,
+    scene_name: String,
+    gpu: Gpu,
+}
+
+/// Checks the outputs (`image_names` in `--images DIR`) before any work, loads the scene
+/// and opens the adapter.
+fn start(o: &BenchOptions, image_names: impl IntoIterator<Item = String>) -> Result<Start> {
     let mut outputs = Outputs::new();
     if let Some(scene) = &o.scene {
         outputs.input("--scene", scene)?;
     }
     if let Some(dir) = &o.images {
-        for name in IMAGE_NAMES {
+        for name in image_names {
             outputs.add("--images", &dir.join(name))?;
         }
     }
@@ -620,6 +629,24 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
         .to_string();
     let gpu = Gpu::new(&o.adapter)?;
     eprintln!("adapter: {}", gpu.describe());
+    Ok(Start {
+        outputs,
+        scene,
+        scene_name,
+        gpu,
+    })
+}
+
+/// Runs the benchmark and returns its report (progress goes to stderr).
+pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
+    let date = utc_now();
+    // The three images are checked before any frame and renamed into place together.
+    let Start {
+        mut outputs,
+        scene,
+        scene_name,
+        gpu,
+    } = start(o, IMAGE_NAMES.map(String::from))?;
     // Every count is vetted before the first frame, so a sweep that cannot fit fails now
     // rather than after minutes of measuring.
     for &n in &o.sweep {
