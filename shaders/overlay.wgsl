@@ -17,7 +17,9 @@ struct Arrow {
     segment: vec4<f32>,
     strength: f32,
     radius: f32,
-    pad: vec2<f32>,
+    // 0 before the AGC sequence reaches the arrow, 1 once it is fully on.
+    activation: f32,
+    pad: f32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -144,7 +146,10 @@ fn vs_guide(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32)
     let s = clamp(a.strength / max(overlay.extra.w, 1e-4), 0.0, 1.0);
     var out: LineOut;
     out.clip = frame.view_proj * vec4<f32>(w, 1.0);
-    out.color = vec4<f32>(mix(vec3<f32>(1.0, 0.95, 0.2), vec3<f32>(1.0, 0.2, 0.1), s), 1.0);
+    let on = mix(vec3<f32>(1.0, 0.95, 0.2), vec3<f32>(1.0, 0.2, 0.1), s);
+    // Arrows the sequence has not switched on yet are grey (as in the window's editor).
+    let off = vec3<f32>(0.35, 0.35, 0.38);
+    out.color = vec4<f32>(mix(off, on, clamp(a.activation, 0.0, 1.0)), 1.0);
     return out;
 }
 

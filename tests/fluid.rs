@@ -48,7 +48,8 @@ fn arrow(from: [f32; 2], to: [f32; 2], strength: f32, radius: f32) -> ArrowGpu {
         segment: [from[0], from[1], to[0], to[1]],
         strength,
         radius,
-        _pad: [0.0; 2],
+        activation: 1.0,
+        _pad: 0.0,
     }
 }
 

@@ -418,7 +418,7 @@ impl Renderer {
         if let Some(o) = &mut self.overlay {
             o.prepare(
                 &gpu.queue,
-                &agc::arrows_at(&self.scene.wind.guides, f32::INFINITY),
+                &agc::overlay_arrows(&self.scene.wind.guides, self.time),
             );
         }
     }
@@ -572,6 +572,10 @@ impl Renderer {
                 wireframe,
                 timer.map(|t| t.render(timing::LATE_DRAW)),
             );
+        }
+        if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {
+            // The arrows' on/off state moves with the clock.
+            self.refresh_overlay_guides(gpu);
         }
         if let Some(o) = &self.overlay {
             o.encode(encoder, color);

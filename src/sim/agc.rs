@@ -604,11 +604,28 @@ pub fn arrows_at(guides: &[Guide], time: f32) -> Vec<ArrowGpu> {
                 segment: [a.start.x, a.start.y, a.end.x, a.end.y],
                 strength: a.strength * ramp,
                 radius: a.radius,
-                _pad: [0.0; 2],
+                activation: ramp,
+                _pad: 0.0,
             })
         })
         .collect();
     truncate_with_warning(on, MAX_ARROWS, "AGC arrows", &ARROWS_WARNED)
+}
+
+/// Every arrow at full strength, with how far the sequence has switched it on at `time`
+/// (`ArrowGpu::activation`), for the wind overlay: arrows not yet on are drawn grey.
+pub fn overlay_arrows(guides: &[Guide], time: f32) -> Vec<ArrowGpu> {
+    arrows(guides)
+        .into_iter()
+        .take(MAX_ARROWS)
+        .map(|a| ArrowGpu {
+            segment: [a.start.x, a.start.y, a.end.x, a.end.y],
+            strength: a.strength,
+            radius: a.radius,
+            activation: a.activation(time),
+            _pad: 0.0,
+        })
+        .collect()
 }
 
 /// Everything that pushes the fluid grid at `time`: the AGC arrows ([`arrows_at`]), the
@@ -976,6 +993,14 @@ mod tests {
         assert!(s.guides.iter().all(|g| g.started == 20.0));
         assert!(arrows_at(&s.guides, 19.9).is_empty());
         assert!(s.restart(Some(7)).is_err());
+        // The overlay lists every arrow at full strength with its activation.
+        let overlay = overlay_arrows(&s.guides, 19.9);
+        assert_eq!(overlay.len(), 3);
+        assert!(overlay
+            .iter()
+            .all(|a| a.strength == 10.0 && a.activation == 0.0));
+        let overlay = overlay_arrows(&s.guides, 30.0);
+        assert!(overlay.iter().all(|a| a.activation == 1.0));
         // A bad clock counts as 0.
         s.set_clock(f32::NAN);
         let c = s.add_guide((5.0, 5.0), 1.0, 1.0).unwrap();

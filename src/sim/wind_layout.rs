@@ -20,7 +20,10 @@ pub struct ArrowGpu {
     pub strength: f32,
     /// Half-width of the pushed band in metres.
     pub radius: f32,
-    pub _pad: [f32; 2],
+    /// How far the AGC sequence has switched the arrow on (0–1). The splat pass ignores
+    /// it (`strength` is already scaled); the overlay draws off arrows grey.
+    pub activation: f32,
+    pub _pad: f32,
 }
 
 /// A collider footprint: cells inside it are solid and move with the collider.

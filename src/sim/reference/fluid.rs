@@ -554,7 +554,8 @@ mod tests {
             segment: [0.0, 0.0, 4.0, 0.0],
             strength: 3.0,
             radius: 1.0,
-            _pad: [0.0; 2],
+            activation: 1.0,
+            _pad: 0.0,
         };
         assert_eq!(arrow_force(&a, Vec2::new(2.0, 0.0)), Vec2::new(3.0, 0.0));
         let half = arrow_force(&a, Vec2::new(2.0, 0.5));
