@@ -112,14 +112,15 @@ pub fn validated(scene: &Scene) -> Result<Scene> {
 }
 
 impl AppState {
-    /// Builds the state for `scene`; when it failed to load, opens the default scene and
-    /// shows the error in the panel.
+    /// Builds the state for `scene`; when it failed to load, opens the default scene (with
+    /// `sets`, the command line's `--set` overrides) and shows the error in the panel.
     pub fn new(
         gpu: &Gpu,
         format: wgpu::TextureFormat,
         size: (u32, u32),
         scene: Result<Scene>,
         path: Option<&Path>,
+        sets: &[String],
     ) -> Result<Self> {
         let failed_path = scene
             .is_err()
@@ -130,7 +131,8 @@ impl AppState {
             Err(e) => {
                 eprintln!("error: {e}\nopening the default meadow instead");
                 (
-                    default_scene()?,
+                    // The default meadow, with the command line's --set still applied.
+                    crate::commands::load(None, sets)?,
                     Some(Status::Error(format!(
                         "{e} — the default meadow was opened instead; Save will not write \
                          over the file that failed to load"

@@ -124,7 +124,14 @@ impl WindowApp {
             .scene
             .take()
             .unwrap_or_else(|| crate::commands::load(o.scene.as_deref(), &o.sets));
-        let mut app = AppState::new(&gpu, format, surface.size(), scene, o.scene.as_deref())?;
+        let mut app = AppState::new(
+            &gpu,
+            format,
+            surface.size(),
+            scene,
+            o.scene.as_deref(),
+            &o.sets,
+        )?;
         app.fixed_dt = o.fixed_dt;
         app.budget.target_ms = o.target_frame_ms.or_else(|| {
             // A CPU adapter cannot draw the whole meadow at interactive rates: hold 10 fps.
