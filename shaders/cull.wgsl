@@ -267,6 +267,11 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pbox = patches[p];
+    // An empty patch (a free tile slot, or a tile patch whose every blade was removed):
+    // nothing to draw or step.
+    if pbox.min.w != 0.0 {
+        return;
+    }
     let n = patch_blades(p);
     // The frustum test also drives the physics throttle, so it runs with patch culling off.
     let in_view = box_in_frustum(pbox.min.xyz, pbox.max.xyz);
@@ -442,6 +447,10 @@ fn main(
         return;
     }
     let blade = blades[i];
+    // A blade the tile generation removed (density map, terrain edge) has height 0.
+    if blade.v1_height.w <= 0.0 {
+        return;
+    }
     let grass = (params.tests & TEST_GRASS_OCCLUSION) != 0u;
     if !early_tests(i, blade) {
         if grass {

@@ -4,6 +4,7 @@
 // `reference::update_blade`.
 //!include common.wgsl
 //!include wind.wgsl
+//!include blade_pose.wgsl
 
 // Most collide + validate rounds per step.
 const COLLISION_ROUNDS: u32 = 4u;
@@ -61,21 +62,6 @@ fn wind_at(p: vec3<f32>) -> vec3<f32> {
         w += vec3<f32>(v.x, 0.0, v.y);
     }
     return w;
-}
-
-// Eq. 9-13: v2 above the local ground plane, v1 from v2, curve length = height.
-fn validate(v0: vec3<f32>, v2_in: vec3<f32>, up: vec3<f32>, height: f32) -> array<vec3<f32>, 2> {
-    let v2 = v2_in - up * min(dot(up, v2_in - v0), 0.0);
-    let rel = v2 - v0;
-    let l_proj = length(rel - up * dot(rel, up));
-    let v1 = v0 + up * height * max(1.0 - l_proj / height, 0.05 * max(l_proj / height, 1.0));
-    let l0 = length(v2 - v0);
-    let l1 = length(v1 - v0) + length(v2 - v1);
-    let len = (2.0 * l0 + l1) / 3.0;
-    let r = height / len;
-    let v1c = v0 + r * (v1 - v0);
-    let v2c = v1c + r * (v2 - v1);
-    return array<vec3<f32>, 2>(v1c, v2c);
 }
 
 // Whether x is a finite number. A bit test, because a compiler may assume that NaN never
@@ -165,6 +151,10 @@ fn main(
     let v0 = blade.v0_dir.xyz;
     let angle = blade.v0_dir.w;
     let height = blade.v1_height.w;
+    // A blade the tile generation removed (density map, terrain edge): nothing to step.
+    if height <= 0.0 {
+        return;
+    }
     var v2 = blade.v2_width.xyz;
     let up = blade.up_stiffness.xyz;
     let stiffness = blade.up_stiffness.w * params.stiffness_scale;

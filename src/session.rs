@@ -3,6 +3,7 @@
 //! that a request too large fails with a message before anything is allocated.
 
 use crate::error::{Error, Result};
+use crate::field::tiles::{TileLayout, MAX_POOL_BLADES};
 use crate::field::{flat_field, generate, DensityMap, GeneratedField, HeightField};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
@@ -15,7 +16,11 @@ pub const MAX_BLADES: usize = 50_000_000;
 pub struct Session {
     pub scene: Scene,
     pub terrain: HeightField,
+    /// The whole field, or for a streamed scene an empty one (the renderer's pool is filled
+    /// on the GPU, tile by tile, around the camera).
     pub field: GeneratedField,
+    /// How a streamed scene is cut into tiles (`field.tile_size > 0`).
+    pub tiles: Option<TileLayout>,
 }
 
 /// The number of blades a scene asks for (before rounding to whole patches).
@@ -43,9 +48,19 @@ impl Session {
                 )));
             }
         }
-        let count = blades
-            .map(|n| n as f64)
-            .unwrap_or_else(|| requested_blades(&scene));
+        let tiles = blades
+            .is_none()
+            .then(|| TileLayout::from_scene(&scene.field, &scene.terrain, &scene.culling))
+            .flatten();
+        if let Some(layout) = &tiles {
+            check_pool(&scene, layout, gpu)?;
+        }
+        let count = match (blades, &tiles) {
+            (Some(n), _) => n as f64,
+            // A streamed field holds the pool whatever the terrain's size.
+            (None, Some(layout)) => layout.pool_blades() as f64,
+            (None, None) => requested_blades(&scene),
+        };
         // Without an adapter (the CPU twin) the field still has to fit in memory and be
         // generated in reasonable time: the same bound as `--blades`.
         if blades.is_none() && count > MAX_BLADES as f64 {
@@ -69,6 +84,7 @@ impl Session {
                     scene,
                     terrain,
                     field,
+                    tiles: None,
                 })
             }
             None => {
@@ -77,13 +93,41 @@ impl Session {
                     .map_err(|e| scene.image_error("terrain.height.path", e))?;
                 let density = DensityMap::from_scene(&scene.terrain)
                     .map_err(|e| scene.image_error("terrain.density_map", e))?;
-                let field = generate(&scene.field, &terrain, density.as_ref());
+                let field = match &tiles {
+                    Some(layout) => GeneratedField {
+                        patch_size: layout.patch_size,
+                        ..Default::default()
+                    },
+                    None => generate(&scene.field, &terrain, density.as_ref()),
+                };
                 Ok(Self {
                     scene,
                     terrain,
                     field,
+                    tiles,
                 })
             }
         }
     }
+}
+
+/// Checks that a streamed field's pool (the tiles a disk of the blade radius touches) stays
+/// within `MAX_POOL_BLADES` and the adapter, before anything is allocated.
+fn check_pool(scene: &Scene, layout: &TileLayout, gpu: Option<&Gpu>) -> Result<()> {
+    let pool = layout.pool_blades();
+    if pool > MAX_POOL_BLADES {
+        return Err(Error::Limits(format!(
+            "the streamed field needs a pool of {pool} blades ({} tiles of {} blades within \
+             culling.max_distance = {} m at field.density {} blades/m²); allowed at most \
+             {MAX_POOL_BLADES}: lower culling.max_distance or field.density",
+            layout.slots,
+            layout.blades_per_tile(),
+            scene.culling.max_distance,
+            scene.field.density
+        )));
+    }
+    if let Some(gpu) = gpu {
+        check_blade_count(gpu, pool as f64)?;
+    }
+    Ok(())
 }

@@ -7,6 +7,11 @@ const FILES: &[(&str, &str)] = &[
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
+    (
+        "blade_pose.wgsl",
+        include_str!("../shaders/blade_pose.wgsl"),
+    ),
+    ("tile_gen.wgsl", include_str!("../shaders/tile_gen.wgsl")),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
@@ -61,6 +66,7 @@ const FILES: &[(&str, &str)] = &[
 /// The entry files, one per pass (the others are only included).
 pub const ENTRY_FILES: &[&str] = &[
     "update.wgsl",
+    "tile_gen.wgsl",
     "cull.wgsl",
     "hiz.wgsl",
     "grass.wgsl",

@@ -83,6 +83,7 @@ fn run(
             CullOutcome::Frustum => cpu.culled_frustum += 1,
             CullOutcome::Distance => cpu.culled_distance += 1,
             CullOutcome::Occlusion => cpu.culled_occlusion += 1,
+            CullOutcome::Empty => {}
         }
     }
     let mut differ = 0;

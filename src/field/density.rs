@@ -65,6 +65,11 @@ impl DensityMap {
         bilinear(&self.values, self.width, self.height, u, v).clamp(0.0, 1.0)
     }
 
+    /// Side of the square the map covers, in metres.
+    pub fn size(&self) -> f32 {
+        self.size
+    }
+
     /// Width, height and the row-major values (x fastest) in `[0, 1]`.
     pub fn texels(&self) -> (u32, u32, &[f32]) {
         (self.width, self.height, &self.values)

@@ -13,6 +13,7 @@ mod rng;
 mod terrain;
 #[cfg(test)]
 mod tests;
+pub mod tiles;
 
 pub use density::DensityMap;
 pub use noise::{fbm, fbm_grad, hash32, octave_offset, octave_seeds, value_noise};

@@ -20,6 +20,7 @@ pub mod upscale;
 use glam::Vec3;
 
 use crate::error::Result;
+use crate::field::tiles::TileLayout;
 use crate::field::{GeneratedField, HeightField};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
@@ -28,6 +29,7 @@ use crate::sim::colliders::spheres_at;
 use crate::sim::fluid::{FluidConfig, FluidSolver};
 use crate::sim::layout::{CullCounters, CullParams, FrameUniforms, TEST_GRASS_OCCLUSION};
 use crate::sim::params::{cull_params, sim_params, throttled_dt, CullInputs};
+use crate::sim::tiles::TileStreamer;
 use crate::sim::update::{BladeBuffers, UpdatePass};
 use crate::sim::wind_layout::{ObstacleGpu, MAX_OBSTACLES};
 use camera::CameraView;
@@ -48,6 +50,21 @@ pub struct FrameStats {
     /// Blades the update reset to their rest pose since the start because their new state
     /// was non-finite or absurd (`BladeBuffers::read_resets`).
     pub blades_reset_nonfinite: u32,
+    /// The streamed field's tiles, when the scene streams (`field.tile_size > 0`).
+    pub tiles: Option<TileStats>,
+}
+
+/// What the tile streaming did: tiles resident now, generated in the last frame and since
+/// the start.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TileStats {
+    pub resident: usize,
+    pub slots: u32,
+    pub generated_last: usize,
+    pub generated_total: u64,
+    /// Side of a tile in metres and blades per tile.
+    pub tile_size: f32,
+    pub blades_per_tile: u32,
 }
 
 /// A sphere moved by the caller rather than by the scene (the window's thrown balls): it
@@ -96,6 +113,8 @@ pub struct Renderer {
     pub display_aspect: Option<f32>,
     /// Colour format of the targets the pipelines were built for.
     format: wgpu::TextureFormat,
+    /// The streamed field's residency and generation pass (`field.tile_size > 0`).
+    tiles: Option<TileStreamer>,
 }
 
 impl Renderer {
@@ -138,7 +157,15 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let grid = fluid.as_ref().map(|f| f.velocity()).unwrap_or(&dummy_grid);
-        let buffers = BladeBuffers::new(gpu, field)?;
+        let layout = TileLayout::from_scene(&scene.field, &scene.terrain, &scene.culling);
+        let buffers = match &layout {
+            Some(l) => BladeBuffers::new_pool(gpu, l)?,
+            None => BladeBuffers::new(gpu, field)?,
+        };
+        let density = crate::field::DensityMap::from_scene(&scene.terrain)?;
+        let tiles = layout.map(|l| {
+            TileStreamer::new(gpu, &buffers, &l, &scene.field, &terrain, density.as_ref())
+        });
         let update = UpdatePass::new(gpu, &buffers, grid);
         let cull = CullPass::new(gpu, &buffers);
         let lod = mesh::lod_meshes(scene.field.segments);
@@ -146,7 +173,6 @@ impl Renderer {
             .device
             .features()
             .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
-        let density = crate::field::DensityMap::from_scene(&scene.terrain)?;
         let draw = DrawPass::new(
             gpu,
             &buffers,
@@ -186,8 +212,13 @@ impl Renderer {
             display_aspect: None,
             cull_camera: None,
             format,
+            tiles,
         };
         r.upload_colliders(gpu);
+        if let Some(t) = &mut r.tiles {
+            let eye = CameraView::from_scene(&r.scene.camera).eye;
+            t.fill(gpu, eye.x, eye.z)?;
+        }
         Ok(r)
     }
 
@@ -303,6 +334,7 @@ impl Renderer {
         let dt = self.advance(gpu, dt);
         // No camera: no patch is culled and none is throttled.
         let camera = CameraView::from_scene(&self.scene.camera);
+        self.stream_tiles(gpu, &mut encoder, camera.eye);
         let mut cp = self.cull_uniforms(&camera, (16, 9), [0; 4]);
         cp.tests = 0;
         cp.physics_throttle = 1;
@@ -475,6 +507,46 @@ impl Renderer {
         self.pyramid = Some(pyramid);
     }
 
+    /// Moves a streamed field's tiles with the camera at `eye` and records the generation
+    /// of the entering ones (before the patch pass reads their boxes).
+    fn stream_tiles(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, eye: Vec3) {
+        let Some(tiles) = &mut self.tiles else {
+            return;
+        };
+        let jobs = tiles.plan(eye.x, eye.z);
+        if jobs.is_empty() {
+            return;
+        }
+        let timer = self.timer.as_ref();
+        tiles.encode(
+            &gpu.queue,
+            encoder,
+            &jobs,
+            timer.map(|t| t.compute(timing::TILES)),
+        );
+    }
+
+    /// The streamed field's tile counts, when the scene streams.
+    pub fn tile_stats(&self) -> Option<TileStats> {
+        self.tiles.as_ref().map(|t| {
+            let r = &t.residency;
+            TileStats {
+                resident: r.resident_count(),
+                slots: r.layout().slots,
+                generated_last: t.last_generated,
+                generated_total: r.generated(),
+                tile_size: r.layout().tile_size(),
+                blades_per_tile: r.layout().blades_per_tile(),
+            }
+        })
+    }
+
+    /// The streamed field's residency and generation uniforms (tests compare the pool with
+    /// the CPU twin).
+    pub fn tiles(&self) -> Option<&TileStreamer> {
+        self.tiles.as_ref()
+    }
+
     /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
     /// window can add its own passes (arrows, panel) before one submit.
     #[allow(clippy::too_many_arguments)]
@@ -503,6 +575,8 @@ impl Renderer {
             [0; 4]
         };
         let cull_camera = self.cull_camera.unwrap_or(*camera);
+        // The tiles follow the culling camera: a frozen one keeps its field.
+        self.stream_tiles(gpu, encoder, cull_camera.eye);
         let cp = self.cull_uniforms(&cull_camera, size, hiz);
         self.cull.prepare(&gpu.queue, &cp);
         self.last_cull = cp;
@@ -626,6 +700,7 @@ impl Renderer {
             pass_ms,
             wind_ms,
             blades_reset_nonfinite: self.buffers.read_resets(gpu)?,
+            tiles: self.tile_stats(),
         })
     }
 }

@@ -43,7 +43,7 @@ fn grid_values(terrain: &HeightField) -> &[f32] {
     }
 }
 
-fn grid_buffer(device: &wgpu::Device, terrain: &HeightField) -> wgpu::Buffer {
+pub(crate) fn grid_buffer(device: &wgpu::Device, terrain: &HeightField) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("sward.terrain.grid"),
         contents: bytemuck::cast_slice(grid_values(terrain)),
@@ -51,7 +51,7 @@ fn grid_buffer(device: &wgpu::Device, terrain: &HeightField) -> wgpu::Buffer {
     })
 }
 
-fn params_buffer(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+pub(crate) fn params_buffer(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: std::mem::size_of::<TerrainUniforms>() as u64,

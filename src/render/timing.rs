@@ -8,9 +8,10 @@ use crate::gpu::{map_and_read, Gpu};
 
 /// The passes that are timed, in the order of their query pairs: the occluders' depth
 /// pass, the depth pyramid, the patch pass, the blade update, the blade cull and the draw;
-/// then, with grass occlusion, the pyramid again, the late cull and the late draw. A pass
-/// that did not run in a frame reads 0.
-pub const PASSES: [&str; 9] = [
+/// then, with grass occlusion, the pyramid again, the late cull and the late draw; and the
+/// generation of the tiles entering a streamed field. A pass that did not run in a frame
+/// reads 0.
+pub const PASSES: [&str; 10] = [
     "occluders",
     "pyramid",
     "patches",
@@ -20,6 +21,7 @@ pub const PASSES: [&str; 9] = [
     "late pyramid",
     "late cull",
     "late draw",
+    "tiles",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -31,6 +33,7 @@ pub const DRAW: usize = 5;
 pub const LATE_PYRAMID: usize = 6;
 pub const LATE_CULL: usize = 7;
 pub const LATE_DRAW: usize = 8;
+pub const TILES: usize = 9;
 
 /// Timestamp query set and its read-back buffers.
 pub struct GpuTimer {

@@ -162,6 +162,11 @@ pub struct Field {
     /// Segments along the blade's height in the drawn mesh.
     pub segments: u32,
     pub seed: u64,
+    /// Side of the tiles the field is streamed in, in metres (rounded to whole patches):
+    /// tiles within the blade radius (`culling.max_distance`) of the camera are generated
+    /// on the GPU as the camera moves, so the grass goes on as far as the terrain does.
+    /// 0: the whole field is generated at start (the papers' scenes).
+    pub tile_size: f32,
 }
 
 impl Default for Field {
@@ -179,6 +184,7 @@ impl Default for Field {
             patch_size: 1024,
             segments: 6,
             seed: 1,
+            tile_size: 0.0,
         }
     }
 }

@@ -8,5 +8,6 @@ pub mod health;
 pub mod layout;
 pub mod params;
 pub mod reference;
+pub mod tiles;
 pub mod update;
 pub mod wind_layout;

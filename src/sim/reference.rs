@@ -247,6 +247,10 @@ pub fn update_blade(
     let rest = v4(state.rest_eta).xyz();
     let mut eta = state.rest_eta[3];
     let dt = params.dt;
+    // A blade the tile generation removed (height 0) is not stepped.
+    if height <= 0.0 {
+        return false;
+    }
     let (_, front) = blade_frame(up, angle);
 
     // Eq. 3: recovery, weakened by the collision strength.
@@ -339,6 +343,9 @@ pub enum CullOutcome {
     Frustum,
     Distance,
     Occlusion,
+    /// Nothing there: a blade the tile generation removed (height 0), or an empty patch
+    /// (`tiles::EMPTY_PATCH`). Not counted by any test.
+    Empty,
 }
 
 /// The depth pyramid as the cull reads it: levels row-major, level 0 first
@@ -551,6 +558,9 @@ pub fn lod_level(h_px: f32, params: &CullParams) -> u32 {
 /// The patch step for one patch: culled by the frustum (`Patch`), by occlusion
 /// (`Occlusion`), or visible (`Drawn(0)`: its blades go on to `cull_blade`).
 pub fn cull_patch(patch: &PatchBox, params: &CullParams, pyramid: Option<&Pyramid>) -> CullOutcome {
+    if patch.min[3] != 0.0 {
+        return CullOutcome::Empty;
+    }
     if params.tests & TEST_PATCH == 0 {
         return CullOutcome::Drawn(0);
     }
@@ -570,6 +580,9 @@ pub fn cull_patch(patch: &PatchBox, params: &CullParams, pyramid: Option<&Pyrami
 /// Whether the patch step puts patch `p` on this frame's update list, and whether at the
 /// throttled rate: `None` (skipped this frame), `Some(false)` (every frame), `Some(true)`.
 pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<bool> {
+    if patch.min[3] != 0.0 {
+        return None;
+    }
     let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
     let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
     let in_view = box_in_frustum(view_proj, min, max);
@@ -624,6 +637,9 @@ pub fn cull_blade(
     let patch_outcome = cull_patch(patch, params, pyramid);
     if patch_outcome != CullOutcome::Drawn(0) {
         return patch_outcome;
+    }
+    if blade.v1_height[3] <= 0.0 {
+        return CullOutcome::Empty;
     }
     let view_proj = Mat4::from_cols_array_2d(&params.view_proj);
     let v0 = v4(blade.v0_dir).xyz();

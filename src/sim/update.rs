@@ -8,6 +8,7 @@ use super::layout::{
     PATCH_SPHERE_STRIDE, WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
+use crate::field::tiles::{empty_patch, TileLayout};
 use crate::field::GeneratedField;
 use crate::gpu::{read_buffer, Gpu};
 use crate::shaders;
@@ -57,13 +58,38 @@ impl BladeBuffers {
 
     /// Uploads a generated field after checking that it fits the device.
     pub fn new(gpu: &Gpu, field: &GeneratedField) -> Result<Self> {
-        let count = field.blades.len() as u64;
+        Self::create(
+            gpu,
+            field.blades.len() as u64,
+            field.patch_size,
+            &field.patches,
+            Some((&field.blades, &field.states)),
+        )
+    }
+
+    /// An empty pool for a streamed field: `layout.slots` tiles of blades, every patch empty
+    /// until the tile generation fills its slot.
+    pub fn new_pool(gpu: &Gpu, layout: &TileLayout) -> Result<Self> {
+        let patches =
+            vec![empty_patch(); layout.slots as usize * layout.patches_per_tile() as usize];
+        Self::create(gpu, layout.pool_blades(), layout.patch_size, &patches, None)
+    }
+
+    /// The buffers for `count` blades in patches of `patch_size`; `contents` uploads the
+    /// blades and states, `None` leaves them zeroed (removed blades).
+    fn create(
+        gpu: &Gpu,
+        count: u64,
+        patch_size: u32,
+        patches: &[PatchBox],
+        contents: Option<(&[Blade], &[BladeState])>,
+    ) -> Result<Self> {
         gpu.check_storage(
             &format!("a field of {count} blades"),
             count * std::mem::size_of::<Blade>() as u64,
         )?;
         // Blades are dispatched in 2D (no per-dimension limit); patches in one dimension.
-        let patch_count = field.patches.len() as u32;
+        let patch_count = patches.len() as u32;
         gpu.check_dispatch(
             &format!("a field of {patch_count} patches"),
             patch_count.div_ceil(WORKGROUP_SIZE),
@@ -78,36 +104,38 @@ impl BladeBuffers {
             | wgpu::BufferUsages::COPY_SRC
             | wgpu::BufferUsages::COPY_DST;
         // wgpu rejects zero-sized bindings: an empty field still gets one (unused) element.
-        let (zb, zs, zp) = (
-            [Blade::default()],
-            [BladeState::default()],
-            [PatchBox::default()],
+        let zp = [PatchBox::default()];
+        let patches: &[PatchBox] = if patches.is_empty() { &zp } else { patches };
+        let buffer = |label: &str, bytes: &[u8], size: u64| match contents {
+            Some(_) if !bytes.is_empty() => {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytes,
+                    usage: storage,
+                })
+            }
+            // Zeroed by wgpu: height 0, a removed blade.
+            _ => device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: storage,
+                mapped_at_creation: false,
+            }),
+        };
+        let (blade_bytes, state_bytes): (&[u8], &[u8]) = match contents {
+            Some((b, st)) => (bytemuck::cast_slice(b), bytemuck::cast_slice(st)),
+            None => (&[], &[]),
+        };
+        let blades = buffer(
+            "sward.blades",
+            blade_bytes,
+            count.max(1) * std::mem::size_of::<Blade>() as u64,
         );
-        let blades: &[Blade] = if field.blades.is_empty() {
-            &zb
-        } else {
-            &field.blades
-        };
-        let states: &[BladeState] = if field.states.is_empty() {
-            &zs
-        } else {
-            &field.states
-        };
-        let patches: &[PatchBox] = if field.patches.is_empty() {
-            &zp
-        } else {
-            &field.patches
-        };
-        let blades = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sward.blades"),
-            contents: bytemuck::cast_slice(blades),
-            usage: storage,
-        });
-        let states = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sward.blade_states"),
-            contents: bytemuck::cast_slice(states),
-            usage: storage,
-        });
+        let states = buffer(
+            "sward.blade_states",
+            state_bytes,
+            count.max(1) * std::mem::size_of::<BladeState>() as u64,
+        );
         let patches = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sward.patches"),
             contents: bytemuck::cast_slice(patches),
@@ -168,7 +196,7 @@ impl BladeBuffers {
             seen,
             resets,
             count: count as u32,
-            patch_size: field.patch_size.max(1),
+            patch_size: patch_size.max(1),
             patch_count,
             region,
         })
@@ -203,6 +231,19 @@ impl BladeBuffers {
             bytemuck::pod_collect_to_vec(&b),
             bytemuck::pod_collect_to_vec(&s),
         ))
+    }
+
+    /// Reads the patch boxes back (blocking).
+    pub fn read_patches(&self, gpu: &Gpu) -> Result<Vec<PatchBox>> {
+        let n = self.patch_count.max(1) as u64;
+        let bytes = read_buffer(
+            gpu,
+            &self.patches,
+            n * std::mem::size_of::<PatchBox>() as u64,
+        )?;
+        let mut boxes: Vec<PatchBox> = bytemuck::pod_collect_to_vec(&bytes);
+        boxes.truncate(self.patch_count as usize);
+        Ok(boxes)
     }
 
     /// Reads the seen flag of every blade back (blocking; `SEEN_*`).

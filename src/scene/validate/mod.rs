@@ -30,6 +30,7 @@
 //! | `field.tip_threshold` | 0 ≤ tip_threshold < 1 |
 //! | `field.patch_size` | a multiple of 64 (the workgroup size), 64 ≤ patch_size ≤ 65536 |
 //! | `field.segments` | 1 ≤ segments ≤ 16 |
+//! | `field.tile_size` | 0 (whole field at start) or 0.5 ≤ tile_size ≤ 1000 m |
 //! | positions: `colliders[i].center`, `wind.point.position`, `wind.downwash.position`, `physics.gravity_center`, `camera.eye`, `camera.target`, path points | every component in −100000 ..= 100000 m |
 //! | `colliders[i]` | 0 < radius ≤ 1000 m |
 //! | `colliders[i].motion: Velocity` | every component in −1000 ..= 1000 m/s |

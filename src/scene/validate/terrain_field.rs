@@ -28,6 +28,8 @@ const PATCH_SIZE: Integers = Integers::new(64, 65536, "blades");
 const PATCH_SIZE_TEXT: &str =
     "a multiple of 64 (the workgroup size) with 64 <= patch_size <= 65536 blades";
 const SEGMENTS: Integers = Integers::new(1, 16, "");
+const TILE_SIZE: Allowed = Allowed::closed(0.5, 1000.0, "m");
+const TILE_SIZE_TEXT: &str = "0 (the whole field generated at start) or 0.5 <= tile_size <= 1000 m";
 
 /// The rules of every `terrain` and `field` value.
 pub(super) const RULES: &[(&str, Rule)] = &[
@@ -66,6 +68,7 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("field.patch_size", Rule::Text(PATCH_SIZE_TEXT)),
     ("field.segments", Rule::Integer(SEGMENTS)),
     ("field.seed", Rule::Integer(SEED)),
+    ("field.tile_size", Rule::Text(TILE_SIZE_TEXT)),
 ];
 
 pub(super) fn terrain(check: &Checker, terrain: &mut Terrain) -> Result<()> {
@@ -111,7 +114,16 @@ pub(super) fn field(check: &Checker, field: &Field) -> Result<()> {
             format!("field.patch_size = {patch} is out of range: allowed {PATCH_SIZE_TEXT}"),
         ));
     }
-    check.integer("field.segments", field.segments, SEGMENTS)
+    check.integer("field.segments", field.segments, SEGMENTS)?;
+    // Tiles streamed around the camera, or 0 for the whole field at once.
+    let tile = field.tile_size;
+    if tile != 0.0 && !(tile.is_finite() && TILE_SIZE.contains(tile)) {
+        return Err(check.error(
+            "field.tile_size",
+            format!("field.tile_size = {tile} is out of range: allowed {TILE_SIZE_TEXT}"),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -134,6 +146,20 @@ mod tests {
         }
         let parsed: Result<Scene, _> = ron::from_str("(terrain: (unbounded: 3))");
         assert!(parsed.is_err());
+    }
+
+    #[test]
+    fn tile_size_is_zero_or_in_range() {
+        for bad in [-1.0, 0.1, 1001.0, f32::NAN, f32::INFINITY] {
+            let m = rejected(|s| s.field.tile_size = bad);
+            assert!(m.starts_with("field.tile_size = "), "{m}");
+            assert!(m.contains("0 (the whole field generated at start)"), "{m}");
+        }
+        for good in [0.0, 0.5, 12.0, 1000.0] {
+            let mut scene = Scene::default();
+            scene.field.tile_size = good;
+            check(&mut scene).unwrap();
+        }
     }
 
     #[test]

@@ -1,0 +1,235 @@
+// Tile generation (issue 12): the blades of the tiles entering the blade radius, written
+// into their pool slots, then the boxes of their patches. `gen_blades` runs one invocation
+// per blade (x: blade groups of a tile, y: job); `gen_boxes` one workgroup per patch of
+// each job (x: patch, y: job), and also empties the patches of slots being freed. The CPU
+// twin is `field::tiles::generate_tile` (src/field/tiles/generate.rs).
+//!include common.wgsl
+//!include terrain_height.wgsl
+//!include blade_pose.wgsl
+
+struct GenParams {
+    // Patch side in quanta (1/1024 m), patches per tile side, blades per patch, per tile.
+    grid: vec4<u32>,
+    // Seed key, tuft blades per pid, tuft radius in quanta, tuft cells per pid side.
+    key: vec4<u32>,
+    // Height min, span; width min, span (m).
+    sizes: vec4<f32>,
+    // Stiffness min, span; bend min, span (radians).
+    attrs: vec4<f32>,
+    // Density map width, height, FLAG_* bits, jobs that generate (the first ones).
+    map: vec4<u32>,
+    // Half the terrain side (bounded grass), density map side, unused x2.
+    extent: vec4<f32>,
+}
+
+// x: slot, y, z: tile coordinates, w: 1 = generate the tile, 0 = free the slot.
+struct Job {
+    slot: u32,
+    tx: i32,
+    tz: i32,
+    generate: u32,
+}
+
+@group(0) @binding(3) var<uniform> gen: GenParams;
+@group(0) @binding(4) var<storage, read> density: array<f32>;
+@group(0) @binding(5) var<storage, read> jobs: array<Job>;
+@group(0) @binding(6) var<storage, read_write> blades: array<Blade>;
+@group(0) @binding(7) var<storage, read_write> states: array<BladeState>;
+@group(0) @binding(8) var<storage, read_write> patches: array<PatchBox>;
+@group(0) @binding(9) var<storage, read_write> seen: array<u32>;
+
+const FLAG_DENSITY: u32 = 1u;
+const FLAG_BOUNDED: u32 = 2u;
+const TUFT_BLADES: u32 = 16u;
+const MIN_HEIGHT: f32 = 1e-3;
+const GOLDEN: u32 = 0x9E3779B9u;
+const TUFT_SALT: u32 = 0x5BD1E995u;
+const UNIT: f32 = 1.0 / 16777216.0;
+const QUANTUM: f32 = 1.0 / 1024.0;
+const EMPTY_PATCH: f32 = 1.0;
+
+fn tile_key(key: u32, tx: i32, tz: i32) -> u32 {
+    return hash32(key ^ hash32(bitcast<u32>(tx) ^ rotl17(hash32(bitcast<u32>(tz)))));
+}
+
+// The blade's k-th draw.
+fn draw(h0: u32, k: u32) -> u32 {
+    return hash32(h0 + k * GOLDEN);
+}
+
+fn unit(h0: u32, k: u32) -> f32 {
+    return f32(draw(h0, k) >> 8u) * UNIT;
+}
+
+// Twin of `grid::to_grid`.
+fn to_grid(coord: f32, size: f32, samples: u32) -> f32 {
+    if samples < 2u || size <= 0.0 {
+        return 0.0;
+    }
+    let last = f32(samples - 1u);
+    return clamp((coord / size + 0.5) * last, 0.0, last);
+}
+
+// Twin of `DensityMap::sample` (bilinear, edge values continue).
+fn density_at(x: f32, z: f32) -> f32 {
+    let w = gen.map.x;
+    let h = gen.map.y;
+    let u = to_grid(x, gen.extent.y, w);
+    let v = to_grid(z, gen.extent.y, h);
+    let i0 = min(u32(floor(u)), w - 1u);
+    let j0 = min(u32(floor(v)), h - 1u);
+    let i1 = min(i0 + 1u, w - 1u);
+    let j1 = min(j0 + 1u, h - 1u);
+    let tx = u - f32(i0);
+    let tz = v - f32(j0);
+    let a = density[j0 * w + i0];
+    let b = density[j0 * w + i1];
+    let c = density[j1 * w + i0];
+    let d = density[j1 * w + i1];
+    let top = a + (b - a) * tx;
+    let bottom = c + (d - c) * tx;
+    return clamp(top + (bottom - top) * tz, 0.0, 1.0);
+}
+
+// Blade `i` of tile (tx, tz): the twin of `draw_blade`. Height 0 marks a removed blade.
+fn make_blade(tx: i32, tz: i32, i: u32) -> Blade {
+    var out: Blade;
+    out.v0_dir = vec4<f32>(0.0);
+    out.v1_height = vec4<f32>(0.0);
+    out.v2_width = vec4<f32>(0.0);
+    out.up_stiffness = vec4<f32>(0.0);
+    let patch_q = gen.grid.x;
+    let grid = gen.grid.y;
+    let ps = gen.grid.z;
+    let tkey = tile_key(gen.key.x, tx, tz);
+    let pid = i / ps;
+    let j = i % ps;
+    let px = pid % grid;
+    let pz = pid / grid;
+    let tile_q = i32(patch_q * grid);
+    let base_x = tx * tile_q + i32(px * patch_q);
+    let base_z = tz * tile_q + i32(pz * patch_q);
+    let h0 = hash32(tkey ^ hash32(i));
+    var xq: i32;
+    var zq: i32;
+    if j < gen.key.y {
+        let cells = gen.key.w;
+        let t = j / TUFT_BLADES;
+        let cell_q = max(patch_q / cells, 1u);
+        let cx = t % cells;
+        let cz = t / cells;
+        let th = hash32(tkey ^ hash32((pid * 65536u + t) ^ TUFT_SALT));
+        let centre_x = base_x + i32(cx * cell_q + th % cell_q);
+        let centre_z = base_z + i32(cz * cell_q + hash32(th) % cell_q);
+        let radius_q = gen.key.z;
+        let span = 2u * radius_q + 1u;
+        let s = i32(draw(h0, 2u) >> 24u);
+        let ox = (i32(draw(h0, 0u) % span) - i32(radius_q)) * s / 256;
+        let oz = (i32(draw(h0, 1u) % span) - i32(radius_q)) * s / 256;
+        let hi_x = max(base_x + i32(patch_q) - 1, base_x);
+        let hi_z = max(base_z + i32(patch_q) - 1, base_z);
+        xq = clamp(centre_x + ox, base_x, hi_x);
+        zq = clamp(centre_z + oz, base_z, hi_z);
+    } else {
+        xq = base_x + i32(draw(h0, 0u) % patch_q);
+        zq = base_z + i32(draw(h0, 1u) % patch_q);
+    }
+    let x = f32(xq) * QUANTUM;
+    let z = f32(zq) * QUANTUM;
+    if (gen.map.z & FLAG_BOUNDED) != 0u {
+        let half = gen.extent.x;
+        if abs(x) > half || abs(z) > half {
+            return out;
+        }
+    }
+    if (gen.map.z & FLAG_DENSITY) != 0u {
+        if unit(h0, 8u) >= density_at(x, z) {
+            return out;
+        }
+    }
+    let angle = f32(draw(h0, 3u) >> 8u) * (TAU * UNIT);
+    let height = max(gen.sizes.x + gen.sizes.y * unit(h0, 4u), MIN_HEIGHT);
+    let width = gen.sizes.z + gen.sizes.w * unit(h0, 5u);
+    let stiffness = gen.attrs.x + gen.attrs.y * unit(h0, 6u);
+    let bend = gen.attrs.z + gen.attrs.w * unit(h0, 7u);
+    let ground = terrain_height(vec2<f32>(x, z));
+    let v0 = vec3<f32>(x, ground.x, z);
+    let up = normalize(vec3<f32>(-ground.y, 1.0, -ground.z));
+    let front = blade_frame(up, angle)[1];
+    let pose = rest_pose(v0, up, front, height, bend);
+    out.v0_dir = vec4<f32>(v0, angle);
+    out.v1_height = vec4<f32>(pose[0], height);
+    out.v2_width = vec4<f32>(pose[1], width);
+    out.up_stiffness = vec4<f32>(up, stiffness);
+    return out;
+}
+
+@compute @workgroup_size(64)
+fn gen_blades(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let job = jobs[wid.y];
+    let i = wid.x * 64u + lid;
+    if wid.y >= gen.map.w || job.generate == 0u || i >= gen.grid.w {
+        return;
+    }
+    let blade = make_blade(job.tx, job.tz, i);
+    let at = job.slot * gen.grid.w + i;
+    blades[at] = blade;
+    states[at].rest_eta = vec4<f32>(blade.v2_width.xyz, 0.0);
+    // A new tile has not been seen: its blades wait for the late occlusion test.
+    seen[at] = 0u;
+}
+
+var<workgroup> lo: array<vec3<f32>, 64>;
+var<workgroup> hi: array<vec3<f32>, 64>;
+var<workgroup> tall: array<f32, 64>;
+
+// The box of one pid of a generated tile (the twin of `tiles::patch_box`), or an empty box
+// for every pid of a freed slot.
+@compute @workgroup_size(64)
+fn gen_boxes(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let job = jobs[wid.y];
+    let per_tile = gen.grid.y * gen.grid.y;
+    let pid = job.slot * per_tile + wid.x;
+    let ps = gen.grid.z;
+    var mn = vec3<f32>(3.0e38);
+    var mx = vec3<f32>(-3.0e38);
+    var t = 0.0;
+    if job.generate != 0u {
+        for (var k = lid; k < ps; k += 64u) {
+            let b = blades[pid * ps + k];
+            if b.v1_height.w > 0.0 {
+                mn = min(mn, b.v0_dir.xyz);
+                mx = max(mx, b.v0_dir.xyz);
+                t = max(t, b.v1_height.w);
+            }
+        }
+    }
+    lo[lid] = mn;
+    hi[lid] = mx;
+    tall[lid] = t;
+    workgroupBarrier();
+    for (var stride = 32u; stride > 0u; stride >>= 1u) {
+        if lid < stride {
+            lo[lid] = min(lo[lid], lo[lid + stride]);
+            hi[lid] = max(hi[lid], hi[lid + stride]);
+            tall[lid] = max(tall[lid], tall[lid + stride]);
+        }
+        workgroupBarrier();
+    }
+    if lid == 0u {
+        let tallest = tall[0];
+        if tallest > 0.0 {
+            patches[pid].min = vec4<f32>(lo[0] - tallest, 0.0);
+            patches[pid].max = vec4<f32>(hi[0] + tallest, 0.0);
+        } else {
+            patches[pid].min = vec4<f32>(0.0, 0.0, 0.0, EMPTY_PATCH);
+            patches[pid].max = vec4<f32>(0.0);
+        }
+    }
+}
