@@ -118,12 +118,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let gpu = open_gpu(&o.adapter)?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
-    eprintln!(
-        "field: {} blades in {} patches of {}",
-        session.field.blades.len(),
-        session.field.patches.len(),
-        session.field.patch_size
-    );
+    eprintln!("{}", session.describe_field());
     let camera = CameraView::from_scene(&session.scene.camera);
     let mut renderer = Renderer::new(
         &gpu,
@@ -448,15 +443,20 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
     let mut wind_state = None;
     let resets: u64;
     let (session, (blades, states)) = if o.cpu {
-        let session = Session::new(scene, o.blades, None)?;
+        let mut session = Session::new(scene, o.blades, None)?;
+        session.fill_tiles_cpu()?;
         let run = simulate_cpu(&session, o.steps, o.dt);
         wind_state = run.wind;
         resets = run.blades_reset_nonfinite;
         (session, (run.blades, run.states))
     } else {
         let gpu = open_gpu(&o.adapter)?;
-        let session = Session::new(scene, o.blades, Some(&gpu))?;
+        let mut session = Session::new(scene, o.blades, Some(&gpu))?;
         let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
+        if session.tiles.is_some() {
+            // The initial state of a streamed field is the pool the GPU generated.
+            (session.field.blades, session.field.states) = renderer.buffers.read(&gpu)?;
+        }
         for _ in 0..o.steps {
             renderer.step(&gpu, o.dt);
             gpu.check_errors()?;

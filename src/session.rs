@@ -38,6 +38,51 @@ pub fn check_blade_count(gpu: &Gpu, count: f64) -> Result<()> {
 }
 
 impl Session {
+    /// For a streamed scene, fills `field` with the pool the GPU holds at the start (the
+    /// tiles around the scene's camera, from the generation's CPU twin), so that the CPU
+    /// simulation and the dumps have blades to work on. Nothing for other scenes.
+    pub fn fill_tiles_cpu(&mut self) -> Result<()> {
+        let Some(layout) = &self.tiles else {
+            return Ok(());
+        };
+        let density = DensityMap::from_scene(&self.scene.terrain)
+            .map_err(|e| self.scene.image_error("terrain.density_map", e))?;
+        let eye = crate::render::camera::CameraView::from_scene(&self.scene.camera).eye;
+        self.field = crate::field::tiles::generate_pool(
+            layout,
+            &self.scene.field,
+            &self.terrain,
+            density.as_ref(),
+            eye.x,
+            eye.z,
+        );
+        Ok(())
+    }
+
+    /// One line on the field for the command line: its blades and patches, or for a
+    /// streamed field its tiles and pool.
+    pub fn describe_field(&self) -> String {
+        match &self.tiles {
+            Some(l) => format!(
+                "field: streamed in tiles of {:.2} m ({} patches of {} blades, {:.0} blades/m²); \
+                 pool of {} tiles = {} blades within {} m of the camera",
+                l.tile_size(),
+                l.patches_per_tile(),
+                l.patch_size,
+                l.density(),
+                l.slots,
+                l.pool_blades(),
+                l.radius
+            ),
+            None => format!(
+                "field: {} blades in {} patches of {}",
+                self.field.blades.len(),
+                self.field.patches.len(),
+                self.field.patch_size
+            ),
+        }
+    }
+
     /// Generates the field of `scene`, or with `blades = Some(n)` about `n` blades on a flat
     /// square (tests and checks). `gpu`, when given, vets the count before generation.
     pub fn new(scene: Scene, blades: Option<usize>, gpu: Option<&Gpu>) -> Result<Self> {

@@ -262,12 +262,31 @@ fn field_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                     ui.selectable_value(&mut f.shape, s, format!("{s:?}"));
                 }
             });
-        let size = app.renderer.scene.terrain.size;
-        ui.label(format!(
-            "≈ {:.0} blades (now {})",
-            f.density as f64 * (size as f64).powi(2),
-            app.renderer.buffers.count
-        ));
+        let mut streamed = f.tile_size > 0.0;
+        ui.checkbox(&mut streamed, "stream in tiles around the camera")
+            .on_hover_text("tiles within the blade radius (culling max distance) are generated on the GPU as you fly");
+        if streamed && f.tile_size <= 0.0 {
+            f.tile_size = 8.0;
+        } else if !streamed {
+            f.tile_size = 0.0;
+        }
+        if streamed {
+            ui.add(egui::Slider::new(&mut f.tile_size, 0.5..=64.0).text("tile size m"));
+        }
+        match app.renderer.tile_stats() {
+            Some(t) => ui.label(format!(
+                "pool of {} blades: {} tiles of {} (now {} resident)",
+                app.renderer.buffers.count, t.slots, t.blades_per_tile, t.resident
+            )),
+            None => {
+                let size = app.renderer.scene.terrain.size;
+                ui.label(format!(
+                    "≈ {:.0} blades (now {})",
+                    f.density as f64 * (size as f64).powi(2),
+                    app.renderer.buffers.count
+                ))
+            }
+        };
         if ui.button("Regenerate").clicked() {
             app.regenerate(gpu);
         }
@@ -547,6 +566,18 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
                 None => {
                     ui.label("GPU ms: no timestamp queries on this adapter");
                 }
+            }
+            if let Some(t) = app.stats.tiles {
+                ui.label(format!(
+                    "tiles: {} resident of {} slots ({:.1} m, {} blades each); generated {} \
+                     ({:.1}/s)",
+                    t.resident,
+                    t.slots,
+                    t.tile_size,
+                    t.blades_per_tile,
+                    t.generated_total,
+                    app.tile_rate
+                ));
             }
             ui.label(format!("frame budget: {}", app.budget.status()));
             let (w, h) = app.render_size();

@@ -181,10 +181,16 @@ impl WindowApp {
             if !last.is_empty() {
                 let mean = last.iter().sum::<f32>() / last.len() as f32;
                 let (w, h) = r.app.render_size();
+                let tiles = r.app.stats.tiles.map_or(String::new(), |t| {
+                    format!(
+                        "; tiles: {} resident, {} generated",
+                        t.resident, t.generated_total
+                    )
+                });
                 eprintln!(
                     "{} frames; mean frame time of the last {}: {mean:.1} ms ({:.1} fps) on {}; \
                      blades drawn in the last read-back: {}; 3D passes at {w}x{h}; frame \
-                     budget: {}",
+                     budget: {}{tiles}",
                     r.app.frame,
                     last.len(),
                     1000.0 / mean,

@@ -7,8 +7,8 @@
 //! divided by the median one. A smooth flight changes every frame by about the same
 //! amount; an object that pops in or out (a level of detail switching, grass appearing at a
 //! culling distance) makes one frame differ much more than the rest, and the ratio spikes.
-//! `billboards_drawn` and `tiles_generated` are reported too; they stay 0 until the
-//! billboard level and the tile streaming exist.
+//! A streamed scene (`field.tile_size > 0`) also reports the tiles generated during the
+//! flight and the GPU time of their generation pass.
 
 use std::time::Instant;
 
@@ -54,10 +54,15 @@ pub struct FlightReport {
     /// Blades drawn in the last frame, and the mean over the flight.
     pub blades_drawn: u64,
     pub blades_drawn_mean: f64,
-    /// Billboards drawn in the last frame (no billboard level yet: 0).
+    /// Billboards drawn in the last frame.
     pub billboards_drawn: u64,
-    /// Tiles of blades generated during the flight (no tile streaming yet: 0).
+    /// Tiles of blades generated during the measured frames (0 for a scene that does not
+    /// stream), the tiles resident at the end, and the GPU milliseconds of the generation
+    /// pass: the mean per frame and per tile generated.
     pub tiles_generated: u64,
+    pub tiles_resident: u64,
+    pub tile_gen_ms_per_frame: f64,
+    pub tile_gen_ms_per_tile: Option<f64>,
     pub gpu_bytes: u64,
     pub gpu_mib: f64,
     pub blades_reset_nonfinite: u64,
@@ -157,6 +162,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut previous: Option<image::RgbaImage> = None;
     let mut resets = 0;
+    let (mut tiles_at_start, mut tiles_generated, mut tile_ms) = (0u64, 0u64, 0.0f64);
     for i in 0..o.warmup + o.frames {
         let flying = i.saturating_sub(o.warmup);
         let camera = flight_camera(
@@ -177,9 +183,15 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         let stats = renderer.stats(&gpu)?;
         let wall = start.elapsed().as_secs_f64() * 1000.0;
         resets = stats.blades_reset_nonfinite;
+        let total = stats.tiles.map_or(0, |t| t.generated_total);
         if i < o.warmup {
+            tiles_at_start = total;
             continue;
         }
+        tiles_generated = total - tiles_at_start;
+        tile_ms += stats
+            .pass_ms
+            .map_or(0.0, |ms| ms[crate::render::timing::TILES]);
         wall_ms.push(wall);
         if let Some(ms) = stats.pass_ms {
             let wind: f64 = stats.wind_ms.iter().flatten().map(|(_, m)| m).sum();
@@ -219,7 +231,10 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         blades_drawn: drawn.last().copied().unwrap_or(0),
         blades_drawn_mean: drawn.iter().sum::<u64>() as f64 / drawn.len().max(1) as f64,
         billboards_drawn: 0,
-        tiles_generated: 0,
+        tiles_generated,
+        tiles_resident: renderer.tile_stats().map_or(0, |t| t.resident as u64),
+        tile_gen_ms_per_frame: tile_ms / f64::from(o.frames.max(1)),
+        tile_gen_ms_per_tile: (tiles_generated > 0).then(|| tile_ms / tiles_generated as f64),
         gpu_bytes,
         gpu_mib: gpu_bytes as f64 / MIB,
         blades_reset_nonfinite: resets.into(),
@@ -237,7 +252,8 @@ pub fn format_flight(r: &FlightReport) -> String {
          frames, dt = 1/30 s, {} m/s\n{what} frame ms: p50 {:.2}, p95 {:.2}\nwall frame ms: \
          p50 {:.2}, p95 {:.2}\npop ratio (largest / median frame-to-frame difference): {pop} \
          ({:.3} / {:.3})\nblades drawn: {} (last frame), {:.0} (mean)\nbillboards drawn: {}, \
-         tiles generated: {}\nGPU memory: {:.1} MiB\nblades reset (non-finite state): {}\n",
+         tiles generated: {} ({} resident; generation {:.2} GPU ms per frame{})\nGPU memory: \
+         {:.1} MiB\nblades reset (non-finite state): {}\n",
         r.scene,
         r.adapter,
         r.date,
@@ -256,6 +272,10 @@ pub fn format_flight(r: &FlightReport) -> String {
         r.blades_drawn_mean,
         r.billboards_drawn,
         r.tiles_generated,
+        r.tiles_resident,
+        r.tile_gen_ms_per_frame,
+        r.tile_gen_ms_per_tile
+            .map_or(String::new(), |t| format!(", {t:.2} per tile")),
         r.gpu_mib,
         r.blades_reset_nonfinite,
     )

@@ -658,12 +658,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
     }
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
-    eprintln!(
-        "field: {} blades in {} patches of {}",
-        session.field.blades.len(),
-        session.field.patches.len(),
-        session.field.patch_size
-    );
+    eprintln!("{}", session.describe_field());
     let mut configurations = Vec::new();
     let mut images = Vec::new();
     for config in Config::COLUMNS {

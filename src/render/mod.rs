@@ -67,6 +67,14 @@ pub struct TileStats {
     pub blades_per_tile: u32,
 }
 
+/// The distance over which the fog turns the ground into sky (`1 − e^(−d/fog)`): four
+/// terrain sides, but at most a third of the far plane, so that what the far plane cuts is
+/// 95 % sky and a prairie of kilometres fades into the horizon rather than ending at an
+/// edge.
+pub fn fog_distance(terrain_size: f32, far: f32) -> f32 {
+    (terrain_size * 4.0).min(far / 3.0).max(1.0)
+}
+
 /// A sphere moved by the caller rather than by the scene (the window's thrown balls): it
 /// collides with the grass and, as an obstacle, pushes the wind.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -364,7 +372,7 @@ impl Renderer {
                 width as f32,
                 height as f32,
                 self.time,
-                self.scene.terrain.size * 4.0,
+                fog_distance(self.scene.terrain.size, camera.far),
             ],
             shape: [
                 f.shape.id() as f32,

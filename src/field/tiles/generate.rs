@@ -301,3 +301,38 @@ pub fn empty_patch() -> PatchBox {
         max: [0.0; 4],
     }
 }
+
+/// The whole pool as the GPU holds it after filling the tiles within the radius of (x, z)
+/// (the CPU twin of `TileStreamer::fill`): resident slots with their tiles, free slots
+/// with removed blades and empty patches.
+pub fn generate_pool(
+    layout: &super::TileLayout,
+    field: &Field,
+    terrain: &HeightField,
+    density: Option<&DensityMap>,
+    x: f32,
+    z: f32,
+) -> crate::field::GeneratedField {
+    let params = GenParams::new(layout, field, density);
+    let mut residency = super::TileResidency::new(*layout);
+    while !residency.update(x, z, usize::MAX).is_empty() {}
+    let per_tile = layout.blades_per_tile() as usize;
+    let per_slot_patches = layout.patches_per_tile() as usize;
+    let slots = layout.slots as usize;
+    let mut out = crate::field::GeneratedField {
+        blades: vec![Blade::default(); slots * per_tile],
+        states: vec![BladeState::default(); slots * per_tile],
+        patches: vec![empty_patch(); slots * per_slot_patches],
+        patch_size: layout.patch_size,
+    };
+    for (slot, tile) in residency.slots().iter().enumerate() {
+        if let Some(tile) = tile {
+            let t = generate_tile(&params, terrain, density, *tile);
+            out.blades[slot * per_tile..(slot + 1) * per_tile].copy_from_slice(&t.blades);
+            out.states[slot * per_tile..(slot + 1) * per_tile].copy_from_slice(&t.states);
+            out.patches[slot * per_slot_patches..(slot + 1) * per_slot_patches]
+                .copy_from_slice(&t.patches);
+        }
+    }
+    out
+}

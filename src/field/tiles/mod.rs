@@ -14,7 +14,9 @@
 mod generate;
 mod residency;
 
-pub use generate::{empty_patch, generate_tile, patch_box, tile_key, GenParams, TileBlades};
+pub use generate::{
+    empty_patch, generate_pool, generate_tile, patch_box, tile_key, GenParams, TileBlades,
+};
 pub use residency::{TileJob, TileResidency, MAX_RELEASES};
 
 use crate::scene::types::{Culling, Field, Terrain};
