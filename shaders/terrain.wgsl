@@ -112,7 +112,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):
     // it stands for the prairie that continues, not for bare earth where the world ends.
     let dist = distance(in.world, frame.camera_pos.xyz);
-    let outside = smoothstep(0.0, 2.0, max(abs(q.x), abs(q.y)) - 0.5 * terrain.noise.w);
+    // A streamed field (grid.w = 1) grows blades there too: no such band then.
+    var outside = smoothstep(0.0, 2.0, max(abs(q.x), abs(q.y)) - 0.5 * terrain.noise.w);
+    if terrain.grid.w == 1u {
+        outside = 0.0;
+    }
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
     var color = mix(near, grass, cover);
     color = apply_fog(color, in.world, frame);

@@ -12,7 +12,8 @@ struct TerrainParams {
     noise: vec4<f32>,
     // The 32-bit lattice seed of each octave (up to 12).
     seeds: array<vec4<u32>, 3>,
-    // x: grid resolution, y: cells per ring side, z: morph band in cells, w: unused.
+    // x: grid resolution, y: cells per ring side, z: morph band in cells, w: 1 = blades
+    // grow past the square (a streamed field on an unbounded terrain).
     grid: vec4<u32>,
     // x: soil-to-grass blend start m, y: blend end m, z: 1 = density map bound, w: the
     // camera's far plane m.

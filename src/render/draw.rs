@@ -444,6 +444,11 @@ impl DrawPass {
 
     /// Writes this frame's uniforms (made for `camera`) and places the terrain's levels
     /// around the camera (the viewport and fog distance are in `frame.viewport_time`).
+    /// Says whether blades grow past the terrain square (see `TerrainPass::grass_everywhere`).
+    pub fn set_grass_everywhere(&mut self, everywhere: bool) {
+        self.terrain_pass.grass_everywhere = everywhere;
+    }
+
     pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms, camera: &CameraView) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
         let [w, h, _, fog] = frame.viewport_time;

@@ -198,6 +198,8 @@ impl Renderer {
                 gpu.info.name, buffers.count
             )));
         }
+        let mut draw = draw;
+        draw.set_grass_everywhere(tiles.is_some() && terrain.unbounded);
         let mut r = Self {
             buffers,
             update,

@@ -31,6 +31,9 @@ pub struct TerrainPass {
     shape: HeightField,
     has_density: bool,
     blend: (f32, f32),
+    /// Blades grow past the terrain square too (a streamed field on an unbounded terrain):
+    /// the ground there is shaded like the ground under the near blades.
+    pub grass_everywhere: bool,
     /// What `prepare` placed: the variant each level draws, and the level count.
     drawn: Cell<([u8; MAX_LEVELS], u32)>,
 }
@@ -200,6 +203,7 @@ impl TerrainPass {
             shape,
             has_density: density.is_some(),
             blend,
+            grass_everywhere: false,
             drawn: Cell::new(([0; MAX_LEVELS], 0)),
         }
     }
@@ -225,6 +229,7 @@ impl TerrainPass {
             fog,
         );
         u.view_proj_relative = camera.view_proj_relative(aspect).to_cols_array_2d();
+        u.grid[3] = u32::from(self.grass_everywhere);
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let levels = u.info[3].min(MAX_LEVELS as u32);
         let mut variants = [0u8; MAX_LEVELS];
