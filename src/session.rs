@@ -125,6 +125,8 @@ impl Session {
                 let mut scene = scene;
                 scene.terrain.size = terrain.size;
                 scene.terrain.height = crate::scene::HeightSource::Flat;
+                // `--blades N` is a whole field of N blades, never a streamed one.
+                scene.field.tile_size = 0.0;
                 Ok(Self {
                     scene,
                     terrain,

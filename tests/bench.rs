@@ -388,6 +388,31 @@ fn a_flight_reports_percentiles_pops_and_saves_its_frames() {
     let img = image::open(dir.join("frame_0011.png")).unwrap();
     assert_eq!((img.width(), img.height()), (96, 54));
     std::fs::remove_dir_all(&dir).unwrap();
+    // A streamed field: tiles of 2 m within 8 m, so that the flight (3.2 m) makes tiles
+    // enter and leave; the pool changes without a pop.
+    let v = bench_json(&[
+        "--flight",
+        "--frames",
+        "24",
+        "--warmup",
+        "1",
+        "--size",
+        "96x54",
+        "--set",
+        "field.tile_size=2",
+        "--set",
+        "culling.max_distance=8",
+    ]);
+    let tiles = u(&v, &["tiles_generated"]);
+    let pop = f(&v, &["pop_ratio"]);
+    eprintln!("streamed flight: {tiles} tiles generated, pop ratio {pop}");
+    assert!(tiles > 0, "{v}");
+    assert!(u(&v, &["tiles_resident"]) > 0, "{v}");
+    assert!(f(&v, &["tile_gen_ms_per_frame"]) >= 0.0);
+    assert!(
+        (1.0..3.0).contains(&pop),
+        "pop ratio {pop} with tiles streaming"
+    );
     // A sweep means a fixed camera: refused with the flight.
     let out = sward(&["bench", "--flight", "--sweep", "1000", "--frames", "1"]);
     assert_eq!(out.status.code(), Some(1));

@@ -91,7 +91,7 @@ fn render_view(unbounded: bool) -> View {
         image,
         camera,
         sun: Vec3::from(scene.render.sun_direction).normalize(),
-        fog: scene.terrain.size * 4.0,
+        fog: sward::render::fog_distance(scene.terrain.size, scene.camera.far),
     }
 }
 

@@ -699,6 +699,30 @@ fn a_huge_field_is_refused_on_the_cpu_path_too() {
     );
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success(), "{stderr}");
+    // The default meadow streams its blades: its pool is what is too large.
+    assert!(
+        stderr.contains("pool of") && stderr.contains("allowed at most 20000000"),
+        "{stderr}"
+    );
+    assert!(!t.path("d.json").exists());
+    // The same request as a whole field.
+    let run = sward_within(
+        &[
+            "simulate",
+            "--cpu",
+            "--set",
+            "terrain.size=10000",
+            "--set",
+            "field.density=10000",
+            "--set",
+            "field.tile_size=0",
+            "--dump",
+            &dump,
+        ],
+        30,
+    );
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "{stderr}");
     assert!(
         stderr.contains("1000000000000 blades") && stderr.contains("allowed at most 50000000"),
         "{stderr}"

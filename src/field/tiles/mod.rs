@@ -27,8 +27,9 @@ pub const QUANTA_PER_METRE: i32 = 1024;
 pub const MAX_GRID: u32 = 16;
 /// Most blades in a tile: 65535 workgroups of 64 (one dispatch dimension).
 pub const MAX_TILE_BLADES: u32 = 65535 * 64;
-/// The largest pool of blades a tiled field may ask for (the same bound as `--blades`).
-pub const MAX_POOL_BLADES: u64 = 50_000_000;
+/// The largest pool of blades a streamed field may ask for: 20 million blades is 1.9 GB of
+/// blade buffers, past what any adapter binds at once and minutes of CPU-twin generation.
+pub const MAX_POOL_BLADES: u64 = 20_000_000;
 /// `PatchBox::min[3]` of a patch that holds no blade (a free slot, or a tile whose every
 /// blade the density map or the terrain's edge removed): the patch pass skips it.
 pub const EMPTY_PATCH: f32 = 1.0;
