@@ -182,3 +182,26 @@ fn a_density_map_and_a_bounded_edge_remove_the_same_blades() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Point 8: GPU memory is bounded by the blade radius, not by the terrain: the same field on
+/// a 64 m and a 10 km terrain holds the same pool and the same bytes; a larger radius holds
+/// more.
+#[test]
+fn memory_follows_the_radius_not_the_terrain() {
+    let gpu = common::gpu();
+    let bytes = |size: f32, radius: f32| {
+        let mut s = scene();
+        s.terrain.size = size;
+        s.culling.max_distance = radius;
+        let session = Session::new(s, None, Some(&gpu)).expect("session");
+        let r = Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
+            .expect("renderer");
+        (r.buffers.count, r.gpu_bytes().1)
+    };
+    let small = bytes(64.0, 9.0);
+    let huge = bytes(10_000.0, 9.0);
+    println!("64 m: {small:?}, 10 km: {huge:?}");
+    assert_eq!(small, huge);
+    let wider = bytes(64.0, 18.0);
+    assert!(wider.0 > 2 * small.0, "{wider:?} vs {small:?}");
+}
