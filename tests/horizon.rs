@@ -50,12 +50,20 @@ struct View {
     camera: CameraView,
     sun: Vec3,
     fog: f32,
+    /// Height of the ground plane the sky test intersects the view rays with.
+    ground_y: f32,
 }
 
 fn render_view(unbounded: bool) -> View {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/meadow.ron");
+    render_scene("meadow.ron", unbounded, EYE, Vec3::ZERO, 0.0)
+}
+
+fn render_scene(file: &str, unbounded: bool, eye: Vec3, look_at: Vec3, ground_y: f32) -> View {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(file);
     let out = std::env::temp_dir().join(format!(
-        "sward-horizon-{}-{unbounded}.png",
+        "sward-horizon-{}-{file}-{unbounded}.png",
         std::process::id()
     ));
     let adapter: AdapterChoice = std::env::var("SWARD_ADAPTER")
@@ -64,8 +72,11 @@ fn render_view(unbounded: bool) -> View {
         .expect("infallible");
     let sets = vec![
         format!("terrain.unbounded={unbounded}"),
-        "camera.eye=(0.0, 40.0, 60.0)".to_owned(),
-        "camera.target=(0.0, 0.0, 0.0)".to_owned(),
+        format!("camera.eye=({:?}, {:?}, {:?})", eye.x, eye.y, eye.z),
+        format!(
+            "camera.target=({:?}, {:?}, {:?})",
+            look_at.x, look_at.y, look_at.z
+        ),
     ];
     render(&RenderOptions {
         scene: Some(path.clone()),
@@ -83,15 +94,16 @@ fn render_view(unbounded: bool) -> View {
     .expect("render");
     let image = image::open(&out).expect("rendered png").to_rgba8();
     let _ = std::fs::remove_file(&out);
-    let scene = sward::scene::load_scene(&path).expect("meadow loads");
+    let scene = sward::scene::load_scene(&path).expect("scene loads");
     let mut camera = CameraView::from_scene(&scene.camera);
-    camera.eye = EYE;
-    camera.target = Vec3::ZERO;
+    camera.eye = eye;
+    camera.target = look_at;
     View {
         image,
         camera,
         sun: Vec3::from(scene.render.sun_direction).normalize(),
         fog: sward::render::fog_distance(scene.terrain.size, scene.camera.far),
+        ground_y,
     }
 }
 
@@ -105,7 +117,7 @@ fn sky_below_horizon(v: &View) -> (usize, usize) {
         let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
         let far = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
         let dir = (far.truncate() / far.w - v.camera.eye).normalize();
-        if dir.y >= 0.0 || EYE.y / -dir.y > 2.0 * v.fog {
+        if dir.y >= 0.0 || (v.camera.eye.y - v.ground_y) / -dir.y > 2.0 * v.fog {
             continue;
         }
         ground += 1;
@@ -154,5 +166,42 @@ fn high_view_shows_grass_coloured_ground_to_the_horizon() {
     assert!(
         sky > ground / 4,
         "bounded: only {sky} of {ground} pixels are sky"
+    );
+}
+
+/// The prairie from 60 m above its hills, looking out over kilometres: no sky below the
+/// horizon (the ground runs on to the fog) and no bare ground (the blades near, the
+/// grass-coloured ground far: no pixel of the lower half is soil-coloured, red over green).
+#[test]
+fn the_prairie_from_high_up_is_grass_to_the_horizon() {
+    // The ground under the prairie's camera is at about -19 m.
+    let v = render_scene(
+        "prairie.ron",
+        true,
+        Vec3::new(-14.0, 40.0, 16.0),
+        Vec3::new(300.0, -20.0, -300.0),
+        -19.0,
+    );
+    let (ground, sky) = sky_below_horizon(&v);
+    println!("prairie: {sky} of {ground} ground pixels are sky");
+    assert!(
+        ground > (SIZE.0 * SIZE.1 / 3) as usize,
+        "{ground} ground pixels"
+    );
+    assert_eq!(
+        sky, 0,
+        "{sky} of {ground} pixels below the horizon show the sky"
+    );
+    let (mut soil, mut lower) = (0, 0);
+    for (_, y, px) in v.image.enumerate_pixels() {
+        if y >= SIZE.1 * 2 / 3 {
+            lower += 1;
+            soil += usize::from(px[0] >= px[1]);
+        }
+    }
+    println!("prairie: {soil} of {lower} lower pixels are soil-coloured");
+    assert!(
+        soil * 200 < lower,
+        "{soil} of {lower} lower pixels are bare ground"
     );
 }
