@@ -119,12 +119,11 @@ fn every_shape_covers_what_its_area_says() {
     }
     // The dandelion's teeth make its outline the most ragged per covered pixel.
     let ragged = |k: usize| results[k].1 as f32 / results[k].0 as f32;
-    for k in 0..4 {
+    for (k, shape) in shapes.iter().enumerate().take(4) {
         assert!(
             ragged(4) > ragged(k),
-            "dandelion {} vs {:?} {}",
+            "dandelion {} vs {shape:?} {}",
             ragged(4),
-            shapes[k],
             ragged(k)
         );
     }
