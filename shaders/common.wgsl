@@ -104,6 +104,8 @@ struct Frame {
     shape: vec4<f32>,
     width_correction: vec4<f32>,
     debug: vec4<f32>,
+    // CWD-Sim Eq. 14: m_min, m_max, c1, c2 (debug.y = 1).
+    self_shadow: vec4<f32>,
 }
 
 const TAU: f32 = 6.283185307179586;

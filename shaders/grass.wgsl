@@ -26,6 +26,8 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) @interpolate(flat) tint: vec4<f32>,
+    // CWD-Sim's Eq. 14 brightness of this vertex (used when frame.debug.y = 1).
+    @location(4) shade: f32,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -159,6 +161,14 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) 
     out.world = point.p;
     out.normal = point.n;
     out.uv = vec2<f32>(u, v);
+    // Eq. 14: the vertex's height above the root after the deformation (in blade heights)
+    // minus the blade's bend times c1 (0 upright, 1 pressed flat: how far the tip has sunk
+    // from its full height), plus c2, clamped to [m_min, m_max].
+    let up = blade.up_stiffness.xyz;
+    let h = max(blade.v1_height.w, 1e-4);
+    let bend = clamp(1.0 - dot(blade.v2_width.xyz - v0, up) / h, 0.0, 1.0);
+    let s = frame.self_shadow;
+    out.shade = clamp(dot(point.p - v0, up) / h - bend * s.z + s.w, s.x, s.y);
     out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
     // Debug colours: the level of detail (with the morph towards the next), or the patch.
     let mode = u32(frame.debug.x);
@@ -202,8 +212,15 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let deep = vec3<f32>(0.05, 0.22, 0.04);
     var albedo = mix(mix(fresh, deep, in.tint.y * 0.7), dry, in.tint.x * in.tint.x * 0.8);
     albedo = mix(albedo * 0.55, albedo * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
-    // Height-based self-shadow (CWD-Sim): the base sits in the shade of its neighbours.
-    let ao = mix(0.3, 1.0, pow(v, 0.7));
+    // Self-shadow: the base sits in the shade of its neighbours. sward's own darkens along
+    // the blade's length; CWD-Sim's Eq. 14 follows the deformed height and the bend.
+    var ao = mix(0.3, 1.0, pow(v, 0.7));
+    let shadow_mode = u32(frame.debug.y);
+    if shadow_mode == 1u {
+        ao = in.shade;
+    } else if shadow_mode == 2u {
+        ao = 1.0;
+    }
     let diffuse = max(dot(n, sun), 0.0);
     // Translucency: sunlight shining through the blade towards the viewer.
     let through = max(dot(-n, sun), 0.0) * pow(max(dot(-to_eye, sun), 0.0), 2.0);

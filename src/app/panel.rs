@@ -10,7 +10,7 @@ use super::camera::CameraMode;
 use super::state::{AppState, Mode, Status};
 use crate::gpu::Gpu;
 use crate::render::timing::PASSES;
-use crate::scene::{Boundary, ColorMode, Range, Shape, WindSource};
+use crate::scene::{Boundary, ColorMode, Range, SelfShadow, Shape, WindSource};
 
 /// Keyboard and mouse shortcuts, shown in the Help window (and listed in the README).
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -488,7 +488,36 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
         }
         ui.checkbox(&mut r.displacement, "3D displacement (Eq. 23)");
         ui.add(egui::Slider::new(&mut r.width_span_px, 0.0..=8.0).text("width correction span px"));
+        self_shadow_ui(ui, &mut r.self_shadow);
     });
+}
+
+/// The self-shadow mode and, for CWD-Sim's Eq. 14, its four parameters.
+fn self_shadow_ui(ui: &mut Ui, shadow: &mut SelfShadow) {
+    let name = match shadow {
+        SelfShadow::Height => "height (sward)",
+        SelfShadow::Cwd { .. } => "CWD-Sim Eq. 14",
+        SelfShadow::Off => "off",
+    };
+    egui::ComboBox::new("sward.self_shadow", "self-shadow")
+        .selected_text(name)
+        .show_ui(ui, |ui| {
+            ui.selectable_value(shadow, SelfShadow::Height, "height (sward)");
+            if ui
+                .selectable_label(matches!(shadow, SelfShadow::Cwd { .. }), "CWD-Sim Eq. 14")
+                .clicked()
+                && !matches!(shadow, SelfShadow::Cwd { .. })
+            {
+                *shadow = SelfShadow::CWD;
+            }
+            ui.selectable_value(shadow, SelfShadow::Off, "off");
+        });
+    if let SelfShadow::Cwd { min, max, c1, c2 } = shadow {
+        ui.add(egui::Slider::new(min, 0.0..=1.0).text("m_min"));
+        ui.add(egui::Slider::new(max, *min..=2.0).text("m_max"));
+        ui.add(egui::Slider::new(c1, 0.0..=3.0).text("c1 (bend)"));
+        ui.add(egui::Slider::new(c2, -1.0..=1.0).text("c2 (offset)"));
+    }
 }
 
 fn camera_section(ui: &mut Ui, app: &mut AppState) {

@@ -390,10 +390,11 @@ impl Renderer {
             ],
             debug: [
                 self.scene.render.color_mode.id() as f32,
-                0.0,
+                self.scene.render.self_shadow.uniforms().0,
                 0.0,
                 self.buffers.patch_size as f32,
             ],
+            self_shadow: self.scene.render.self_shadow.uniforms().1,
         }
     }
 

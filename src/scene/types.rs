@@ -616,6 +616,49 @@ pub struct Render {
     pub color_mode: ColorMode,
     /// Draw the grass as lines (needs the adapter's line polygon mode).
     pub wireframe: bool,
+    /// How the blades darken towards the ground, where their neighbours shade them.
+    pub self_shadow: SelfShadow,
+}
+
+/// Self-shadowing among the blades, without shadow maps.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub enum SelfShadow {
+    /// sward's own: each blade darker towards its base along its length.
+    #[default]
+    Height,
+    /// CWD-Sim's Eq. 14 (Choi & Sung 2024, §3.4): a vertex's brightness is its height above
+    /// the root after the deformation, in blade heights, minus the blade's bend (0 upright,
+    /// 1 pressed flat) times `c1`, plus `c2`, clamped to [`min`, `max`]: a blade pressed
+    /// down by the wind or a ball sinks into the shade of the others.
+    Cwd {
+        min: f32,
+        max: f32,
+        c1: f32,
+        c2: f32,
+    },
+    /// No self-shadow (Figure 7 (a) of the paper).
+    Off,
+}
+
+impl SelfShadow {
+    /// CWD-Sim's shading with the parameters sward ships (dark at the base, full light at
+    /// an upright tip).
+    pub const CWD: SelfShadow = SelfShadow::Cwd {
+        min: 0.3,
+        max: 1.0,
+        c1: 0.7,
+        c2: 0.25,
+    };
+
+    /// The mode id the grass shader switches on and the four parameters.
+    pub fn uniforms(self) -> (f32, [f32; 4]) {
+        match self {
+            SelfShadow::Height => (0.0, [0.0; 4]),
+            SelfShadow::Cwd { min, max, c1, c2 } => (1.0, [min, max, c1, c2]),
+            SelfShadow::Off => (2.0, [0.0; 4]),
+        }
+    }
 }
 
 /// What the blades' colour shows: their natural colour, or a debugging view.
@@ -650,6 +693,7 @@ impl Default for Render {
             width_span_px: 2.0,
             color_mode: ColorMode::Natural,
             wireframe: false,
+            self_shadow: SelfShadow::Height,
         }
     }
 }

@@ -256,9 +256,12 @@ pub struct FrameUniforms {
     pub shape: [f32; 4],
     /// x: w_min, y: w_span (0 = off), z: terrain size.
     pub width_correction: [f32; 4],
-    /// x: blade colour mode (0 natural, 1 by level of detail, 2 by patch), y, z: unused,
-    /// w: blades per patch.
+    /// x: blade colour mode (0 natural, 1 by level of detail, 2 by patch), y: self-shadow
+    /// mode (0 sward's height shading, 1 CWD-Sim Eq. 14, 2 off), z: unused, w: blades per
+    /// patch.
     pub debug: [f32; 4],
+    /// CWD-Sim's Eq. 14 parameters: m_min, m_max, c1, c2.
+    pub self_shadow: [f32; 4],
 }
 
 /// `draw_indexed_indirect` arguments, as wgpu reads them.
@@ -279,7 +282,7 @@ const _: () = assert!(std::mem::size_of::<SimParams>() == 192);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 240);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 304);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
 /// GPU bytes per blade: the blade, its state, its slot in each level's visible-index list

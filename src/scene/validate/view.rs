@@ -6,7 +6,7 @@ use super::allowed::{show, unit, Allowed, Integers, Rule};
 use super::objects::POSITION;
 use super::{tuple3, Checker};
 use crate::error::Result;
-use crate::scene::types::{Camera, Culling, Render};
+use crate::scene::types::{Camera, Culling, Render, SelfShadow};
 
 const FRACTION: Allowed = Allowed::closed(0.0, 1.0, "");
 const FRUSTUM_TOLERANCE: Allowed = Allowed::closed(0.0, 10.0, "");
@@ -22,6 +22,9 @@ const NEAR: Allowed = Allowed::closed(0.001, 1000.0, "m");
 const FAR_MAX: f32 = 1.0e6;
 const FAR_TEXT: &str = "near < far <= 1000000 m";
 const WIDTH_PIXELS: Allowed = Allowed::closed(0.0, 1024.0, "px");
+const SHADE: Allowed = Allowed::closed(0.0, 2.0, "");
+const SHADE_GAIN: Allowed = Allowed::closed(0.0, 10.0, "");
+const SHADE_OFFSET: Allowed = Allowed::closed(-2.0, 2.0, "");
 
 /// The rules of every `culling`, `camera` and `render` value.
 pub(super) const RULES: &[(&str, Rule)] = &[
@@ -60,6 +63,14 @@ pub(super) const RULES: &[(&str, Rule)] = &[
         Rule::Choice("one of Natural, Lod, Patch"),
     ),
     ("render.wireframe", Rule::Bool),
+    (
+        "render.self_shadow",
+        Rule::Choice("Height, Cwd(min: .., max: .., c1: .., c2: ..) or Off"),
+    ),
+    ("render.self_shadow.min", Rule::Real(SHADE)),
+    ("render.self_shadow.max", Rule::Text("min <= max <= 2")),
+    ("render.self_shadow.c1", Rule::Real(SHADE_GAIN)),
+    ("render.self_shadow.c2", Rule::Real(SHADE_OFFSET)),
 ];
 
 pub(super) fn culling(check: &Checker, culling: &Culling) -> Result<()> {
@@ -137,7 +148,19 @@ pub(super) fn render(check: &Checker, render: &mut Render) -> Result<()> {
     check.direction("render.sun_direction", &mut sun)?;
     render.sun_direction = sun.into();
     check.real("render.width_min_px", render.width_min_px, WIDTH_PIXELS)?;
-    check.real("render.width_span_px", render.width_span_px, WIDTH_PIXELS)
+    check.real("render.width_span_px", render.width_span_px, WIDTH_PIXELS)?;
+    if let SelfShadow::Cwd { min, max, c1, c2 } = render.self_shadow {
+        check.real("render.self_shadow.min", min, SHADE)?;
+        if !(max.is_finite() && max >= min && max <= 2.0) {
+            return Err(check.error(
+                "render.self_shadow.max",
+                format!("render.self_shadow.max = {max} is out of range: allowed min <= max <= 2 (min is {min})"),
+            ));
+        }
+        check.real("render.self_shadow.c1", c1, SHADE_GAIN)?;
+        check.real("render.self_shadow.c2", c2, SHADE_OFFSET)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
