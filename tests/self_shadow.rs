@@ -10,7 +10,7 @@ mod common;
 use sward::render::camera::CameraView;
 use sward::render::target::{Target, COLOR_FORMAT};
 use sward::render::Renderer;
-use sward::scene::{Range, Scene, SelfShadow};
+use sward::scene::{Range, SelfShadow};
 use sward::session::Session;
 
 const SIZE: (u32, u32) = (96, 64);
