@@ -11,6 +11,7 @@ pub mod cull;
 pub mod draw;
 pub mod hiz;
 pub mod mesh;
+pub mod msaa;
 pub mod overlay;
 pub mod target;
 pub mod terrain;
@@ -96,6 +97,12 @@ pub struct Renderer {
     pub display_aspect: Option<f32>,
     /// Colour format of the targets the pipelines were built for.
     format: wgpu::TextureFormat,
+    /// `render.msaa` as last applied, and the sample count the adapter gave for it.
+    requested_samples: u32,
+    samples: u32,
+    /// The multisampled colour + depth of the 3D passes (when `samples` > 1), sized to the
+    /// last frame's target.
+    msaa: Option<msaa::MsaaTarget>,
 }
 
 impl Renderer {
@@ -147,6 +154,8 @@ impl Renderer {
             .features()
             .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
         let density = crate::field::DensityMap::from_scene(&scene.terrain)?;
+        let requested_samples = scene.render.msaa;
+        let samples = msaa::effective_samples(gpu, format, requested_samples);
         let draw = DrawPass::new(
             gpu,
             &buffers,
@@ -157,6 +166,7 @@ impl Renderer {
             &cull.params,
             multi_draw,
             format,
+            samples,
         );
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(
@@ -186,6 +196,9 @@ impl Renderer {
             display_aspect: None,
             cull_camera: None,
             format,
+            requested_samples,
+            samples,
+            msaa: None,
         };
         r.upload_colliders(gpu);
         Ok(r)
@@ -367,6 +380,7 @@ impl Renderer {
         let mut o = overlay::OverlayPass::new(
             gpu,
             format,
+            self.samples,
             self.draw.frame_buffer(),
             velocity,
             resolution,
@@ -446,7 +460,14 @@ impl Renderer {
             + self.cull.args.size();
         let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
         let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes());
-        (blades, blades + fluid + pyramid + self.draw.gpu_bytes())
+        // Multisampled colour (4 bytes) and depth (4 bytes) per sample.
+        let msaa = self.msaa.as_ref().map_or(0, |m| {
+            m.size.0 as u64 * m.size.1 as u64 * m.samples as u64 * 8
+        });
+        (
+            blades,
+            blades + fluid + pyramid + msaa + self.draw.gpu_bytes(),
+        )
     }
 
     /// Whether the grass can be drawn as lines on this adapter.
@@ -466,19 +487,123 @@ impl Renderer {
 
     /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull.
     fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32)) {
-        if self.pyramid.as_ref().is_some_and(|p| p.size() == size) {
+        let samples = self.samples;
+        if self
+            .pyramid
+            .as_ref()
+            .is_some_and(|p| p.size() == size && p.samples() == samples)
+        {
             return;
         }
-        let pyramid = DepthPyramid::new(gpu, size.0, size.1);
+        let pyramid = DepthPyramid::with_samples(gpu, size.0, size.1, samples);
         self.cull
             .set_pyramid(&gpu.device, &self.buffers, pyramid.view());
         self.pyramid = Some(pyramid);
     }
 
-    /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
-    /// window can add its own passes (arrows, panel) before one submit.
+    /// The sample count the 3D passes draw with: `render.msaa`, or the largest count
+    /// below it the adapter supports for the colour and depth formats.
+    pub fn msaa_samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
+    /// for the new sample count before the next frame.
+    fn sync_msaa(&mut self, gpu: &Gpu) {
+        if self.scene.render.msaa == self.requested_samples {
+            return;
+        }
+        self.requested_samples = self.scene.render.msaa;
+        let samples = msaa::effective_samples(gpu, self.format, self.requested_samples);
+        if samples == self.samples {
+            return;
+        }
+        self.samples = samples;
+        self.draw.set_samples(&gpu.device, samples);
+        self.msaa = None;
+        // The pyramid's copy reads depth of the old sample count.
+        self.pyramid = None;
+        if self.overlay.is_some() {
+            self.enable_overlay(gpu, self.format);
+        }
+    }
+
+    /// The colour and depth views the 3D passes draw into for a frame whose caller gave
+    /// `color` and `depth`: the multisampled pair with MSAA, else the caller's own. The
+    /// window draws its arrows into these between [`Renderer::encode_scene`] and
+    /// [`Renderer::resolve`].
+    pub fn scene_views<'a>(
+        &'a self,
+        color: &'a wgpu::TextureView,
+        depth: &'a wgpu::TextureView,
+    ) -> (&'a wgpu::TextureView, &'a wgpu::TextureView) {
+        match &self.msaa {
+            Some(m) => (&m.color, &m.depth),
+            None => (color, depth),
+        }
+    }
+
+    /// Resolves the multisampled colour of the frame into `color` (nothing without MSAA).
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
+        if let Some(m) = &self.msaa {
+            m.resolve(encoder, color);
+        }
+    }
+
+    /// Records a whole frame (step by `dt`, cull, draw into `color`, resolve) into
+    /// `encoder`, so the caller can add its own passes (panel) before one submit.
     #[allow(clippy::too_many_arguments)]
     pub fn encode_frame(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.encode_scene(gpu, encoder, dt, camera, color, depth, size);
+        self.resolve(encoder, color);
+    }
+
+    /// [`Renderer::encode_frame`] without the resolve: the 3D passes are left in
+    /// [`Renderer::scene_views`], for the caller to add its own 3D passes (the window's
+    /// guide arrows) and then [`Renderer::resolve`]. `color` and `depth` are the caller's
+    /// single-sample target of `size`; with MSAA `depth` is not touched.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_scene(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.sync_msaa(gpu);
+        if self.samples > 1 {
+            let fits = self.msaa.as_ref().is_some_and(|m| m.size == size);
+            if !fits {
+                self.msaa = Some(msaa::MsaaTarget::new(gpu, self.format, self.samples, size));
+            }
+        } else {
+            self.msaa = None;
+        }
+        // Held outside `self` while the passes borrow it mutably.
+        let target = self.msaa.take();
+        let (color, depth) = match &target {
+            Some(m) => (&m.color, &m.depth),
+            None => (color, depth),
+        };
+        self.encode_passes(gpu, encoder, dt, camera, color, depth, size);
+        self.msaa = target;
+    }
+
+    /// The passes of [`Renderer::encode_scene`], into the views they draw into.
+    #[allow(clippy::too_many_arguments)]
+    fn encode_passes(
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,

@@ -60,7 +60,11 @@ pub(super) const RULES: &[(&str, Rule)] = &[
         Rule::Choice("one of Natural, Lod, Patch"),
     ),
     ("render.wireframe", Rule::Bool),
+    ("render.msaa", Rule::Choice(MSAA_TEXT)),
 ];
+
+/// `render.msaa`: the sample counts a render pipeline may have.
+const MSAA_TEXT: &str = "one of 1, 2, 4, 8 samples";
 
 pub(super) fn culling(check: &Checker, culling: &Culling) -> Result<()> {
     let c = culling;
@@ -137,7 +141,15 @@ pub(super) fn render(check: &Checker, render: &mut Render) -> Result<()> {
     check.direction("render.sun_direction", &mut sun)?;
     render.sun_direction = sun.into();
     check.real("render.width_min_px", render.width_min_px, WIDTH_PIXELS)?;
-    check.real("render.width_span_px", render.width_span_px, WIDTH_PIXELS)
+    check.real("render.width_span_px", render.width_span_px, WIDTH_PIXELS)?;
+    if !crate::render::msaa::SAMPLE_COUNTS.contains(&render.msaa) {
+        let message = format!(
+            "render.msaa = {} is not a sample count: allowed {MSAA_TEXT}",
+            render.msaa
+        );
+        return Err(check.error("render.msaa", message));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -168,6 +180,10 @@ mod tests {
             rejected(|s| s.render.width_min_px = 1e9),
             "render.width_min_px = 1000000000 is out of range: allowed 0 <= width_min_px <= \
              1024 px"
+        );
+        assert_eq!(
+            rejected(|s| s.render.msaa = 3),
+            "render.msaa = 3 is not a sample count: allowed one of 1, 2, 4, 8 samples"
         );
         assert_eq!(
             rejected(|s| s.culling.max_distance = 1e38),
