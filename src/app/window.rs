@@ -422,6 +422,7 @@ impl Running {
         self.gpu
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
+        self.app.renderer.frame_submitted(&self.gpu);
         self.gpu.check_errors()?;
 
         let last = options.exit_after_frames == Some(self.app.frame);

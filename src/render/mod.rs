@@ -37,6 +37,7 @@ use draw::DrawPass;
 use hiz::DepthPyramid;
 use mesh::LodMeshes;
 use timing::GpuTimer;
+use wgpu_profiler::GpuProfilerQuery;
 
 /// What one frame did, read back from the GPU.
 #[derive(Clone, Debug, Default)]
@@ -264,10 +265,9 @@ impl Renderer {
             self.scene.physics.max_dt,
         );
         self.update.prepare(&gpu.queue, &params);
-        self.update.encode(
-            encoder,
-            self.timer.as_ref().map(|t| t.compute(timing::UPDATE)),
-        );
+        timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
+            self.update.encode(e, cs(q))
+        });
     }
 
     /// Cull uniforms for a camera and viewport; `hiz` describes the depth pyramid (zeros:
@@ -322,7 +322,11 @@ impl Renderer {
         self.cull.prepare(&gpu.queue, &cp);
         self.cull.encode_patches(&mut encoder, None);
         self.encode_update(gpu, &mut encoder, dt);
+        if let Some(t) = &mut self.timer {
+            t.resolve(&mut encoder);
+        }
         gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu);
     }
 
     /// The projection's aspect ratio for a target of `width` × `height`.
@@ -638,65 +642,52 @@ impl Renderer {
         );
         let timer = self.timer.as_ref();
         if occlusion {
-            self.draw.encode_occluders(
-                encoder,
-                depth,
-                self.sphere_count,
-                timer.map(|t| t.render(timing::OCCLUDERS)),
-            );
+            timed(timer, encoder, timing::OCCLUDERS, |e, q| {
+                self.draw
+                    .encode_occluders(e, depth, self.sphere_count, rs(q))
+            });
             if let Some(p) = &self.pyramid {
-                p.encode(
-                    &gpu.device,
-                    encoder,
-                    depth,
-                    timer.map(|t| t.compute(timing::PYRAMID)),
-                );
+                timed(timer, encoder, timing::PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, cs(q))
+                });
             }
         }
-        self.cull
-            .encode_patches(encoder, timer.map(|t| t.compute(timing::PATCHES)));
+        timed(timer, encoder, timing::PATCHES, |e, q| {
+            self.cull.encode_patches(e, cs(q))
+        });
         self.encode_update(gpu, encoder, dt);
         let timer = self.timer.as_ref();
-        self.cull.encode_blades(
-            encoder,
-            &self.buffers.dispatch,
-            timer.map(|t| t.compute(timing::CULL)),
-        );
+        timed(timer, encoder, timing::CULL, |e, q| {
+            self.cull.encode_blades(e, &self.buffers.dispatch, cs(q))
+        });
         let wireframe = self.scene.render.wireframe;
-        self.draw.encode(
-            encoder,
-            color,
-            depth,
-            occlusion,
-            &self.cull.args,
-            self.sphere_count,
-            wireframe,
-            timer.map(|t| t.render(timing::DRAW)),
-        );
+        timed(timer, encoder, timing::DRAW, |e, q| {
+            self.draw.encode(
+                e,
+                color,
+                depth,
+                occlusion,
+                &self.cull.args,
+                self.sphere_count,
+                wireframe,
+                rs(q),
+            )
+        });
         // Two-phase occlusion: the depth now holds the opaque objects and the grass seen
         // last frame; the blades not seen then are drawn only where it does not hide them.
         if cp.tests & TEST_GRASS_OCCLUSION != 0 {
             if let Some(p) = &self.pyramid {
-                p.encode(
-                    &gpu.device,
-                    encoder,
-                    depth,
-                    timer.map(|t| t.compute(timing::LATE_PYRAMID)),
-                );
+                timed(timer, encoder, timing::LATE_PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, cs(q))
+                });
             }
-            self.cull.encode_late(
-                encoder,
-                &self.buffers.dispatch,
-                timer.map(|t| t.compute(timing::LATE_CULL)),
-            );
-            self.draw.encode_late(
-                encoder,
-                color,
-                depth,
-                &self.cull.args,
-                wireframe,
-                timer.map(|t| t.render(timing::LATE_DRAW)),
-            );
+            timed(timer, encoder, timing::LATE_CULL, |e, q| {
+                self.cull.encode_late(e, &self.buffers.dispatch, cs(q))
+            });
+            timed(timer, encoder, timing::LATE_DRAW, |e, q| {
+                self.draw
+                    .encode_late(e, color, depth, &self.cull.args, wireframe, rs(q))
+            });
         }
         if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {
             // The arrows' on/off state moves with the clock.
@@ -705,7 +696,7 @@ impl Renderer {
         if let Some(o) = &self.overlay {
             o.encode(encoder, color);
         }
-        if let Some(t) = &self.timer {
+        if let Some(t) = &mut self.timer {
             t.resolve(encoder);
         }
     }
@@ -727,6 +718,36 @@ impl Renderer {
             });
         self.encode_frame(gpu, &mut encoder, dt, camera, color, depth, size);
         gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu);
+    }
+
+    /// Tells the GPU timer that the frame's commands were submitted (the window calls it
+    /// after its own submit; [`Renderer::frame`] does it itself).
+    pub fn frame_submitted(&mut self, gpu: &Gpu) {
+        if let Some(t) = &mut self.timer {
+            t.end_frame(gpu);
+        }
+    }
+
+    /// Keeps every frame's GPU scopes from now on, for [`Renderer::take_trace`]. Returns
+    /// false when the device has no timestamp queries (the trace will have no events).
+    pub fn record_trace(&mut self) -> bool {
+        match &mut self.timer {
+            Some(t) => {
+                t.record_trace();
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The GPU scopes of every frame since [`Renderer::record_trace`] (blocks until the
+    /// GPU is idle), for [`timing::chrome_trace`].
+    pub fn take_trace(&mut self, gpu: &Gpu) -> Result<Vec<wgpu_profiler::GpuTimerQueryResult>> {
+        match &mut self.timer {
+            Some(t) => t.take_trace(gpu),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// Blades reset to their rest pose since the start (non-finite or absurd state; blocks
@@ -736,9 +757,9 @@ impl Renderer {
     }
 
     /// Reads back the counters and pass times of the last frame (blocks until it is done).
-    pub fn stats(&self, gpu: &Gpu) -> Result<FrameStats> {
+    pub fn stats(&mut self, gpu: &Gpu) -> Result<FrameStats> {
         let counters = self.cull.read_counters(gpu)?;
-        let pass_ms = match &self.timer {
+        let pass_ms = match &mut self.timer {
             Some(t) => Some(t.read_ms(gpu)?),
             None => None,
         };
@@ -753,4 +774,31 @@ impl Renderer {
             blades_reset_nonfinite: self.buffers.read_resets(gpu)?,
         })
     }
+}
+
+/// Runs `f` (which records one pass) inside the GPU timer's scope of pass `index` of
+/// [`timing::PASSES`]; `f` gets the scope to take the pass's timestamp writes from (none
+/// without a timer).
+fn timed<R>(
+    timer: Option<&GpuTimer>,
+    encoder: &mut wgpu::CommandEncoder,
+    index: usize,
+    f: impl FnOnce(&mut wgpu::CommandEncoder, Option<&GpuProfilerQuery>) -> R,
+) -> R {
+    let query = timer.map(|t| t.begin(encoder, index));
+    let out = f(encoder, query.as_ref());
+    if let (Some(t), Some(q)) = (timer, query) {
+        t.end(encoder, q);
+    }
+    out
+}
+
+/// A compute pass's timestamp writes from its timer scope.
+fn cs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    q.and_then(|q| q.compute_pass_timestamp_writes())
+}
+
+/// A render pass's timestamp writes from its timer scope.
+fn rs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    q.and_then(|q| q.render_pass_timestamp_writes())
 }
