@@ -75,6 +75,7 @@ fn render_view(unbounded: bool) -> View {
         dt: 1.0 / 30.0,
         out: out.clone(),
         timings: false,
+        trace: None,
         adapter,
         wind_overlay: false,
         pressure_iterations: None,

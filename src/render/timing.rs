@@ -96,6 +96,13 @@ impl GpuTimer {
         if let Err(e) = self.profiler.end_frame() {
             log::warn!("GPU timing of this frame is lost: {e}");
         }
+        // A trace keeps every frame: waiting here keeps the profiler from dropping frames
+        // whose results are not back yet (the pass times themselves are unaffected).
+        if self.trace.is_some() {
+            if let Err(e) = crate::gpu::wait_idle(&gpu.device) {
+                log::warn!("GPU timing: {e}");
+            }
+        }
         self.collect(gpu);
     }
 
@@ -142,6 +149,24 @@ fn pass_ms(frame: &[GpuTimerQueryResult]) -> [f64; PASSES.len()] {
     out
 }
 
+/// Writes `tracks` as a Chrome trace to `path` through `outputs` (staged: renamed into
+/// place with the run's other outputs). `timestamps`: whether the device had them; without,
+/// the trace is still written, with no GPU events, and a note says why.
+pub fn write_trace(
+    outputs: &mut crate::output::Outputs,
+    path: &std::path::Path,
+    tracks: &[TraceTrack],
+    timestamps: bool,
+) -> Result<()> {
+    if !timestamps {
+        eprintln!(
+            "--trace {}: this adapter has no timestamp queries, so the trace has no GPU events",
+            path.display()
+        );
+    }
+    outputs.write(path, &chrome_trace(tracks)?)
+}
+
 /// One row of a trace: a name (a benchmark configuration, a run) and its frames' scopes.
 pub struct TraceTrack {
     pub name: String,
@@ -160,7 +185,8 @@ pub fn chrome_trace(tracks: &[TraceTrack]) -> Result<Vec<u8>> {
             "ph": "M", "pid": 0, "tid": tid, "name": "thread_name",
             "args": { "name": track.name },
         }));
-        let mut stack: Vec<&GpuTimerQueryResult> = track.scopes.iter().collect();
+        // In frame order (a stack, so pushed reversed).
+        let mut stack: Vec<&GpuTimerQueryResult> = track.scopes.iter().rev().collect();
         while let Some(scope) = stack.pop() {
             if let Some(t) = &scope.time {
                 events.push(serde_json::json!({
@@ -168,7 +194,7 @@ pub fn chrome_trace(tracks: &[TraceTrack]) -> Result<Vec<u8>> {
                     "ts": t.start * 1e6, "dur": (t.end - t.start).max(0.0) * 1e6,
                 }));
             }
-            stack.extend(&scope.nested_queries);
+            stack.extend(scope.nested_queries.iter().rev());
         }
     }
     let trace = serde_json::json!({ "traceEvents": events, "displayTimeUnit": "ms" });
