@@ -7,10 +7,18 @@
 // format, and textureLoad on r32float is core); `downsample` writes level k from level k-1,
 // one dispatch per level. The two entry points use disjoint bindings except `dst`, so each
 // gets its own bind group layout.
+//
+// With MSAA the 3D passes draw into a multisampled depth buffer: `copy_depth_ms` writes
+// level 0 as the FARTHEST of each pixel's samples, so a blade hidden by the texel is hidden
+// behind every sample of it (occlusion stays conservative). `dump_samples` copies every
+// sample into a buffer (multisampled textures cannot be copied out): the test of that
+// reduction compares level 0 with the CPU max over the dumped samples.
 
 @group(0) @binding(0) var depth: texture_depth_2d;
 @group(0) @binding(1) var src: texture_2d<f32>;
 @group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
+@group(0) @binding(3) var depth_ms: texture_depth_multisampled_2d;
+@group(0) @binding(4) var<storage, read_write> samples_out: array<f32>;
 
 @compute @workgroup_size(8, 8)
 fn copy_depth(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -20,6 +28,33 @@ fn copy_depth(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let d = textureLoad(depth, vec2<i32>(gid.xy), 0);
     textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(d, 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn copy_depth_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(dst);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    var far = 0.0;
+    for (var s = 0u; s < textureNumSamples(depth_ms); s++) {
+        far = max(far, textureLoad(depth_ms, vec2<i32>(gid.xy), i32(s)));
+    }
+    textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
+}
+
+// Sample s of pixel (x, y) goes to samples_out[(y * width + x) * samples + s].
+@compute @workgroup_size(8, 8)
+fn dump_samples(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(depth_ms);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let n = textureNumSamples(depth_ms);
+    let base = (gid.y * size.x + gid.x) * n;
+    for (var s = 0u; s < n; s++) {
+        samples_out[base + s] = textureLoad(depth_ms, vec2<i32>(gid.xy), i32(s));
+    }
 }
 
 @compute @workgroup_size(8, 8)

@@ -49,6 +49,8 @@ pub struct RenderOptions {
     pub dt: f32,
     pub out: PathBuf,
     pub timings: bool,
+    /// `--trace FILE`: a Chrome trace of every frame's GPU passes.
+    pub trace: Option<PathBuf>,
     pub adapter: AdapterChoice,
     /// Draws the wind velocity and the AGC arrows over the frame.
     pub wind_overlay: bool,
@@ -67,6 +69,7 @@ impl RenderOptions {
             dt: 1.0 / 30.0,
             out: PathBuf::from("meadow.png"),
             timings: false,
+            trace: None,
             adapter,
             wind_overlay: false,
             pressure_iterations: None,
@@ -113,6 +116,9 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         outputs.input("--scene", scene)?;
     }
     outputs.add("--out", &o.out)?;
+    if let Some(path) = &o.trace {
+        outputs.add("--trace", path)?;
+    }
     let mut scene = load(o.scene.as_deref(), &o.sets)?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     let gpu = open_gpu(&o.adapter)?;
@@ -130,6 +136,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     if o.wind_overlay {
         renderer.enable_overlay(&gpu, COLOR_FORMAT);
     }
+    let timestamps = o.trace.is_some() && renderer.record_trace();
     gpu.check_errors()?;
     let mut sums = [0.0f64; PASSES.len()];
     let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
@@ -166,6 +173,14 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     }
     let image = target.read_image(&gpu)?;
     outputs.write_png(&o.out, &image)?;
+    if let Some(path) = &o.trace {
+        let scopes = renderer.take_trace(&gpu)?;
+        let tracks = [crate::render::timing::TraceTrack {
+            name: "sward render".into(),
+            scopes,
+        }];
+        crate::render::timing::write_trace(&mut outputs, path, &tracks, timestamps)?;
+    }
     outputs.commit()?;
     eprintln!(
         "wrote {} ({}x{}, {} frames)",

@@ -91,6 +91,8 @@ impl Gpu {
         features |= adapter.features() & wgpu::Features::POLYGON_MODE_LINE;
         // With first-instance support the levels of detail draw in one multi-draw-indirect.
         features |= adapter.features() & wgpu::Features::INDIRECT_FIRST_INSTANCE;
+        // MSAA beyond WebGPU's guaranteed 1× and 4× (2×, 8×) is adapter-specific.
+        features |= adapter.features() & wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
         // Ask for everything the adapter offers: large fields need its full buffer sizes.
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

@@ -58,6 +58,10 @@ struct WindowArgs {
     /// Record the session's input into a script that --replay plays back.
     #[arg(long)]
     record: Option<PathBuf>,
+    /// Write every frame's GPU pass times as a Chrome trace (JSON; Perfetto opens it) when
+    /// the window closes.
+    #[arg(long, value_name = "FILE")]
+    trace: Option<PathBuf>,
     /// Hold this frame time (ms) by adapting distance culling; default 90 ms on a CPU
     /// adapter, off on a GPU.
     #[arg(long, value_parser = parse_frame_ms)]
@@ -115,6 +119,9 @@ enum Command {
         /// Print per-pass GPU times (timestamp queries) and cull counters.
         #[arg(long)]
         timings: bool,
+        /// Write every frame's GPU pass times as a Chrome trace (JSON; Perfetto opens it).
+        #[arg(long, value_name = "FILE")]
+        trace: Option<PathBuf>,
         /// Draw the wind velocity (colour and arrows) and the AGC guides over the frame.
         #[arg(long)]
         wind_overlay: bool,
@@ -185,6 +192,10 @@ enum Command {
         /// (largest over median frame-to-frame difference).
         #[arg(long)]
         flight: bool,
+        /// Write every measured frame's GPU pass times as a Chrome trace (JSON; Perfetto
+        /// opens it), one track per configuration.
+        #[arg(long, value_name = "FILE")]
+        trace: Option<PathBuf>,
     },
 }
 
@@ -317,6 +328,7 @@ fn main() -> ExitCode {
                 screenshot: w.screenshot,
                 replay: w.replay,
                 record: w.record,
+                trace: w.trace,
                 target_frame_ms: w.target_frame_ms,
                 fixed_dt,
             })
@@ -329,6 +341,7 @@ fn main() -> ExitCode {
             dt,
             out,
             timings,
+            trace,
             wind_overlay,
             wind,
         }) => render(&RenderOptions {
@@ -339,6 +352,7 @@ fn main() -> ExitCode {
             dt,
             out,
             timings,
+            trace,
             adapter,
             wind_overlay,
             pressure_iterations: wind.pressure_iterations,
@@ -380,6 +394,7 @@ fn main() -> ExitCode {
             json,
             images,
             flight,
+            trace,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -392,6 +407,7 @@ fn main() -> ExitCode {
         .map(|mut b| {
             b.sets = overrides.insert(o).sets();
             b.flight = flight;
+            b.trace = trace;
             b
         })
         .and_then(|o| o.with_images(images))

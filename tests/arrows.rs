@@ -152,7 +152,7 @@ fn the_gpu_draws_the_arrow_where_the_cpu_projects_it() {
         "the mesh must outgrow the first buffers"
     );
     let view_proj = camera().view_proj(WIDTH as f32 / HEIGHT as f32);
-    let mut pass = ArrowPass::new(&gpu, COLOR_FORMAT);
+    let mut pass = ArrowPass::new(&gpu, COLOR_FORMAT, 1);
 
     // An empty mesh draws nothing.
     pass.prepare(&gpu, &ArrowMesh::default(), view_proj, sun());

@@ -299,3 +299,85 @@ fn dump_wind_writes_the_documented_grid() {
     ]);
     assert!(err.contains("out of range"), "{err}");
 }
+
+/// The events of a Chrome trace file that `--trace` wrote: (name, duration in µs) of every
+/// complete event, after checking the JSON is a trace.
+fn trace_events(path: &Path) -> Vec<(String, f64)> {
+    let text = std::fs::read_to_string(path).expect("trace written");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("trace is JSON");
+    let events = json["traceEvents"].as_array().expect("traceEvents array");
+    events
+        .iter()
+        .filter(|e| e["ph"] == "X")
+        .map(|e| {
+            assert!(e["ts"].as_f64().is_some(), "{e}");
+            (
+                e["name"].as_str().expect("name").to_owned(),
+                e["dur"].as_f64().expect("dur"),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn trace_holds_every_frame_s_passes() {
+    let t = Tmp::new("trace");
+    let (png, trace) = (t.path("f.png"), t.path("t.json"));
+    let out = sward(&[
+        "render",
+        "--size",
+        "64x64",
+        "--frames",
+        "2",
+        "--out",
+        png.to_str().unwrap(),
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let events = trace_events(&trace);
+    for pass in ["occluders", "pyramid", "patches", "update", "cull", "draw"] {
+        let n = events.iter().filter(|(name, _)| name == pass).count();
+        assert_eq!(n, 2, "{pass}: one event per frame: {events:?}");
+    }
+    assert!(events.iter().all(|(_, d)| *d >= 0.0), "{events:?}");
+    assert!(
+        events.iter().any(|(name, d)| name == "draw" && *d > 0.0),
+        "the draw takes time: {events:?}"
+    );
+
+    // The flight writes its measured frames (the warm-up left out).
+    let flight = t.path("flight.json");
+    let out = sward(&[
+        "bench",
+        "--flight",
+        "--scene",
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/scenes/bench_small.ron")
+            .to_str()
+            .unwrap(),
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--size",
+        "32x32",
+        "--trace",
+        flight.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let events = trace_events(&flight);
+    assert_eq!(
+        events.iter().filter(|(n, _)| n == "cull").count(),
+        2,
+        "{events:?}"
+    );
+}

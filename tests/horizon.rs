@@ -86,6 +86,7 @@ fn render_scene(file: &str, unbounded: bool, eye: Vec3, look_at: Vec3, ground_y:
         dt: 1.0 / 30.0,
         out: out.clone(),
         timings: false,
+        trace: None,
         adapter,
         wind_overlay: false,
         pressure_iterations: None,

@@ -100,6 +100,7 @@ fn no_writer_replaces_what_is_not_a_regular_file() {
     let dir = t.s("dir");
     let link = t.link("link", "fifo");
     let good = t.s("good.json");
+    let good_png = t.s("good.png");
     let cases: Vec<(&str, String)> = vec![
         ("FIFO", fifo.clone()),
         ("socket", socket.clone()),
@@ -124,6 +125,14 @@ fn no_writer_replaces_what_is_not_a_regular_file() {
             ],
             vec!["--exit-after-frames", "1", "--screenshot", t],
             vec!["--exit-after-frames", "1", "--record", t],
+            vec!["--exit-after-frames", "1", "--trace", t],
+            vec![
+                "render", "--size", "16x16", "--frames", "1", "--out", &good_png, "--trace", t,
+            ],
+            vec!["bench", "--frames", "1", "--size", "16x16", "--trace", t],
+            vec![
+                "bench", "--flight", "--frames", "2", "--size", "16x16", "--trace", t,
+            ],
         ];
         for args in runs {
             let stderr = fails(&args);

@@ -31,6 +31,7 @@ fn meadow_render_matches_reference() {
         dt: 1.0 / 30.0,
         out: out.clone(),
         timings: false,
+        trace: None,
         adapter,
         wind_overlay: false,
         pressure_iterations: None,

@@ -1,14 +1,16 @@
 //! The GPU depth pyramid against its CPU twin: a real depth buffer (triangles rendered at
 //! known depths, at odd and even sizes) goes through `DepthPyramid`; level 0 must equal the
 //! depth read-back, every level must equal `build_pyramid` exactly (max does not round),
-//! and every level must cover the depths below it.
+//! and every level must cover the depths below it. With MSAA the depth buffer is
+//! multisampled: level 0 must be the farthest sample of each pixel (`farthest_samples` over
+//! every sample, dumped by a compute pass since multisampled textures cannot be copied).
 
 mod common;
 
 use sward::gpu::Gpu;
 use sward::render::hiz::DepthPyramid;
 use sward::render::target::{depth_view, read_texels};
-use sward::sim::reference::hiz::{build_pyramid, level_size};
+use sward::sim::reference::hiz::{build_pyramid, farthest_samples, level_size};
 
 /// A sloped quad over the whole screen (depth 0.6 top-left .. 0.95 bottom-right, so the
 /// farthest pixels sit in the last row and column: the ones an odd size folds in) and two
@@ -30,7 +32,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-fn depth_pipeline(gpu: &Gpu) -> wgpu::RenderPipeline {
+fn depth_pipeline(gpu: &Gpu, samples: u32) -> wgpu::RenderPipeline {
     let module = gpu
         .device
         .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -55,7 +57,10 @@ fn depth_pipeline(gpu: &Gpu) -> wgpu::RenderPipeline {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
             // Depth only: no colour target, no fragment stage.
             fragment: None,
             multiview_mask: None,
@@ -223,7 +228,7 @@ fn check(gpu: &Gpu, pipeline: &wgpu::RenderPipeline, width: u32, height: u32) {
 #[test]
 fn pyramid_matches_twin_and_covers_the_depths() {
     let gpu = common::gpu();
-    let pipeline = depth_pipeline(&gpu);
+    let pipeline = depth_pipeline(&gpu, 1);
     // Odd in both axes, even (a clean halving), tall and thin, and a single pixel.
     for (w, h) in [(37, 23), (16, 8), (3, 29), (1, 1)] {
         check(&gpu, &pipeline, w, h);
@@ -236,4 +241,71 @@ fn reading_a_missing_level_is_an_error() {
     let pyramid = DepthPyramid::new(&gpu, 8, 4);
     assert_eq!(pyramid.levels(), 4);
     assert!(pyramid.read_level(&gpu, 4).is_err());
+}
+
+#[test]
+fn multisampled_pyramid_keeps_the_farthest_sample() {
+    let gpu = common::gpu();
+    const SAMPLES: u32 = 4;
+    let pipeline = depth_pipeline(&gpu, SAMPLES);
+    for (width, height) in [(37, 23), (16, 8)] {
+        let at = format!("{width}x{height} x{SAMPLES}");
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sward.test.hiz_depth_ms"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: SAMPLES,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        render(&gpu, &pipeline, &view);
+        let pyramid = DepthPyramid::with_samples(&gpu, width, height, SAMPLES);
+        assert_eq!(pyramid.samples(), SAMPLES);
+        let samples = pyramid
+            .read_depth_samples(&gpu, &view)
+            .expect("sample dump");
+        assert_eq!(samples.len(), (width * height * SAMPLES) as usize, "{at}");
+        // The edges of the near triangles cut through pixels: some pixels must hold
+        // different depths in their samples, or the reduction would not be tested.
+        let mixed = samples
+            .chunks_exact(SAMPLES as usize)
+            .filter(|s| s.iter().any(|&d| d != s[0]))
+            .count();
+        assert!(
+            mixed > 10,
+            "{at}: only {mixed} pixels with differing samples"
+        );
+        assert!(
+            samples.iter().all(|&d| d < 1.0),
+            "{at}: quad does not cover"
+        );
+
+        let gpu_levels = build(&gpu, &pyramid, &view);
+        let level0 = farthest_samples(&samples, SAMPLES as usize);
+        assert_eq!(
+            gpu_levels[0], level0,
+            "{at}: level 0 is not the farthest sample"
+        );
+        // Farther than the nearest sample where they differ: the max, not any sample.
+        let nearest: Vec<f32> = samples
+            .chunks_exact(SAMPLES as usize)
+            .map(|s| s.iter().copied().fold(1.0, f32::min))
+            .collect();
+        assert!(
+            level0.iter().zip(&nearest).filter(|(f, n)| f > n).count() == mixed,
+            "{at}"
+        );
+        assert_eq!(
+            build_pyramid(&level0, width, height),
+            gpu_levels,
+            "{at}: upper levels differ from the twin"
+        );
+    }
 }

@@ -42,6 +42,8 @@ pub struct AppOptions {
     pub replay: Option<PathBuf>,
     /// Record the input into this script.
     pub record: Option<PathBuf>,
+    /// Write every frame's GPU pass times as a Chrome trace here at the end.
+    pub trace: Option<PathBuf>,
     /// Hold this frame time by adapting distance culling (None: the adapter decides).
     pub target_frame_ms: Option<f32>,
     /// Fixed simulation step per frame (replays use it for repeatable runs).

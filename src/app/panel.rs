@@ -443,6 +443,7 @@ fn culling_section(ui: &mut Ui, app: &mut AppState) {
 fn rendering_section(ui: &mut Ui, app: &mut AppState) {
     egui::CollapsingHeader::new("Rendering").show(ui, |ui| {
         let has_lines = app.renderer.has_wireframe();
+        let samples = app.renderer.msaa_samples();
         let r = &mut app.renderer.scene.render;
         ui.add_enabled(
             has_lines,
@@ -450,6 +451,16 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
         );
         if !has_lines {
             ui.label("(this adapter cannot draw lines)");
+        }
+        // MSAA: the renderer rebuilds its pipelines and targets before the next frame.
+        ui.horizontal(|ui| {
+            ui.label("MSAA");
+            for n in crate::render::msaa::SAMPLE_COUNTS {
+                ui.selectable_value(&mut r.msaa, n, format!("{n}×"));
+            }
+        });
+        if samples != r.msaa {
+            ui.label(format!("(this adapter gives {samples}× for {}×)", r.msaa));
         }
         ui.horizontal(|ui| {
             ui.label("colour");

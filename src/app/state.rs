@@ -154,7 +154,7 @@ impl AppState {
         let applied_revision = editor.revision();
         let field_draft = renderer.scene.field.clone();
         Ok(Self {
-            arrows: ArrowPass::new(gpu, format),
+            arrows: ArrowPass::new(gpu, format, renderer.msaa_samples()),
             upscale: Upscale::new(gpu, format),
             renderer,
             camera,
@@ -582,7 +582,13 @@ impl AppState {
         };
         self.renderer.display_aspect = Some(self.size.0 as f32 / self.size.1.max(1) as f32);
         self.renderer
-            .encode_frame(gpu, encoder, dt, &view, color, depth, size);
+            .encode_scene(gpu, encoder, dt, &view, color, depth, size);
+        // The arrows are drawn in the multisampled scene, before its resolve: they are
+        // depth tested against the multisampled depth (the only one the scene wrote) and
+        // their edges are anti-aliased like the grass.
+        if self.arrows.samples != self.renderer.msaa_samples() {
+            self.arrows = ArrowPass::new(gpu, self.format, self.renderer.msaa_samples());
+        }
         let show_arrows = self.mode == Mode::Edit || self.renderer.overlay_enabled();
         let mesh = if show_arrows {
             ArrowMesh::build_at(
@@ -598,7 +604,9 @@ impl AppState {
         let aspect = self.size.0 as f32 / self.size.1.max(1) as f32;
         let sun = Vec3::from(self.renderer.scene.render.sun_direction);
         self.arrows.prepare(gpu, &mesh, view.view_proj(aspect), sun);
-        self.arrows.encode(encoder, color, depth);
+        let (scene_color, scene_depth) = self.renderer.scene_views(color, depth);
+        self.arrows.encode(encoder, scene_color, scene_depth);
+        self.renderer.resolve(encoder, color);
         if scaled {
             self.upscale.encode(encoder, output);
         }

@@ -71,6 +71,9 @@ impl WindowApp {
         if let Some(path) = &options.record {
             outputs.add("--record", path)?;
         }
+        if let Some(path) = &options.trace {
+            outputs.add("--trace", path)?;
+        }
         let script = options.replay.as_deref().map(Script::load).transpose()?;
         let scene = crate::commands::load(options.scene.as_deref(), &options.sets);
         // A bad --set is a mistake on the command line, not in a file the user may want to
@@ -133,6 +136,9 @@ impl WindowApp {
             &o.sets,
         )?;
         app.fixed_dt = o.fixed_dt;
+        if o.trace.is_some() {
+            app.renderer.record_trace();
+        }
         app.budget.target_ms = o.target_frame_ms.or_else(|| {
             // A CPU adapter cannot draw the whole meadow at interactive rates: hold 10 fps.
             (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(90.0)
@@ -214,7 +220,7 @@ impl WindowApp {
         if self.error.is_some() {
             return Ok(());
         }
-        let (Some(r), Some(outputs)) = (&self.running, &mut self.outputs) else {
+        let (Some(r), Some(outputs)) = (&mut self.running, &mut self.outputs) else {
             return Ok(());
         };
         if self.options.exit_after_frames.is_some() {
@@ -227,6 +233,15 @@ impl WindowApp {
         }
         if let (Some(path), Some(rec)) = (&self.options.record, &r.recorder) {
             outputs.write(path, rec.script().to_text(path)?.as_bytes())?;
+        }
+        if let Some(path) = &self.options.trace {
+            // The frames of the renderer in use at the end (a field rebuilt from the panel
+            // starts a new renderer, and its trace, from there).
+            let tracks = [crate::render::timing::TraceTrack {
+                name: "sward window".into(),
+                scopes: r.app.renderer.take_trace(&r.gpu)?,
+            }];
+            crate::render::timing::write_trace(outputs, path, &tracks, r.gpu.timestamps)?;
         }
         if let Some(path) = &self.options.screenshot {
             if !outputs.is_written(path) {
@@ -241,9 +256,13 @@ impl WindowApp {
         }
         if let Some(outputs) = self.outputs.take() {
             outputs.commit()?;
-            for path in [&self.options.screenshot, &self.options.record]
-                .into_iter()
-                .flatten()
+            for path in [
+                &self.options.screenshot,
+                &self.options.record,
+                &self.options.trace,
+            ]
+            .into_iter()
+            .flatten()
             {
                 eprintln!("wrote {}", path.display());
             }
@@ -428,6 +447,7 @@ impl Running {
         self.gpu
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
+        self.app.renderer.frame_submitted(&self.gpu);
         self.gpu.check_errors()?;
 
         let last = options.exit_after_frames == Some(self.app.frame);

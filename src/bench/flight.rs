@@ -170,6 +170,10 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
             &session.terrain,
             flying as f32 * BENCH_DT,
         );
+        if o.trace.is_some() && i == o.warmup {
+            // The warm-up is left out of the trace as out of the statistics.
+            renderer.record_trace();
+        }
         let start = Instant::now();
         renderer.frame(
             &gpu,
@@ -206,6 +210,13 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
             outputs.write_png(&dir.join(frame_name(flying)), &image)?;
         }
         previous = Some(image);
+    }
+    if let Some(path) = &o.trace {
+        let tracks = [crate::render::timing::TraceTrack {
+            name: "flight".into(),
+            scopes: renderer.take_trace(&gpu)?,
+        }];
+        crate::render::timing::write_trace(&mut outputs, path, &tracks, gpu.timestamps)?;
     }
     outputs.commit()?;
     let timestamps = gpu_ms.len() == wall_ms.len() && !gpu_ms.is_empty();

@@ -78,6 +78,8 @@ pub struct BenchOptions {
     /// `--flight`: fly the camera along a line and report frame-time percentiles and pops
     /// instead of the three configurations.
     pub flight: bool,
+    /// `--trace FILE`: a Chrome trace of the measured frames' GPU passes.
+    pub trace: Option<PathBuf>,
 }
 
 impl BenchOptions {
@@ -106,6 +108,7 @@ impl BenchOptions {
             adapter,
             images: None,
             flight: false,
+            trace: None,
         })
     }
 
@@ -435,6 +438,8 @@ struct Measured {
     sphere_tests: u64,
     /// Blades reset to their rest pose since the renderer started (warm-up included).
     resets: u64,
+    /// The measured frames' GPU scopes, when tracing.
+    scopes: Vec<wgpu_profiler::GpuTimerQueryResult>,
 }
 
 impl Measured {
@@ -451,6 +456,7 @@ fn measure(
     target: &Target,
     warmup: u32,
     frames: u32,
+    trace: bool,
 ) -> Result<Measured> {
     let camera = CameraView::from_scene(&scene.camera);
     let mut renderer = Renderer::new(
@@ -469,6 +475,10 @@ fn measure(
     let mut last = CullCounters::default();
     let mut resets = 0;
     for i in 0..warmup + frames {
+        if trace && i == warmup {
+            // The warm-up is left out of the trace as out of the statistics.
+            renderer.record_trace();
+        }
         let start = Instant::now();
         renderer.frame(
             gpu,
@@ -532,6 +542,7 @@ fn measure(
         spheres_considered: last.spheres_considered().into(),
         sphere_tests: u64::from(last.patch_sphere_pairs) * u64::from(renderer.buffers.patch_size),
         resets: resets.into(),
+        scopes: renderer.take_trace(gpu)?,
     })
 }
 
@@ -620,6 +631,9 @@ fn start(o: &BenchOptions, image_names: impl IntoIterator<Item = String>) -> Res
             outputs.add("--images", &dir.join(name))?;
         }
     }
+    if let Some(path) = &o.trace {
+        outputs.add("--trace", path)?;
+    }
     let scene = load(o.scene.as_deref(), &o.sets)?;
     let scene_name = o
         .scene
@@ -661,6 +675,8 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
     eprintln!("{}", session.describe_field());
     let mut configurations = Vec::new();
     let mut images = Vec::new();
+    let mut tracks = Vec::new();
+    let trace = o.trace.is_some();
     for config in Config::COLUMNS {
         eprintln!(
             "bench: {} ({} warm-up + {} frames)",
@@ -670,7 +686,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
         );
         let scene = config.apply(&session.scene);
         let spheres = colliders(&scene);
-        let m = measure(&gpu, &session, scene, &target, o.warmup, o.frames)?;
+        let mut m = measure(&gpu, &session, scene, &target, o.warmup, o.frames, trace)?;
         let frame_ms = m.frame_ms();
         configurations.push(ConfigReport {
             name: config.name().to_string(),
@@ -694,6 +710,10 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             },
             blades_reset_nonfinite: m.resets,
             memory: memory(m.blades.total, m.gpu_bytes),
+        });
+        tracks.push(timing::TraceTrack {
+            name: config.name().to_string(),
+            scopes: std::mem::take(&mut m.scopes),
         });
         images.push((config, m.image));
     }
@@ -723,14 +743,19 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             o.warmup,
             o.frames
         );
-        let m = measure(
+        let mut m = measure(
             &gpu,
             &session,
             session.scene.clone(),
             &target,
             o.warmup,
             o.frames,
+            trace,
         )?;
+        tracks.push(timing::TraceTrack {
+            name: format!("sweep {n}"),
+            scopes: std::mem::take(&mut m.scopes),
+        });
         let frame_ms = m.frame_ms();
         sweep.push(SweepPoint {
             requested: n as u64,
@@ -742,6 +767,9 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             gpu_ms: m.gpu_ms,
             gpu_mib: m.gpu_bytes.1 as f64 / MIB,
         });
+    }
+    if let Some(path) = &o.trace {
+        timing::write_trace(&mut outputs, path, &tracks, gpu.timestamps)?;
     }
     // Last, so that a failed sweep leaves no image either; fails (and writes none) if an
     // image could not be made.

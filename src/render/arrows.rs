@@ -341,6 +341,8 @@ impl ArrowMesh {
 
 /// Draws an [`ArrowMesh`] over a finished frame (see the module docs).
 pub struct ArrowPass {
+    /// Samples per pixel of the targets the pipeline draws into.
+    pub samples: u32,
     pipeline: wgpu::RenderPipeline,
     group: wgpu::BindGroup,
     uniforms: wgpu::Buffer,
@@ -375,8 +377,8 @@ fn index_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
 
 impl ArrowPass {
     /// The pipeline for colour targets of `color_format` with a [`DEPTH_FORMAT`] depth
-    /// buffer, and empty buffers.
-    pub fn new(gpu: &Gpu, color_format: wgpu::TextureFormat) -> Self {
+    /// buffer, both of `samples` samples (the renderer's MSAA), and empty buffers.
+    pub fn new(gpu: &Gpu, color_format: wgpu::TextureFormat, samples: u32) -> Self {
         let device = &gpu.device;
         let module = shaders::module(device, "arrows.wgsl");
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -433,7 +435,10 @@ impl ArrowPass {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some("fs_main"),
@@ -448,6 +453,7 @@ impl ArrowPass {
             cache: None,
         });
         Self {
+            samples,
             pipeline,
             group,
             uniforms,

@@ -31,15 +31,12 @@ pub struct DrawPass {
     /// levels with multi-draw.
     grass_groups: Vec<wgpu::BindGroup>,
     spheres_group: wgpu::BindGroup,
-    sky: wgpu::RenderPipeline,
-    terrain: wgpu::RenderPipeline,
-    spheres: wgpu::RenderPipeline,
-    /// Depth-only terrain and colliders (the occluder pass).
-    terrain_depth: wgpu::RenderPipeline,
-    spheres_depth: wgpu::RenderPipeline,
-    grass: wgpu::RenderPipeline,
-    /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
-    grass_lines: Option<wgpu::RenderPipeline>,
+    /// Kept to rebuild the pipelines for another sample count.
+    frame_layout: wgpu::BindGroupLayout,
+    grass_layout: wgpu::BindGroupLayout,
+    spheres_layout: wgpu::BindGroupLayout,
+    format: wgpu::TextureFormat,
+    pipelines: Pipelines,
     /// The clipmap terrain's buffers and bind group.
     terrain_pass: TerrainPass,
     sphere_mesh: Mesh,
@@ -84,6 +81,7 @@ struct PipelineSpec<'a> {
 fn pipeline(
     device: &wgpu::Device,
     format: wgpu::TextureFormat,
+    samples: u32,
     spec: PipelineSpec,
 ) -> wgpu::RenderPipeline {
     let module = shaders::module(device, spec.shader);
@@ -127,7 +125,11 @@ fn pipeline(
             stencil: Default::default(),
             bias: Default::default(),
         }),
-        multisample: Default::default(),
+        // Every pass of the frame's 3D targets has their sample count (`render.msaa`).
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
         fragment: (!spec.depth_only).then_some(wgpu::FragmentState {
             module: &module,
             entry_point: Some("fs_main"),
@@ -141,6 +143,161 @@ fn pipeline(
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// The render pipelines of the draw pass, for one colour format and sample count.
+struct Pipelines {
+    samples: u32,
+    sky: wgpu::RenderPipeline,
+    terrain: wgpu::RenderPipeline,
+    spheres: wgpu::RenderPipeline,
+    /// Depth-only terrain and colliders (the occluder pass).
+    terrain_depth: wgpu::RenderPipeline,
+    spheres_depth: wgpu::RenderPipeline,
+    grass: wgpu::RenderPipeline,
+    /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
+    grass_lines: Option<wgpu::RenderPipeline>,
+}
+
+impl Pipelines {
+    /// `layouts`: frame, terrain, spheres and grass bind group layouts.
+    fn new(
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        samples: u32,
+        layouts: [&wgpu::BindGroupLayout; 4],
+    ) -> Self {
+        let [frame_layout, terrain_layout, spheres_layout, grass_layout] = layouts;
+        let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
+        let sphere_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &sphere_attrs,
+        })];
+        let sky = pipeline(
+            device,
+            format,
+            samples,
+            PipelineSpec {
+                label: "sward.draw.sky",
+                shader: "sky.wgsl",
+                layout: frame_layout,
+                buffers: &[],
+                depth_write: false,
+                cull_back: false,
+                lines: false,
+                depth_only: false,
+            },
+        );
+        let terrain_pipeline = pipeline(
+            device,
+            format,
+            samples,
+            PipelineSpec {
+                label: "sward.draw.terrain",
+                shader: "terrain.wgsl",
+                layout: terrain_layout,
+                buffers: &[],
+                depth_write: true,
+                cull_back: false,
+                lines: false,
+                depth_only: false,
+            },
+        );
+        let spheres = pipeline(
+            device,
+            format,
+            samples,
+            PipelineSpec {
+                label: "sward.draw.spheres",
+                shader: "spheres.wgsl",
+                layout: spheres_layout,
+                buffers: &sphere_buffers,
+                depth_write: true,
+                cull_back: false,
+                lines: false,
+                depth_only: false,
+            },
+        );
+        let depth_only = |label, shader, layout, buffers| {
+            pipeline(
+                device,
+                format,
+                samples,
+                PipelineSpec {
+                    label,
+                    shader,
+                    layout,
+                    buffers,
+                    depth_write: true,
+                    cull_back: false,
+                    lines: false,
+                    depth_only: true,
+                },
+            )
+        };
+        let terrain_depth = depth_only(
+            "sward.draw.terrain_depth",
+            "terrain.wgsl",
+            terrain_layout,
+            &[],
+        );
+        let spheres_depth = depth_only(
+            "sward.draw.spheres_depth",
+            "spheres.wgsl",
+            spheres_layout,
+            &sphere_buffers,
+        );
+        // Blades have no back: both sides are drawn and lit (two-sided lighting).
+        let grass = pipeline(
+            device,
+            format,
+            samples,
+            PipelineSpec {
+                label: "sward.draw.grass",
+                shader: "grass.wgsl",
+                layout: grass_layout,
+                buffers: &[],
+                depth_write: true,
+                cull_back: false,
+                lines: false,
+                depth_only: false,
+            },
+        );
+
+        // Line rasterisation is an optional feature; without it the panel says so.
+        let grass_lines = device
+            .features()
+            .contains(wgpu::Features::POLYGON_MODE_LINE)
+            .then(|| {
+                pipeline(
+                    device,
+                    format,
+                    samples,
+                    PipelineSpec {
+                        label: "sward.draw.grass_lines",
+                        shader: "grass.wgsl",
+                        layout: grass_layout,
+                        buffers: &[],
+                        depth_write: true,
+                        cull_back: false,
+                        lines: true,
+                        depth_only: false,
+                    },
+                )
+            });
+
+        Self {
+            samples,
+            sky,
+            terrain: terrain_pipeline,
+            spheres,
+            terrain_depth,
+            spheres_depth,
+            grass,
+            grass_lines,
+        }
+    }
 }
 
 impl DrawPass {
@@ -159,6 +316,7 @@ impl DrawPass {
         cull_params: &wgpu::Buffer,
         multi_draw: bool,
         format: wgpu::TextureFormat,
+        samples: u32,
     ) -> Self {
         let device = &gpu.device;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -261,119 +419,17 @@ impl DrawPass {
         });
 
         let terrain_pass = TerrainPass::new(gpu, terrain, density, blend, &frame);
-        let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
-        let sphere_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &sphere_attrs,
-        })];
-        let sky = pipeline(
+        let pipelines = Pipelines::new(
             device,
             format,
-            PipelineSpec {
-                label: "sward.draw.sky",
-                shader: "sky.wgsl",
-                layout: &frame_layout,
-                buffers: &[],
-                depth_write: false,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
+            samples,
+            [
+                &frame_layout,
+                &terrain_pass.layout,
+                &spheres_layout,
+                &grass_layout,
+            ],
         );
-        let terrain_pipeline = pipeline(
-            device,
-            format,
-            PipelineSpec {
-                label: "sward.draw.terrain",
-                shader: "terrain.wgsl",
-                layout: &terrain_pass.layout,
-                buffers: &[],
-                depth_write: true,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-        let spheres = pipeline(
-            device,
-            format,
-            PipelineSpec {
-                label: "sward.draw.spheres",
-                shader: "spheres.wgsl",
-                layout: &spheres_layout,
-                buffers: &sphere_buffers,
-                depth_write: true,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-        let depth_only = |label, shader, layout, buffers| {
-            pipeline(
-                device,
-                format,
-                PipelineSpec {
-                    label,
-                    shader,
-                    layout,
-                    buffers,
-                    depth_write: true,
-                    cull_back: false,
-                    lines: false,
-                    depth_only: true,
-                },
-            )
-        };
-        let terrain_depth = depth_only(
-            "sward.draw.terrain_depth",
-            "terrain.wgsl",
-            &terrain_pass.layout,
-            &[],
-        );
-        let spheres_depth = depth_only(
-            "sward.draw.spheres_depth",
-            "spheres.wgsl",
-            &spheres_layout,
-            &sphere_buffers,
-        );
-        // Blades have no back: both sides are drawn and lit (two-sided lighting).
-        let grass = pipeline(
-            device,
-            format,
-            PipelineSpec {
-                label: "sward.draw.grass",
-                shader: "grass.wgsl",
-                layout: &grass_layout,
-                buffers: &[],
-                depth_write: true,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-
-        // Line rasterisation is an optional feature; without it the panel says so.
-        let grass_lines = device
-            .features()
-            .contains(wgpu::Features::POLYGON_MODE_LINE)
-            .then(|| {
-                pipeline(
-                    device,
-                    format,
-                    PipelineSpec {
-                        label: "sward.draw.grass_lines",
-                        shader: "grass.wgsl",
-                        layout: &grass_layout,
-                        buffers: &[],
-                        depth_write: true,
-                        cull_back: false,
-                        lines: true,
-                        depth_only: false,
-                    },
-                )
-            });
-
         let sphere = |rings, sectors, label: &str| {
             let (sv, si) = sphere_mesh(rings, sectors);
             Mesh {
@@ -402,13 +458,11 @@ impl DrawPass {
             frame_group,
             grass_groups,
             spheres_group,
-            sky,
-            terrain: terrain_pipeline,
-            spheres,
-            terrain_depth,
-            spheres_depth,
-            grass,
-            grass_lines,
+            frame_layout,
+            grass_layout,
+            spheres_layout,
+            format,
+            pipelines,
             terrain_pass,
             sphere_mesh,
             occluder_sphere,
@@ -432,9 +486,33 @@ impl DrawPass {
             + self.terrain_pass.gpu_bytes()
     }
 
+    /// The sample count the pipelines draw with.
+    pub fn samples(&self) -> u32 {
+        self.pipelines.samples
+    }
+
+    /// Rebuilds the pipelines for targets of `samples` samples (the panel's MSAA setting);
+    /// buffers and bind groups stay.
+    pub fn set_samples(&mut self, device: &wgpu::Device, samples: u32) {
+        if samples == self.pipelines.samples {
+            return;
+        }
+        self.pipelines = Pipelines::new(
+            device,
+            self.format,
+            samples,
+            [
+                &self.frame_layout,
+                &self.terrain_pass.layout,
+                &self.spheres_layout,
+                &self.grass_layout,
+            ],
+        );
+    }
+
     /// Whether the grass can be drawn as lines (the adapter supports line rasterisation).
     pub fn has_wireframe(&self) -> bool {
-        self.grass_lines.is_some()
+        self.pipelines.grass_lines.is_some()
     }
 
     /// The frame-uniform buffer (the overlay reads it too).
@@ -492,10 +570,10 @@ impl DrawPass {
             multiview_mask: None,
         });
         if sphere_count > 0 {
-            pass.set_pipeline(&self.spheres_depth);
+            pass.set_pipeline(&self.pipelines.spheres_depth);
             self.draw_spheres(&mut pass, &self.occluder_sphere, sphere_count);
         }
-        pass.set_pipeline(&self.terrain_depth);
+        pass.set_pipeline(&self.pipelines.terrain_depth);
         self.draw_terrain(&mut pass);
     }
 
@@ -526,7 +604,7 @@ impl DrawPass {
             timestamps,
         );
         if sphere_count > 0 {
-            pass.set_pipeline(&self.spheres);
+            pass.set_pipeline(&self.pipelines.spheres);
             self.draw_spheres(&mut pass, &self.sphere_mesh, sphere_count);
         }
 
@@ -534,10 +612,10 @@ impl DrawPass {
 
         // Front to back: what the grass covers of the ground and what the ground covers of
         // the sky is rejected by the depth test before it is shaded.
-        pass.set_pipeline(&self.terrain);
+        pass.set_pipeline(&self.pipelines.terrain);
         self.draw_terrain(&mut pass);
 
-        pass.set_pipeline(&self.sky);
+        pass.set_pipeline(&self.pipelines.sky);
         pass.set_bind_group(0, &self.frame_group, &[]);
         pass.draw(0..3, 0..1);
     }
@@ -551,9 +629,10 @@ impl DrawPass {
         offset: u64,
         wireframe: bool,
     ) {
-        let grass = match (&self.grass_lines, wireframe) {
+        let p = &self.pipelines;
+        let grass = match (&p.grass_lines, wireframe) {
             (Some(lines), true) => lines,
-            _ => &self.grass,
+            _ => &p.grass,
         };
         pass.set_pipeline(grass);
         pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);

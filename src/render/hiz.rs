@@ -1,7 +1,8 @@
 //! The hierarchical depth pyramid ("Hi-Z", `shaders/hiz.wgsl`) for occlusion culling: an
 //! R32Float mip chain whose level 0 is a copy of the depth buffer and whose every texel
 //! above holds the farthest depth of the texels below it. A cull shader reads it with
-//! `textureLoad(hiz, coord, level)` through [`DepthPyramid::view`]. CPU twin:
+//! `textureLoad(hiz, coord, level)` through [`DepthPyramid::view`]. With MSAA the depth is
+//! multisampled and level 0 keeps the farthest sample of each pixel. CPU twin:
 //! [`crate::sim::reference::hiz`].
 
 use crate::error::{Error, Result};
@@ -23,6 +24,8 @@ pub struct DepthPyramid {
     /// One view per level: each is the storage target of its own level and the sampled
     /// source of the next (a storage binding needs a single-mip view).
     mip_views: Vec<wgpu::TextureView>,
+    /// Samples per pixel of the depth buffers it is built from.
+    samples: u32,
     copy_layout: wgpu::BindGroupLayout,
     copy: wgpu::ComputePipeline,
     downsample: wgpu::ComputePipeline,
@@ -32,8 +35,13 @@ pub struct DepthPyramid {
 }
 
 impl DepthPyramid {
-    /// A pyramid for a depth buffer of `width` x `height` (both at least 1).
+    /// A pyramid for a single-sample depth buffer of `width` x `height` (both at least 1).
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Self {
+        Self::with_samples(gpu, width, height, 1)
+    }
+
+    /// A pyramid for a depth buffer of `width` x `height` with `samples` samples per pixel.
+    pub fn with_samples(gpu: &Gpu, width: u32, height: u32, samples: u32) -> Self {
         let device = &gpu.device;
         let size = wgpu::Extent3d {
             width,
@@ -94,7 +102,14 @@ impl DepthPyramid {
         };
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.hiz.copy_layout"),
-            entries: &[texture_entry(0, wgpu::TextureSampleType::Depth), dst_entry],
+            entries: &[
+                if samples > 1 {
+                    multisampled_depth_entry(3)
+                } else {
+                    texture_entry(0, wgpu::TextureSampleType::Depth)
+                },
+                dst_entry,
+            ],
         });
         // R32Float is not filterable without a feature; textureLoad needs no filtering.
         let downsample_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -119,7 +134,12 @@ impl DepthPyramid {
                 cache: None,
             })
         };
-        let copy = make(&copy_layout, "copy_depth", "sward.hiz.copy");
+        let copy_entry = if samples > 1 {
+            "copy_depth_ms"
+        } else {
+            "copy_depth"
+        };
+        let copy = make(&copy_layout, copy_entry, "sward.hiz.copy");
         let downsample = make(&downsample_layout, "downsample", "sward.hiz.downsample");
         let level_groups = (1..levels as usize)
             .map(|level| {
@@ -143,6 +163,7 @@ impl DepthPyramid {
             texture,
             view,
             mip_views,
+            samples,
             copy_layout,
             copy,
             downsample,
@@ -163,6 +184,11 @@ impl DepthPyramid {
         (e.width, e.height)
     }
 
+    /// Samples per pixel of the depth it reads.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
     /// Number of levels, the last one 1x1.
     pub fn levels(&self) -> u32 {
         self.mip_views.len() as u32
@@ -175,7 +201,7 @@ impl DepthPyramid {
     }
 
     /// Records the build of every level from `depth`, a Depth32Float view of this
-    /// pyramid's size with TEXTURE_BINDING usage.
+    /// pyramid's size and sample count with TEXTURE_BINDING usage.
     ///
     /// One compute pass per level: each pass reads the level the previous one wrote, and a
     /// pass boundary is where that read-after-write is synchronised for certain. With
@@ -193,7 +219,7 @@ impl DepthPyramid {
             layout: &self.copy_layout,
             entries: &[
                 wgpu::BindGroupEntry {
-                    binding: 0,
+                    binding: if self.samples > 1 { 3 } else { 0 },
                     resource: wgpu::BindingResource::TextureView(depth),
                 },
                 wgpu::BindGroupEntry {
@@ -255,6 +281,95 @@ impl DepthPyramid {
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
+    /// Every sample of a multisampled Depth32Float `depth` of this pyramid's size, at
+    /// `[(y * width + x) * samples + s]` (blocking; for the test of the farthest-sample
+    /// reduction: multisampled textures cannot be copied to a buffer).
+    pub fn read_depth_samples(&self, gpu: &Gpu, depth: &wgpu::TextureView) -> Result<Vec<f32>> {
+        if self.samples < 2 {
+            return Err(Error::Invalid(
+                "read_depth_samples needs a multisampled pyramid".into(),
+            ));
+        }
+        let device = &gpu.device;
+        let (w, h) = self.size();
+        let size = w as u64 * h as u64 * self.samples as u64 * 4;
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let out = buffer(
+            "sward.hiz.samples",
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let staging = buffer(
+            "sward.hiz.samples_staging",
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.hiz.dump_layout"),
+            entries: &[
+                multisampled_depth_entry(3),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.hiz.dump_pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("sward.hiz.dump"),
+            layout: Some(&pipeline_layout),
+            module: &shaders::module(device, "hiz.wgsl"),
+            entry_point: Some("dump_samples"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.hiz.dump_group"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(depth),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: out.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.hiz.dump"),
+        });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sward.hiz.dump"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(w.div_ceil(TILE), h.div_ceil(TILE), 1);
+        }
+        encoder.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = crate::gpu::map_and_read(gpu, &staging)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
     /// GPU memory of the pyramid (all levels, 4 bytes a texel).
     pub fn gpu_bytes(&self) -> u64 {
         (0..self.levels())
@@ -263,5 +378,19 @@ impl DepthPyramid {
                 w as u64 * h as u64 * 4
             })
             .sum()
+    }
+}
+
+/// A `texture_depth_multisampled_2d` binding for compute.
+fn multisampled_depth_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Depth,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: true,
+        },
+        count: None,
     }
 }

@@ -11,6 +11,7 @@ pub mod cull;
 pub mod draw;
 pub mod hiz;
 pub mod mesh;
+pub mod msaa;
 pub mod overlay;
 pub mod target;
 pub mod terrain;
@@ -38,6 +39,7 @@ use draw::DrawPass;
 use hiz::DepthPyramid;
 use mesh::LodMeshes;
 use timing::GpuTimer;
+use wgpu_profiler::GpuProfilerQuery;
 
 /// What one frame did, read back from the GPU.
 #[derive(Clone, Debug, Default)]
@@ -123,6 +125,12 @@ pub struct Renderer {
     format: wgpu::TextureFormat,
     /// The streamed field's residency and generation pass (`field.tile_size > 0`).
     tiles: Option<TileStreamer>,
+    /// `render.msaa` as last applied, and the sample count the adapter gave for it.
+    requested_samples: u32,
+    samples: u32,
+    /// The multisampled colour + depth of the 3D passes (when `samples` > 1), sized to the
+    /// last frame's target.
+    msaa: Option<msaa::MsaaTarget>,
 }
 
 impl Renderer {
@@ -181,6 +189,8 @@ impl Renderer {
             .device
             .features()
             .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+        let requested_samples = scene.render.msaa;
+        let samples = msaa::effective_samples(gpu, format, requested_samples);
         let draw = DrawPass::new(
             gpu,
             &buffers,
@@ -191,6 +201,7 @@ impl Renderer {
             &cull.params,
             multi_draw,
             format,
+            samples,
         );
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(
@@ -223,6 +234,9 @@ impl Renderer {
             cull_camera: None,
             format,
             tiles,
+            requested_samples,
+            samples,
+            msaa: None,
         };
         r.upload_colliders(gpu);
         if let Some(t) = &mut r.tiles {
@@ -292,10 +306,9 @@ impl Renderer {
             self.scene.physics.max_dt,
         );
         self.update.prepare(&gpu.queue, &params);
-        self.update.encode(
-            encoder,
-            self.timer.as_ref().map(|t| t.compute(timing::UPDATE)),
-        );
+        timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
+            self.update.encode(e, cs(q))
+        });
     }
 
     /// Cull uniforms for a camera and viewport; `hiz` describes the depth pyramid (zeros:
@@ -351,7 +364,11 @@ impl Renderer {
         self.cull.prepare(&gpu.queue, &cp);
         self.cull.encode_patches(&mut encoder, None);
         self.encode_update(gpu, &mut encoder, dt);
+        if let Some(t) = &mut self.timer {
+            t.resolve(&mut encoder);
+        }
         gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu);
     }
 
     /// The projection's aspect ratio for a target of `width` × `height`.
@@ -410,6 +427,7 @@ impl Renderer {
         let mut o = overlay::OverlayPass::new(
             gpu,
             format,
+            self.samples,
             self.draw.frame_buffer(),
             velocity,
             resolution,
@@ -489,7 +507,14 @@ impl Renderer {
             + self.cull.args.size();
         let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
         let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes());
-        (blades, blades + fluid + pyramid + self.draw.gpu_bytes())
+        // Multisampled colour (4 bytes) and depth (4 bytes) per sample.
+        let msaa = self.msaa.as_ref().map_or(0, |m| {
+            m.size.0 as u64 * m.size.1 as u64 * m.samples as u64 * 8
+        });
+        (
+            blades,
+            blades + fluid + pyramid + msaa + self.draw.gpu_bytes(),
+        )
     }
 
     /// Whether the grass can be drawn as lines on this adapter.
@@ -509,10 +534,15 @@ impl Renderer {
 
     /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull.
     fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32)) {
-        if self.pyramid.as_ref().is_some_and(|p| p.size() == size) {
+        let samples = self.samples;
+        if self
+            .pyramid
+            .as_ref()
+            .is_some_and(|p| p.size() == size && p.samples() == samples)
+        {
             return;
         }
-        let pyramid = DepthPyramid::new(gpu, size.0, size.1);
+        let pyramid = DepthPyramid::with_samples(gpu, size.0, size.1, samples);
         self.cull
             .set_pyramid(&gpu.device, &self.buffers, pyramid.view());
         self.pyramid = Some(pyramid);
@@ -528,13 +558,9 @@ impl Renderer {
         if jobs.is_empty() {
             return;
         }
-        let timer = self.timer.as_ref();
-        tiles.encode(
-            &gpu.queue,
-            encoder,
-            &jobs,
-            timer.map(|t| t.compute(timing::TILES)),
-        );
+        timed(self.timer.as_ref(), encoder, timing::TILES, |e, q| {
+            tiles.encode(&gpu.queue, e, &jobs, cs(q))
+        });
     }
 
     /// The streamed field's tile counts, when the scene streams.
@@ -560,8 +586,109 @@ impl Renderer {
 
     /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
     /// window can add its own passes (arrows, panel) before one submit.
+    /// The sample count the 3D passes draw with: `render.msaa`, or the largest count
+    /// below it the adapter supports for the colour and depth formats.
+    pub fn msaa_samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
+    /// for the new sample count before the next frame.
+    fn sync_msaa(&mut self, gpu: &Gpu) {
+        if self.scene.render.msaa == self.requested_samples {
+            return;
+        }
+        self.requested_samples = self.scene.render.msaa;
+        let samples = msaa::effective_samples(gpu, self.format, self.requested_samples);
+        if samples == self.samples {
+            return;
+        }
+        self.samples = samples;
+        self.draw.set_samples(&gpu.device, samples);
+        self.msaa = None;
+        // The pyramid's copy reads depth of the old sample count.
+        self.pyramid = None;
+        if self.overlay.is_some() {
+            self.enable_overlay(gpu, self.format);
+        }
+    }
+
+    /// The colour and depth views the 3D passes draw into for a frame whose caller gave
+    /// `color` and `depth`: the multisampled pair with MSAA, else the caller's own. The
+    /// window draws its arrows into these between [`Renderer::encode_scene`] and
+    /// [`Renderer::resolve`].
+    pub fn scene_views<'a>(
+        &'a self,
+        color: &'a wgpu::TextureView,
+        depth: &'a wgpu::TextureView,
+    ) -> (&'a wgpu::TextureView, &'a wgpu::TextureView) {
+        match &self.msaa {
+            Some(m) => (&m.color, &m.depth),
+            None => (color, depth),
+        }
+    }
+
+    /// Resolves the multisampled colour of the frame into `color` (nothing without MSAA).
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
+        if let Some(m) = &self.msaa {
+            m.resolve(encoder, color);
+        }
+    }
+
+    /// Records a whole frame (step by `dt`, cull, draw into `color`, resolve) into
+    /// `encoder`, so the caller can add its own passes (panel) before one submit.
     #[allow(clippy::too_many_arguments)]
     pub fn encode_frame(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.encode_scene(gpu, encoder, dt, camera, color, depth, size);
+        self.resolve(encoder, color);
+    }
+
+    /// [`Renderer::encode_frame`] without the resolve: the 3D passes are left in
+    /// [`Renderer::scene_views`], for the caller to add its own 3D passes (the window's
+    /// guide arrows) and then [`Renderer::resolve`]. `color` and `depth` are the caller's
+    /// single-sample target of `size`; with MSAA `depth` is not touched.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_scene(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.sync_msaa(gpu);
+        if self.samples > 1 {
+            let fits = self.msaa.as_ref().is_some_and(|m| m.size == size);
+            if !fits {
+                self.msaa = Some(msaa::MsaaTarget::new(gpu, self.format, self.samples, size));
+            }
+        } else {
+            self.msaa = None;
+        }
+        // Held outside `self` while the passes borrow it mutably.
+        let target = self.msaa.take();
+        let (color, depth) = match &target {
+            Some(m) => (&m.color, &m.depth),
+            None => (color, depth),
+        };
+        self.encode_passes(gpu, encoder, dt, camera, color, depth, size);
+        self.msaa = target;
+    }
+
+    /// The passes of [`Renderer::encode_scene`], into the views they draw into.
+    #[allow(clippy::too_many_arguments)]
+    fn encode_passes(
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
@@ -598,65 +725,52 @@ impl Renderer {
         );
         let timer = self.timer.as_ref();
         if occlusion {
-            self.draw.encode_occluders(
-                encoder,
-                depth,
-                self.sphere_count,
-                timer.map(|t| t.render(timing::OCCLUDERS)),
-            );
+            timed(timer, encoder, timing::OCCLUDERS, |e, q| {
+                self.draw
+                    .encode_occluders(e, depth, self.sphere_count, rs(q))
+            });
             if let Some(p) = &self.pyramid {
-                p.encode(
-                    &gpu.device,
-                    encoder,
-                    depth,
-                    timer.map(|t| t.compute(timing::PYRAMID)),
-                );
+                timed(timer, encoder, timing::PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, cs(q))
+                });
             }
         }
-        self.cull
-            .encode_patches(encoder, timer.map(|t| t.compute(timing::PATCHES)));
+        timed(timer, encoder, timing::PATCHES, |e, q| {
+            self.cull.encode_patches(e, cs(q))
+        });
         self.encode_update(gpu, encoder, dt);
         let timer = self.timer.as_ref();
-        self.cull.encode_blades(
-            encoder,
-            &self.buffers.dispatch,
-            timer.map(|t| t.compute(timing::CULL)),
-        );
+        timed(timer, encoder, timing::CULL, |e, q| {
+            self.cull.encode_blades(e, &self.buffers.dispatch, cs(q))
+        });
         let wireframe = self.scene.render.wireframe;
-        self.draw.encode(
-            encoder,
-            color,
-            depth,
-            occlusion,
-            &self.cull.args,
-            self.sphere_count,
-            wireframe,
-            timer.map(|t| t.render(timing::DRAW)),
-        );
+        timed(timer, encoder, timing::DRAW, |e, q| {
+            self.draw.encode(
+                e,
+                color,
+                depth,
+                occlusion,
+                &self.cull.args,
+                self.sphere_count,
+                wireframe,
+                rs(q),
+            )
+        });
         // Two-phase occlusion: the depth now holds the opaque objects and the grass seen
         // last frame; the blades not seen then are drawn only where it does not hide them.
         if cp.tests & TEST_GRASS_OCCLUSION != 0 {
             if let Some(p) = &self.pyramid {
-                p.encode(
-                    &gpu.device,
-                    encoder,
-                    depth,
-                    timer.map(|t| t.compute(timing::LATE_PYRAMID)),
-                );
+                timed(timer, encoder, timing::LATE_PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, cs(q))
+                });
             }
-            self.cull.encode_late(
-                encoder,
-                &self.buffers.dispatch,
-                timer.map(|t| t.compute(timing::LATE_CULL)),
-            );
-            self.draw.encode_late(
-                encoder,
-                color,
-                depth,
-                &self.cull.args,
-                wireframe,
-                timer.map(|t| t.render(timing::LATE_DRAW)),
-            );
+            timed(timer, encoder, timing::LATE_CULL, |e, q| {
+                self.cull.encode_late(e, &self.buffers.dispatch, cs(q))
+            });
+            timed(timer, encoder, timing::LATE_DRAW, |e, q| {
+                self.draw
+                    .encode_late(e, color, depth, &self.cull.args, wireframe, rs(q))
+            });
         }
         if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {
             // The arrows' on/off state moves with the clock.
@@ -665,7 +779,7 @@ impl Renderer {
         if let Some(o) = &self.overlay {
             o.encode(encoder, color);
         }
-        if let Some(t) = &self.timer {
+        if let Some(t) = &mut self.timer {
             t.resolve(encoder);
         }
     }
@@ -687,6 +801,36 @@ impl Renderer {
             });
         self.encode_frame(gpu, &mut encoder, dt, camera, color, depth, size);
         gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu);
+    }
+
+    /// Tells the GPU timer that the frame's commands were submitted (the window calls it
+    /// after its own submit; [`Renderer::frame`] does it itself).
+    pub fn frame_submitted(&mut self, gpu: &Gpu) {
+        if let Some(t) = &mut self.timer {
+            t.end_frame(gpu);
+        }
+    }
+
+    /// Keeps every frame's GPU scopes from now on, for [`Renderer::take_trace`]. Returns
+    /// false when the device has no timestamp queries (the trace will have no events).
+    pub fn record_trace(&mut self) -> bool {
+        match &mut self.timer {
+            Some(t) => {
+                t.record_trace();
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The GPU scopes of every frame since [`Renderer::record_trace`] (blocks until the
+    /// GPU is idle), for [`timing::chrome_trace`].
+    pub fn take_trace(&mut self, gpu: &Gpu) -> Result<Vec<wgpu_profiler::GpuTimerQueryResult>> {
+        match &mut self.timer {
+            Some(t) => t.take_trace(gpu),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// Blades reset to their rest pose since the start (non-finite or absurd state; blocks
@@ -696,9 +840,9 @@ impl Renderer {
     }
 
     /// Reads back the counters and pass times of the last frame (blocks until it is done).
-    pub fn stats(&self, gpu: &Gpu) -> Result<FrameStats> {
+    pub fn stats(&mut self, gpu: &Gpu) -> Result<FrameStats> {
         let counters = self.cull.read_counters(gpu)?;
-        let pass_ms = match &self.timer {
+        let pass_ms = match &mut self.timer {
             Some(t) => Some(t.read_ms(gpu)?),
             None => None,
         };
@@ -714,4 +858,31 @@ impl Renderer {
             tiles: self.tile_stats(),
         })
     }
+}
+
+/// Runs `f` (which records one pass) inside the GPU timer's scope of pass `index` of
+/// [`timing::PASSES`]; `f` gets the scope to take the pass's timestamp writes from (none
+/// without a timer).
+fn timed<R>(
+    timer: Option<&GpuTimer>,
+    encoder: &mut wgpu::CommandEncoder,
+    index: usize,
+    f: impl FnOnce(&mut wgpu::CommandEncoder, Option<&GpuProfilerQuery>) -> R,
+) -> R {
+    let query = timer.map(|t| t.begin(encoder, index));
+    let out = f(encoder, query.as_ref());
+    if let (Some(t), Some(q)) = (timer, query) {
+        t.end(encoder, q);
+    }
+    out
+}
+
+/// A compute pass's timestamp writes from its timer scope.
+fn cs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    q.and_then(|q| q.compute_pass_timestamp_writes())
+}
+
+/// A render pass's timestamp writes from its timer scope.
+fn rs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    q.and_then(|q| q.render_pass_timestamp_writes())
 }

@@ -45,11 +45,13 @@ pub struct OverlayPass {
 }
 
 impl OverlayPass {
+    /// `samples`: the 3D passes' sample count (it draws into their multisampled colour).
     /// `velocity` is the solver's grid (`resolution`², corner `origin`, cell `cell_size`).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         format: wgpu::TextureFormat,
+        samples: u32,
         frame: &wgpu::Buffer,
         velocity: &wgpu::Buffer,
         resolution: u32,
@@ -137,7 +139,10 @@ impl OverlayPass {
                     },
                     primitive: wgpu::PrimitiveState::default(),
                     depth_stencil: None,
-                    multisample: Default::default(),
+                    multisample: wgpu::MultisampleState {
+                        count: samples,
+                        ..Default::default()
+                    },
                     fragment: Some(wgpu::FragmentState {
                         module: &module,
                         entry_point: Some(fs),

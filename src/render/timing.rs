@@ -1,16 +1,19 @@
-//! Per-pass GPU times from timestamp queries: each pass writes a timestamp at its start and
-//! end; after the frame the pairs are resolved, read back and scaled by the queue's period.
+//! Per-pass GPU times through `wgpu-profiler`: each timed pass is a profiler scope whose
+//! two timestamps are the pass's own timestamp writes (so `TIMESTAMP_QUERY` alone is
+//! enough). After a frame is submitted, [`GpuTimer::end_frame`] hands it to the profiler;
+//! its results come back once the GPU has finished it, as the last frame's per-pass times
+//! (`FrameStats::pass_ms`) and, while a trace is recorded, as every frame's scopes for the
+//! Chrome trace of `--trace` ([`chrome_trace`], which Perfetto and chrome://tracing open).
 
-use std::cell::Cell;
+use wgpu_profiler::{GpuProfiler, GpuProfilerQuery, GpuProfilerSettings, GpuTimerQueryResult};
 
-use crate::error::Result;
-use crate::gpu::{map_and_read, Gpu};
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
 
-/// The passes that are timed, in the order of their query pairs: the occluders' depth
-/// pass, the depth pyramid, the patch pass, the blade update, the blade cull and the draw;
-/// then, with grass occlusion, the pyramid again, the late cull and the late draw; and the
-/// generation of the tiles entering a streamed field. A pass that did not run in a frame
-/// reads 0.
+/// The passes that are timed, by scope name: the occluders' depth pass, the depth pyramid,
+/// the patch pass, the blade update, the blade cull and the draw; then, with grass
+/// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
+/// tiles entering a streamed field. A pass that did not run in a frame reads 0.
 pub const PASSES: [&str; 10] = [
     "occluders",
     "pyramid",
@@ -35,16 +38,18 @@ pub const LATE_CULL: usize = 7;
 pub const LATE_DRAW: usize = 8;
 pub const TILES: usize = 9;
 
-/// Timestamp query set and its read-back buffers.
+/// Frames the profiler may hold before their results are read: a trace keeps every frame,
+/// so this covers the window's few frames in flight with room to spare (beyond it the
+/// profiler drops the newest frame, never blocks).
+const PENDING_FRAMES: usize = 16;
+
+/// The profiler and what came back from it.
 pub struct GpuTimer {
-    queries: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    staging: wgpu::Buffer,
-    period_ns: f32,
-    /// Bit i: pass i was given timestamp writes since the last resolve.
-    recorded: Cell<u32>,
-    /// `recorded` at the last resolve: the passes whose times the staging buffer holds.
-    resolved: Cell<u32>,
+    profiler: GpuProfiler,
+    /// Milliseconds per pass of the last finished frame.
+    last: Option<[f64; PASSES.len()]>,
+    /// Every finished frame's scopes (seconds on the GPU clock), while recording a trace.
+    trace: Option<Vec<GpuTimerQueryResult>>,
 }
 
 impl GpuTimer {
@@ -53,77 +58,191 @@ impl GpuTimer {
         if !gpu.timestamps {
             return None;
         }
-        let count = (PASSES.len() * 2) as u32;
-        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("sward.timestamps"),
-            ty: wgpu::QueryType::Timestamp,
-            count,
-        });
-        let size = count as u64 * 8;
-        let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward.timestamps.resolve"),
-            size,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward.timestamps.staging"),
-            size,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let settings = GpuProfilerSettings {
+            enable_timer_queries: true,
+            // Debug groups would need the same encoder at both ends of a pass scope.
+            enable_debug_groups: false,
+            max_num_pending_frames: PENDING_FRAMES,
+        };
+        let profiler = GpuProfiler::new(&gpu.device, settings)
+            .map_err(|e| log::warn!("GPU timing is off: {e}"))
+            .ok()?;
         Some(Self {
-            queries,
-            resolve,
-            staging,
-            period_ns: gpu.queue.get_timestamp_period(),
-            recorded: Cell::new(0),
-            resolved: Cell::new(0),
+            profiler,
+            last: None,
+            trace: None,
         })
     }
 
-    /// Compute-pass timestamp writes for pass `index` of `PASSES`.
-    pub fn compute(&self, index: usize) -> wgpu::ComputePassTimestampWrites<'_> {
-        self.recorded.set(self.recorded.get() | 1 << index);
-        wgpu::ComputePassTimestampWrites {
-            query_set: &self.queries,
-            beginning_of_pass_write_index: Some(index as u32 * 2),
-            end_of_pass_write_index: Some(index as u32 * 2 + 1),
+    /// Opens the scope of pass `index` of [`PASSES`]; its timestamp writes go on the pass
+    /// ([`GpuProfilerQuery::compute_pass_timestamp_writes`] or the render one), and
+    /// [`GpuTimer::end`] closes it after the pass.
+    pub fn begin(&self, encoder: &mut wgpu::CommandEncoder, index: usize) -> GpuProfilerQuery {
+        self.profiler.begin_pass_query(PASSES[index], encoder)
+    }
+
+    /// Closes a scope opened by [`GpuTimer::begin`].
+    pub fn end(&self, encoder: &mut wgpu::CommandEncoder, query: GpuProfilerQuery) {
+        self.profiler.end_query(encoder, query);
+    }
+
+    /// Records the resolve of this frame's queries; call after the timed passes, before
+    /// `finish`.
+    pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.profiler.resolve_queries(encoder);
+    }
+
+    /// Ends the profiler's frame: call once its command buffer was submitted. Frames
+    /// already finished on the GPU are collected (without waiting).
+    pub fn end_frame(&mut self, gpu: &Gpu) {
+        if let Err(e) = self.profiler.end_frame() {
+            log::warn!("GPU timing of this frame is lost: {e}");
         }
-    }
-
-    /// Render-pass timestamp writes for pass `index` of `PASSES`.
-    pub fn render(&self, index: usize) -> wgpu::RenderPassTimestampWrites<'_> {
-        self.recorded.set(self.recorded.get() | 1 << index);
-        wgpu::RenderPassTimestampWrites {
-            query_set: &self.queries,
-            beginning_of_pass_write_index: Some(index as u32 * 2),
-            end_of_pass_write_index: Some(index as u32 * 2 + 1),
-        }
-    }
-
-    /// Records the resolve and copy; call after the timed passes, before `finish`.
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        self.resolved.set(self.recorded.replace(0));
-        let count = (PASSES.len() * 2) as u32;
-        encoder.resolve_query_set(&self.queries, 0..count, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, count as u64 * 8);
-    }
-
-    /// Milliseconds per pass of the last submitted frame (blocks until it is done); 0 for
-    /// passes that did not run in it (their queries hold nothing of that frame).
-    pub fn read_ms(&self, gpu: &Gpu) -> Result<[f64; PASSES.len()]> {
-        let bytes = map_and_read(gpu, &self.staging)?;
-        let stamps: Vec<u64> = bytemuck::pod_collect_to_vec(&bytes);
-        let mut out = [0.0; PASSES.len()];
-        let resolved = self.resolved.get();
-        for (i, o) in out.iter_mut().enumerate() {
-            if resolved & (1 << i) == 0 {
-                continue;
+        // A trace keeps every frame: waiting here keeps the profiler from dropping frames
+        // whose results are not back yet (the pass times themselves are unaffected).
+        if self.trace.is_some() {
+            if let Err(e) = crate::gpu::wait_idle(&gpu.device) {
+                log::warn!("GPU timing: {e}");
             }
-            let ticks = stamps[2 * i + 1].saturating_sub(stamps[2 * i]);
-            *o = ticks as f64 * self.period_ns as f64 / 1e6;
         }
-        Ok(out)
+        self.collect(gpu);
+    }
+
+    /// Takes every finished frame's results from the profiler.
+    fn collect(&mut self, gpu: &Gpu) {
+        let period = gpu.queue.get_timestamp_period();
+        while let Some(frame) = self.profiler.process_finished_frame(period) {
+            self.last = Some(pass_ms(&frame));
+            if let Some(trace) = &mut self.trace {
+                trace.extend(frame);
+            }
+        }
+    }
+
+    /// Milliseconds per pass of the last submitted frame (blocks until the GPU is idle);
+    /// 0 for passes that did not run in it.
+    pub fn read_ms(&mut self, gpu: &Gpu) -> Result<[f64; PASSES.len()]> {
+        crate::gpu::wait_idle(&gpu.device)?;
+        self.collect(gpu);
+        Ok(self.last.unwrap_or_default())
+    }
+
+    /// Starts keeping every frame's scopes for a trace (from the next finished frame on).
+    pub fn record_trace(&mut self) {
+        self.trace.get_or_insert_with(Vec::new);
+    }
+
+    /// The recorded scopes of every frame finished so far (blocks until the GPU is idle).
+    pub fn take_trace(&mut self, gpu: &Gpu) -> Result<Vec<GpuTimerQueryResult>> {
+        crate::gpu::wait_idle(&gpu.device)?;
+        self.collect(gpu);
+        Ok(self.trace.replace(Vec::new()).unwrap_or_default())
+    }
+}
+
+/// Milliseconds per pass of one frame's scopes (a pass timed twice adds up).
+fn pass_ms(frame: &[GpuTimerQueryResult]) -> [f64; PASSES.len()] {
+    let mut out = [0.0; PASSES.len()];
+    for scope in frame {
+        if let (Some(i), Some(t)) = (PASSES.iter().position(|p| *p == scope.label), &scope.time) {
+            out[i] += (t.end - t.start).max(0.0) * 1000.0;
+        }
+    }
+    out
+}
+
+/// Writes `tracks` as a Chrome trace to `path` through `outputs` (staged: renamed into
+/// place with the run's other outputs). `timestamps`: whether the device had them; without,
+/// the trace is still written, with no GPU events, and a note says why.
+pub fn write_trace(
+    outputs: &mut crate::output::Outputs,
+    path: &std::path::Path,
+    tracks: &[TraceTrack],
+    timestamps: bool,
+) -> Result<()> {
+    if !timestamps {
+        eprintln!(
+            "--trace {}: this adapter has no timestamp queries, so the trace has no GPU events",
+            path.display()
+        );
+    }
+    outputs.write(path, &chrome_trace(tracks)?)
+}
+
+/// One row of a trace: a name (a benchmark configuration, a run) and its frames' scopes.
+pub struct TraceTrack {
+    pub name: String,
+    pub scopes: Vec<GpuTimerQueryResult>,
+}
+
+/// A Chrome trace (JSON object format: complete "X" events in microseconds of the GPU
+/// clock, one thread per track, named by a metadata event) that Perfetto and
+/// chrome://tracing open. The events are those `wgpu_profiler::chrometrace` writes; it
+/// only writes to a path, and outputs go through `crate::output` as bytes. Without
+/// timestamp queries there are no scopes: the trace is valid and has no pass events.
+pub fn chrome_trace(tracks: &[TraceTrack]) -> Result<Vec<u8>> {
+    let mut events = Vec::new();
+    for (tid, track) in tracks.iter().enumerate() {
+        events.push(serde_json::json!({
+            "ph": "M", "pid": 0, "tid": tid, "name": "thread_name",
+            "args": { "name": track.name },
+        }));
+        // In frame order (a stack, so pushed reversed).
+        let mut stack: Vec<&GpuTimerQueryResult> = track.scopes.iter().rev().collect();
+        while let Some(scope) = stack.pop() {
+            if let Some(t) = &scope.time {
+                events.push(serde_json::json!({
+                    "ph": "X", "pid": 0, "tid": tid, "name": scope.label,
+                    "ts": t.start * 1e6, "dur": (t.end - t.start).max(0.0) * 1e6,
+                }));
+            }
+            stack.extend(scope.nested_queries.iter().rev());
+        }
+    }
+    let trace = serde_json::json!({ "traceEvents": events, "displayTimeUnit": "ms" });
+    serde_json::to_vec_pretty(&trace).map_err(|e| Error::Invalid(format!("trace: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scope(label: &str, start: f64, end: f64) -> GpuTimerQueryResult {
+        GpuTimerQueryResult {
+            label: label.into(),
+            pid: 0,
+            tid: std::thread::current().id(),
+            time: Some(start..end),
+            nested_queries: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn pass_times_add_up_by_name() {
+        let frame = [
+            scope("cull", 1.0, 1.002),
+            scope("draw", 1.002, 1.010),
+            scope("unknown", 0.0, 5.0),
+        ];
+        let ms = pass_ms(&frame);
+        assert!((ms[CULL] - 2.0).abs() < 1e-9);
+        assert!((ms[DRAW] - 8.0).abs() < 1e-9);
+        assert_eq!(ms[UPDATE], 0.0);
+    }
+
+    #[test]
+    fn trace_is_chrome_json() {
+        let tracks = [TraceTrack {
+            name: "render".into(),
+            scopes: vec![scope("cull", 1.0, 1.5)],
+        }];
+        let v: serde_json::Value = serde_json::from_slice(&chrome_trace(&tracks).unwrap()).unwrap();
+        let events = v["traceEvents"].as_array().unwrap();
+        assert_eq!(events[0]["args"]["name"], "render");
+        assert_eq!(events[1]["name"], "cull");
+        assert_eq!(events[1]["ph"], "X");
+        assert_eq!(events[1]["dur"], 500000.0);
+        let empty: serde_json::Value = serde_json::from_slice(&chrome_trace(&[]).unwrap()).unwrap();
+        assert!(empty["traceEvents"].as_array().unwrap().is_empty());
     }
 }

@@ -425,6 +425,15 @@ mod tests {
              physics: (\n        collisions: false,\n    ),\n)\n"
         );
         assert_eq!(parse(&text), scene);
+        // MSAA (default 4): off is written, the default is not.
+        let scene = parse("(render: (msaa: 1))");
+        let text = scene_to_string(&scene).expect("text");
+        assert_eq!(text, "(\n    render: (\n        msaa: 1,\n    ),\n)\n");
+        assert_eq!(parse(&text).render.msaa, 1);
+        assert_eq!(
+            scene_to_string(&parse("(render: (msaa: 4))")).expect("text"),
+            "()\n"
+        );
     }
 
     #[test]

@@ -438,6 +438,16 @@ mod tests {
              100000000000000000000000000000000000000 is out of range: allowed 0 <= strength \
              <= 1000 m/s²"
         );
+        assert_eq!(
+            error("()", &["render.msaa=3"]),
+            "--set render.msaa=3: render.msaa = 3 is not a sample count: allowed one of 1, \
+             2, 4, 8 samples"
+        );
+        assert_eq!(
+            error("()", &["render.msaa=-1"]),
+            "--set render.msaa=-1: render.msaa = -1 is not a valid value (Integer is out of \
+             bounds): allowed one of 1, 2, 4, 8 samples"
+        );
         // A range whose other end was set: the argument is named.
         let m = error("()", &["field.height.min=0.9"]);
         assert!(

@@ -64,6 +64,7 @@
 //! | `camera` | eye and target distinct, 1 < fov_y < 179 degrees, 0.001 ≤ near ≤ 1000 m, near < far ≤ 10⁶ m |
 //! | `render.sun_direction` | non-zero |
 //! | `render.width_min_px`, `width_span_px` | 0 – 1024 px |
+//! | `render.msaa` | one of 1, 2, 4, 8 samples (4 by default; the adapter may give fewer) |
 //!
 //! The same ranges, as data, are the `RULES` tables of the section modules ([`allowed_for`]
 //! reads them): parser errors and `--set` errors quote them, so each range is written once.

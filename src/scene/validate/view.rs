@@ -71,7 +71,11 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("render.self_shadow.max", Rule::Text("min <= max <= 2")),
     ("render.self_shadow.c1", Rule::Real(SHADE_GAIN)),
     ("render.self_shadow.c2", Rule::Real(SHADE_OFFSET)),
+    ("render.msaa", Rule::Choice(MSAA_TEXT)),
 ];
+
+/// `render.msaa`: the sample counts a render pipeline may have.
+const MSAA_TEXT: &str = "one of 1, 2, 4, 8 samples";
 
 pub(super) fn culling(check: &Checker, culling: &Culling) -> Result<()> {
     let c = culling;
@@ -160,6 +164,13 @@ pub(super) fn render(check: &Checker, render: &mut Render) -> Result<()> {
         check.real("render.self_shadow.c1", c1, SHADE_GAIN)?;
         check.real("render.self_shadow.c2", c2, SHADE_OFFSET)?;
     }
+    if !crate::render::msaa::SAMPLE_COUNTS.contains(&render.msaa) {
+        let message = format!(
+            "render.msaa = {} is not a sample count: allowed {MSAA_TEXT}",
+            render.msaa
+        );
+        return Err(check.error("render.msaa", message));
+    }
     Ok(())
 }
 
@@ -191,6 +202,10 @@ mod tests {
             rejected(|s| s.render.width_min_px = 1e9),
             "render.width_min_px = 1000000000 is out of range: allowed 0 <= width_min_px <= \
              1024 px"
+        );
+        assert_eq!(
+            rejected(|s| s.render.msaa = 3),
+            "render.msaa = 3 is not a sample count: allowed one of 1, 2, 4, 8 samples"
         );
         assert_eq!(
             rejected(|s| s.culling.max_distance = 1e38),

@@ -10,6 +10,20 @@ pub fn level_size(width: u32, height: u32, level: u32) -> (u32, u32) {
     (shrink(width), shrink(height))
 }
 
+/// Level 0 of a multisampled depth buffer: the farthest (largest) of each pixel's
+/// `samples` samples, which sit at `[(y * width + x) * samples + s]` (what
+/// `DepthPyramid::read_depth_samples` returns). `samples = 1` is the identity.
+///
+/// # Panics
+/// If `depth.len()` is not a multiple of `samples`, or `samples` is 0.
+pub fn farthest_samples(depth: &[f32], samples: usize) -> Vec<f32> {
+    assert!(samples > 0 && depth.len().is_multiple_of(samples));
+    depth
+        .chunks_exact(samples)
+        .map(|s| s.iter().copied().fold(0.0, f32::max))
+        .collect()
+}
+
 /// Every level, row-major, from `depth` (`width * height` values) down to 1x1.
 ///
 /// Level k's texel (x, y) takes the max over level k-1's texels [2x, 2x+2) x [2y, 2y+2),
@@ -52,6 +66,13 @@ pub fn build_pyramid(depth: &[f32], width: u32, height: u32) -> Vec<Vec<f32>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn farthest_sample_of_each_pixel() {
+        let depth = [0.1, 0.9, 0.3, 0.2, 0.5, 0.5, 0.5, 0.5];
+        assert_eq!(farthest_samples(&depth, 4), vec![0.9, 0.5]);
+        assert_eq!(farthest_samples(&depth, 1), depth.to_vec());
+    }
 
     #[test]
     fn sizes_halve_round_down_and_stop_at_one() {

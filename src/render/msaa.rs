@@ -1,0 +1,124 @@
+//! Multisample anti-aliasing of the 3D passes: the sample count the adapter can give for the
+//! colour and depth formats, and the multisampled colour + depth textures the passes draw
+//! into before they are resolved into the single-sample colour that follows (the window's
+//! surface, the headless target, or the render-scale target stretched over the window).
+//!
+//! Thin blades cover a fraction of a pixel; with one sample per pixel each blade is either
+//! drawn or not, and it flickers from frame to frame as the wind moves it. With several
+//! samples the pixel takes the covered share of the blade's colour.
+
+use super::draw::DEPTH_FORMAT;
+use crate::gpu::Gpu;
+
+/// The sample counts a scene may ask for (`render.msaa`).
+pub const SAMPLE_COUNTS: [u32; 4] = [1, 2, 4, 8];
+
+/// Whether the device can render `format` with `samples` samples per pixel. Without the
+/// adapter-specific format features the device validates against WebGPU's guaranteed ones
+/// (1× and 4× for renderable formats), whatever the adapter itself could do.
+fn format_supports(gpu: &Gpu, format: wgpu::TextureFormat, samples: u32) -> bool {
+    let device_features = gpu.device.features();
+    let features =
+        if device_features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+            gpu.adapter.get_texture_format_features(format)
+        } else {
+            format.guaranteed_format_features(device_features)
+        };
+    features.flags.sample_count_supported(samples)
+}
+
+/// The sample count to draw with when `requested` are asked for and the colour target is
+/// `format`: `requested` where both it and the depth format support it, otherwise the
+/// largest supported count below it (with a warning; 1 always works).
+pub fn effective_samples(gpu: &Gpu, format: wgpu::TextureFormat, requested: u32) -> u32 {
+    let fits = |n: u32| {
+        n == 1 || (format_supports(gpu, format, n) && format_supports(gpu, DEPTH_FORMAT, n))
+    };
+    let effective = SAMPLE_COUNTS
+        .iter()
+        .copied()
+        .rev()
+        .filter(|&n| n <= requested.max(1))
+        .find(|&n| fits(n))
+        .unwrap_or(1);
+    if effective != requested {
+        log::warn!(
+            "{} cannot draw {format:?} + {DEPTH_FORMAT:?} with {requested}× MSAA: using {effective}×",
+            gpu.info.name
+        );
+    }
+    effective
+}
+
+/// The multisampled colour and depth textures of the 3D passes at one size.
+pub struct MsaaTarget {
+    pub samples: u32,
+    pub size: (u32, u32),
+    pub format: wgpu::TextureFormat,
+    /// Drawn into, resolved into the caller's colour, then not needed: its contents are
+    /// discarded after the resolve.
+    pub color: wgpu::TextureView,
+    /// Kept between the passes of a frame (occluders → draw → late draw → arrows) and read
+    /// by the depth pyramid (`texture_depth_multisampled_2d`).
+    pub depth: wgpu::TextureView,
+}
+
+impl MsaaTarget {
+    /// Allocates both textures (`samples` > 1; the caller checked the device supports it).
+    pub fn new(gpu: &Gpu, format: wgpu::TextureFormat, samples: u32, size: (u32, u32)) -> Self {
+        let texture = |label, format, usage| {
+            gpu.device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: size.0.max(1),
+                        height: size.1.max(1),
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: samples,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        Self {
+            samples,
+            size,
+            format,
+            color: texture(
+                "sward.msaa.color",
+                format,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            ),
+            depth: texture(
+                "sward.msaa.depth",
+                DEPTH_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            ),
+        }
+    }
+
+    /// Records the resolve of the multisampled colour into `output` (single-sample, same
+    /// format and size): an empty pass whose colour attachment resolves at its end.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, output: &wgpu::TextureView) {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.msaa.resolve"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.color,
+                depth_slice: None,
+                resolve_target: Some(output),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Discard,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+    }
+}

@@ -1,0 +1,160 @@
+//! MSAA of the 3D passes: the same still frame drawn with 1 and 4 samples per pixel, where
+//! the 4× image must have the blended blade edges the 1× image lacks; and a sample count
+//! the adapter cannot give falls back to the largest one below it, without a wgpu error.
+
+mod common;
+
+use sward::render::camera::CameraView;
+use sward::render::draw::DEPTH_FORMAT;
+use sward::render::msaa::effective_samples;
+use sward::render::target::{Target, COLOR_FORMAT};
+use sward::session::Session;
+
+const SIZE: (u32, u32) = (96, 64);
+
+/// Sum of |difference| between horizontally and vertically adjacent pixels (RGB): hard
+/// stair-stepped edges have more of it than edges blended over several pixels.
+fn total_variation(image: &image::RgbaImage) -> u64 {
+    let (w, h) = image.dimensions();
+    let mut sum = 0u64;
+    for y in 0..h {
+        for x in 0..w {
+            let p = image.get_pixel(x, y);
+            for (nx, ny) in [(x + 1, y), (x, y + 1)] {
+                if nx < w && ny < h {
+                    let q = image.get_pixel(nx, ny);
+                    sum += (0..3).map(|c| p[c].abs_diff(q[c]) as u64).sum::<u64>();
+                }
+            }
+        }
+    }
+    sum
+}
+
+fn distinct_colours(image: &image::RgbaImage) -> usize {
+    image
+        .pixels()
+        .map(|p| [p[0], p[1], p[2]])
+        .collect::<std::collections::HashSet<_>>()
+        .len()
+}
+
+#[test]
+fn four_samples_blend_the_blade_edges() {
+    let gpu = common::gpu();
+    let camera = CameraView {
+        eye: glam::Vec3::new(0.0, 1.0, 3.0),
+        target: glam::Vec3::new(0.0, 0.2, 0.0),
+        fov_y: 50.0,
+        near: 0.05,
+        far: 100.0,
+    };
+    let mut images = Vec::new();
+    for msaa in [1, 4] {
+        let mut scene = common::still_scene();
+        scene.render.msaa = msaa;
+        let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
+        let mut r = common::stepped(&gpu, &session, 0, 0.0);
+        assert_eq!(r.msaa_samples(), msaa, "4× is guaranteed by WebGPU");
+        let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+        // Two frames: the second uses the first's grass for occlusion (the late passes).
+        for _ in 0..2 {
+            r.frame(
+                &gpu,
+                0.0,
+                &camera,
+                &target.color_view,
+                &target.depth_view,
+                SIZE,
+            );
+        }
+        gpu.check_errors().expect("no wgpu error");
+        let drawn = r.cull.read_counters(&gpu).expect("counters").drawn();
+        assert!(drawn > 500, "msaa {msaa}: only {drawn} blades drawn");
+        images.push(target.read_image(&gpu).expect("read-back"));
+    }
+    let (one, four) = (&images[0], &images[1]);
+    let (tv1, tv4) = (total_variation(one), total_variation(four));
+    let (c1, c4) = (distinct_colours(one), distinct_colours(four));
+    eprintln!("total variation 1×: {tv1}, 4×: {tv4}; distinct colours 1×: {c1}, 4×: {c4}");
+    // Same frame, same blades: the 4× image differs only at edges, which it blends.
+    assert!(tv4 * 10 < tv1 * 9, "4× is not smoother: {tv4} vs {tv1}");
+    assert!(c4 > c1, "4× has no blended colours: {c4} vs {c1}");
+    let mean = |i: &image::RgbaImage| i.pixels().map(|p| p[1] as f64).sum::<f64>() / 6144.0;
+    assert!(
+        (mean(one) - mean(four)).abs() < 8.0,
+        "the images are not the same frame: mean green {} vs {}",
+        mean(one),
+        mean(four)
+    );
+}
+
+/// Whether the device can give `n` samples for both formats: the adapter's own counts,
+/// when the device was opened with its adapter-specific format features.
+fn adapter_has(gpu: &sward::gpu::Gpu, n: u32) -> bool {
+    let specific = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+    gpu.device.features().contains(specific)
+        && [COLOR_FORMAT, DEPTH_FORMAT].iter().all(|&f| {
+            gpu.adapter
+                .get_texture_format_features(f)
+                .flags
+                .sample_count_supported(n)
+        })
+}
+
+#[test]
+fn an_unsupported_sample_count_falls_back_below() {
+    let gpu = common::gpu();
+    assert_eq!(effective_samples(&gpu, COLOR_FORMAT, 1), 1);
+    assert_eq!(effective_samples(&gpu, COLOR_FORMAT, 4), 4);
+    for (asked, below) in [(8, 4), (2, 1)] {
+        let got = effective_samples(&gpu, COLOR_FORMAT, asked);
+        let expected = if adapter_has(&gpu, asked) {
+            asked
+        } else {
+            below
+        };
+        eprintln!("{}: {asked}× gives {got}×", gpu.info.name);
+        assert_eq!(got, expected, "{asked}×");
+    }
+    // The renderer draws with what it got, without a wgpu validation error (lavapipe has
+    // no 8×: this is the fallback path there).
+    let mut scene = common::still_scene();
+    scene.render.msaa = 8;
+    let session = Session::new(scene, Some(2048), Some(&gpu)).expect("field");
+    let mut r = common::stepped(&gpu, &session, 0, 0.0);
+    assert_eq!(r.msaa_samples(), effective_samples(&gpu, COLOR_FORMAT, 8));
+    let target = Target::new(&gpu, 32, 24).expect("target");
+    let camera = CameraView::from_scene(&r.scene.camera);
+    r.frame(
+        &gpu,
+        0.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        (32, 24),
+    );
+    gpu.check_errors().expect("no wgpu error");
+    // Switched live (the panel): pipelines and targets follow, the frame still draws.
+    r.scene.render.msaa = 1;
+    r.frame(
+        &gpu,
+        0.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        (32, 24),
+    );
+    assert_eq!(r.msaa_samples(), 1);
+    r.scene.render.msaa = 4;
+    r.frame(
+        &gpu,
+        0.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        (32, 24),
+    );
+    assert_eq!(r.msaa_samples(), 4);
+    gpu.check_errors().expect("no wgpu error after switching");
+}
