@@ -38,8 +38,7 @@ use cull::CullPass;
 use draw::DrawPass;
 use hiz::DepthPyramid;
 use mesh::LodMeshes;
-use timing::GpuTimer;
-use wgpu_profiler::GpuProfilerQuery;
+use timing::{cs, rs, timed, GpuTimer};
 
 /// What one frame did, read back from the GPU.
 #[derive(Clone, Debug, Default)]
@@ -858,31 +857,4 @@ impl Renderer {
             tiles: self.tile_stats(),
         })
     }
-}
-
-/// Runs `f` (which records one pass) inside the GPU timer's scope of pass `index` of
-/// [`timing::PASSES`]; `f` gets the scope to take the pass's timestamp writes from (none
-/// without a timer).
-fn timed<R>(
-    timer: Option<&GpuTimer>,
-    encoder: &mut wgpu::CommandEncoder,
-    index: usize,
-    f: impl FnOnce(&mut wgpu::CommandEncoder, Option<&GpuProfilerQuery>) -> R,
-) -> R {
-    let query = timer.map(|t| t.begin(encoder, index));
-    let out = f(encoder, query.as_ref());
-    if let (Some(t), Some(q)) = (timer, query) {
-        t.end(encoder, q);
-    }
-    out
-}
-
-/// A compute pass's timestamp writes from its timer scope.
-fn cs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-    q.and_then(|q| q.compute_pass_timestamp_writes())
-}
-
-/// A render pass's timestamp writes from its timer scope.
-fn rs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-    q.and_then(|q| q.render_pass_timestamp_writes())
 }

@@ -169,6 +169,33 @@ pub fn write_trace(
     outputs.write(path, &chrome_trace(tracks)?)
 }
 
+/// Runs `f` (which records one pass) inside the GPU timer's scope of pass `index` of
+/// [`PASSES`]; `f` gets the scope to take the pass's timestamp writes from (none
+/// without a timer).
+pub(crate) fn timed<R>(
+    timer: Option<&GpuTimer>,
+    encoder: &mut wgpu::CommandEncoder,
+    index: usize,
+    f: impl FnOnce(&mut wgpu::CommandEncoder, Option<&GpuProfilerQuery>) -> R,
+) -> R {
+    let query = timer.map(|t| t.begin(encoder, index));
+    let out = f(encoder, query.as_ref());
+    if let (Some(t), Some(q)) = (timer, query) {
+        t.end(encoder, q);
+    }
+    out
+}
+
+/// A compute pass's timestamp writes from its timer scope.
+pub(crate) fn cs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    q.and_then(|q| q.compute_pass_timestamp_writes())
+}
+
+/// A render pass's timestamp writes from its timer scope.
+pub(crate) fn rs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    q.and_then(|q| q.render_pass_timestamp_writes())
+}
+
 /// One row of a trace: a name (a benchmark configuration, a run) and its frames' scopes.
 pub struct TraceTrack {
     pub name: String,

@@ -1,0 +1,137 @@
+//! One configuration of `sward bench`: a fresh renderer over the session's field runs the
+//! warm-up and the measured frames; the per-pass GPU times, wall time, counters, memory
+//! and last image come back (and, with `--trace`, the measured frames' GPU scopes).
+
+use std::time::Instant;
+
+use super::{BladeCounts, GpuMs, BENCH_DT};
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::render::camera::CameraView;
+use crate::render::target::{Target, COLOR_FORMAT};
+use crate::render::timing;
+use crate::render::Renderer;
+use crate::scene::Scene;
+use crate::session::Session;
+use crate::sim::layout::CullCounters;
+
+/// What one configuration's frames gave.
+pub(super) struct Measured {
+    pub(super) blades: BladeCounts,
+    pub(super) gpu_ms: Option<GpuMs>,
+    pub(super) wall_ms: f64,
+    pub(super) gpu_bytes: (u64, u64),
+    /// The last frame, to compare the culled render with the unculled one.
+    pub(super) image: image::RgbaImage,
+    /// Broad phase of the last frame: spheres on some list, blade-sphere tests.
+    pub(super) spheres_considered: u64,
+    pub(super) sphere_tests: u64,
+    /// Blades reset to their rest pose since the renderer started (warm-up included).
+    pub(super) resets: u64,
+    /// The measured frames' GPU scopes, when tracing.
+    pub(super) scopes: Vec<wgpu_profiler::GpuTimerQueryResult>,
+}
+
+impl Measured {
+    pub(super) fn frame_ms(&self) -> f64 {
+        self.gpu_ms.map_or(self.wall_ms, |g| g.frame())
+    }
+}
+
+/// Runs `warmup + frames` frames of `scene` over `session`'s field with a fresh renderer.
+pub(super) fn measure(
+    gpu: &Gpu,
+    session: &Session,
+    scene: Scene,
+    target: &Target,
+    warmup: u32,
+    frames: u32,
+    trace: bool,
+) -> Result<Measured> {
+    let camera = CameraView::from_scene(&scene.camera);
+    let mut renderer = Renderer::new(
+        gpu,
+        scene,
+        session.terrain.clone(),
+        &session.field,
+        COLOR_FORMAT,
+    )?;
+    gpu.check_errors()?;
+    let size = (target.width, target.height);
+    let mut passes = [0.0f64; timing::PASSES.len()];
+    let mut wind = 0.0f64;
+    let mut timed = 0u32;
+    let mut wall = 0.0f64;
+    let mut last = CullCounters::default();
+    let mut resets = 0;
+    for i in 0..warmup + frames {
+        if trace && i == warmup {
+            // The warm-up is left out of the trace as out of the statistics.
+            renderer.record_trace();
+        }
+        let start = Instant::now();
+        renderer.frame(
+            gpu,
+            BENCH_DT,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+        gpu.check_errors()?;
+        let stats = renderer.stats(gpu)?;
+        let elapsed = start.elapsed().as_secs_f64() * 1000.0;
+        resets = stats.blades_reset_nonfinite;
+        if i < warmup {
+            continue;
+        }
+        wall += elapsed;
+        last = stats.counters;
+        if let Some(ms) = stats.pass_ms {
+            for (sum, m) in passes.iter_mut().zip(ms) {
+                *sum += m;
+            }
+            wind += stats.wind_ms.iter().flatten().map(|(_, m)| m).sum::<f64>();
+            timed += 1;
+        }
+    }
+    let n = f64::from(frames.max(1));
+    // Every frame has timestamps or none does; a mix would mean a broken driver, and the
+    // means over the timed frames are still right then.
+    let gpu_ms = (timed > 0).then(|| {
+        let t = f64::from(timed);
+        let update = passes[timing::UPDATE] / t;
+        let wind = wind / t;
+        GpuMs {
+            physics: update + wind,
+            update,
+            wind,
+            // The occluder depth pass and the pyramids only feed the occlusion tests:
+            // visibility work.
+            visibility: [
+                timing::OCCLUDERS,
+                timing::PYRAMID,
+                timing::PATCHES,
+                timing::CULL,
+                timing::LATE_PYRAMID,
+                timing::LATE_CULL,
+            ]
+            .iter()
+            .map(|&k| passes[k])
+            .sum::<f64>()
+                / t,
+            rendering: (passes[timing::DRAW] + passes[timing::LATE_DRAW]) / t,
+        }
+    });
+    Ok(Measured {
+        blades: BladeCounts::new(renderer.buffers.count, renderer.buffers.patch_size, &last),
+        gpu_ms,
+        wall_ms: wall / n,
+        gpu_bytes: renderer.gpu_bytes(),
+        image: target.read_image(gpu)?,
+        spheres_considered: last.spheres_considered().into(),
+        sphere_tests: u64::from(last.patch_sphere_pairs) * u64::from(renderer.buffers.patch_size),
+        resets: resets.into(),
+        scopes: renderer.take_trace(gpu)?,
+    })
+}
