@@ -10,7 +10,9 @@
 //!   change: by then the smoothed time mostly shows the effect of that change (the old
 //!   value's weight is `(1 − SMOOTHING)^ACT_EVERY` ≈ 10 %), so it does not keep cutting
 //!   while the last cut is still on its way into the average.
-//! * Over `target · `[`OVER`]: cull more. First the render scale of the 3D passes ×
+//! * Over `target · `[`OVER`]: cull more. First, where the window allows it
+//!   ([`FrameBudget::with_msaa_step`]), multisampling goes off (4× MSAA costs about 3× the
+//!   frame on a CPU adapter, and only smooths edges). Then the render scale of the 3D passes ×
 //!   [`SHRINK`] (down to [`MIN_SCALE`]; the window upscales the smaller image and draws
 //!   the panel sharp on top): this costs sharpness, never grass. Only then the grass's
 //!   reach: `d_max × `[`SHRINK`] (the blade radius), down to [`MIN_DISTANCE`] m. The
@@ -19,8 +21,8 @@
 //!   what the budget must keep. A machine too slow even then stays over its target.
 //! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
 //!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*),
-//!   and last the render scale × [`GROW`] up to 1: the grass comes back before the
-//!   sharpness.
+//!   then the render scale × [`GROW`] up to 1, and last multisampling: the grass comes back
+//!   before the sharpness.
 //! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
 //!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
 //!   step does not carry the time from one edge of the band across the other, and the
@@ -80,6 +82,9 @@ pub struct FrameBudget {
     scale: f32,
     /// The lowest scale the budget sets: [`MIN_SCALE`], or 1 to keep the resolution.
     scale_floor: f32,
+    /// Whether the budget may switch multisampling off, and whether it has.
+    msaa_step: bool,
+    msaa_off: bool,
 }
 
 impl FrameBudget {
@@ -96,7 +101,21 @@ impl FrameBudget {
             max_distance: culling.max_distance,
             scale: 1.0,
             scale_floor: MIN_SCALE,
+            msaa_step: false,
+            msaa_off: false,
         }
+    }
+
+    /// The same budget allowed to switch multisampling off first (the window, whose scene
+    /// keeps its `render.msaa`: the budget only caps what is drawn).
+    pub fn with_msaa_step(mut self, allowed: bool) -> Self {
+        self.msaa_step = allowed;
+        self
+    }
+
+    /// Whether the budget has switched multisampling off.
+    pub fn msaa_off(&self) -> bool {
+        self.msaa_off
     }
 
     /// The same budget with the render scale held at or above `floor` (1 keeps the
@@ -174,7 +193,11 @@ impl FrameBudget {
     }
 
     fn cull_more(&mut self, culling: &mut Culling) -> bool {
-        // Pixels first: a smaller image costs sharpness, not a single blade.
+        // Smooth edges first, then pixels: both cost sharpness, not a single blade.
+        if self.msaa_step && !self.msaa_off {
+            self.msaa_off = true;
+            return true;
+        }
         if self.scale > self.scale_floor {
             self.scale = (self.scale * SHRINK).max(self.scale_floor);
             return true;
@@ -209,6 +232,10 @@ impl FrameBudget {
             self.scale = (self.scale * GROW).min(1.0);
             return true;
         }
+        if self.msaa_off {
+            self.msaa_off = false;
+            return true;
+        }
         false
     }
 
@@ -230,6 +257,9 @@ impl FrameBudget {
             line.push_str(" (distance culling switched on)");
         }
         line.push_str(&format!(", resolution scale {:.2}", self.scale));
+        if self.msaa_off {
+            line.push_str(", MSAA off");
+        }
         line
     }
 }
@@ -307,6 +337,41 @@ mod tests {
         assert!(b.scale() < 1.0 && b.scale() >= MIN_SCALE, "{}", b.status());
         assert!(b.smoothed_ms() < 100.0 * OVER, "{}", b.status());
         assert!(b.status().contains("resolution scale 0."), "{}", b.status());
+    }
+
+    #[test]
+    fn multisampling_goes_first_and_comes_back_last() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(100.0)).with_msaa_step(true);
+        assert!(!b.msaa_off());
+        for _ in 0..ACT_EVERY {
+            b.observe(300.0, &mut c);
+        }
+        assert!(b.msaa_off(), "{}", b.status());
+        assert_eq!(b.scale(), 1.0, "the resolution waits for the next step");
+        assert!(b.status().ends_with(", MSAA off"), "{}", b.status());
+        for _ in 0..ACT_EVERY {
+            b.observe(300.0, &mut c);
+        }
+        assert!(b.scale() < 1.0);
+        // Fast again: the resolution comes back before the multisampling.
+        let mut order = Vec::new();
+        for _ in 0..400 {
+            if b.observe(1.0, &mut c).is_some() {
+                order.push((b.scale(), b.msaa_off()));
+            }
+        }
+        assert_eq!(order.last(), Some(&(1.0, false)), "{order:?}");
+        assert!(
+            order[..order.len() - 1].iter().all(|&(_, off)| off),
+            "{order:?}"
+        );
+        // Without the step (the default) multisampling is never touched.
+        let mut plain = FrameBudget::new(&c, Some(100.0));
+        for _ in 0..100 {
+            plain.observe(300.0, &mut c);
+        }
+        assert!(!plain.msaa_off());
     }
 
     #[test]

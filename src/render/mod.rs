@@ -124,6 +124,8 @@ pub struct Renderer {
     format: wgpu::TextureFormat,
     /// The streamed field's residency and generation pass (`field.tile_size > 0`).
     tiles: Option<TileStreamer>,
+    /// At most this many samples per pixel, whatever `render.msaa` says (the frame budget).
+    sample_cap: Option<u32>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
     requested_samples: u32,
     samples: u32,
@@ -233,6 +235,7 @@ impl Renderer {
             cull_camera: None,
             format,
             tiles,
+            sample_cap: None,
             requested_samples,
             samples,
             msaa: None,
@@ -585,6 +588,12 @@ impl Renderer {
 
     /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
     /// window can add its own passes (arrows, panel) before one submit.
+    /// Caps the samples per pixel below `render.msaa` (the window's frame budget switching
+    /// multisampling off) without changing the scene; `None` lifts the cap.
+    pub fn set_sample_cap(&mut self, cap: Option<u32>) {
+        self.sample_cap = cap;
+    }
+
     /// The sample count the 3D passes draw with: `render.msaa`, or the largest count
     /// below it the adapter supports for the colour and depth formats.
     pub fn msaa_samples(&self) -> u32 {
@@ -594,10 +603,13 @@ impl Renderer {
     /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
     /// for the new sample count before the next frame.
     fn sync_msaa(&mut self, gpu: &Gpu) {
-        if self.scene.render.msaa == self.requested_samples {
+        let wanted = self.sample_cap.map_or(self.scene.render.msaa, |cap| {
+            self.scene.render.msaa.min(cap)
+        });
+        if wanted == self.requested_samples {
             return;
         }
-        self.requested_samples = self.scene.render.msaa;
+        self.requested_samples = wanted;
         let samples = msaa::effective_samples(gpu, self.format, self.requested_samples);
         if samples == self.samples {
             return;
