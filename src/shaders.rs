@@ -12,6 +12,23 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/blade_pose.wgsl"),
     ),
     ("tile_gen.wgsl", include_str!("../shaders/tile_gen.wgsl")),
+    (
+        "wind_sample.wgsl",
+        include_str!("../shaders/wind_sample.wgsl"),
+    ),
+    ("billboard.wgsl", include_str!("../shaders/billboard.wgsl")),
+    (
+        "billboard_place.wgsl",
+        include_str!("../shaders/billboard_place.wgsl"),
+    ),
+    (
+        "billboard_sway.wgsl",
+        include_str!("../shaders/billboard_sway.wgsl"),
+    ),
+    (
+        "billboard_probe.wgsl",
+        include_str!("../shaders/billboard_probe.wgsl"),
+    ),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
@@ -67,6 +84,8 @@ const FILES: &[(&str, &str)] = &[
 pub const ENTRY_FILES: &[&str] = &[
     "update.wgsl",
     "tile_gen.wgsl",
+    "billboard.wgsl",
+    "billboard_probe.wgsl",
     "cull.wgsl",
     "hiz.wgsl",
     "grass.wgsl",

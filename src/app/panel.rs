@@ -499,6 +499,11 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
         }
         ui.checkbox(&mut r.displacement, "3D displacement (Eq. 23)");
         ui.add(egui::Slider::new(&mut r.width_span_px, 0.0..=8.0).text("width correction span px"));
+        ui.add(
+            egui::Slider::new(&mut r.billboard_distance, 0.0..=1000.0)
+                .text("billboards to m (0 off)"),
+        )
+        .on_hover_text("cards of grass from the blades' radius out to this distance");
         self_shadow_ui(ui, &mut r.self_shadow);
     });
 }
@@ -572,10 +577,11 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
             let c = &app.stats.counters;
             let [l0, l1, l2] = c.per_level();
             ui.label(format!(
-                "blades {}   drawn {} (LOD {l0} / {l1} / {l2}; {} late)",
+                "blades {}   drawn {} (LOD {l0} / {l1} / {l2}; {} late)   billboards drawn {}",
                 app.renderer.buffers.count,
                 c.drawn(),
-                c.drawn_late()
+                c.drawn_late(),
+                app.stats.billboards_drawn
             ));
             ui.label(format!(
                 "culled: patch {}  orientation {}  frustum {}  distance {}  occlusion {} ({} by grass)",

@@ -195,13 +195,14 @@ impl WindowApp {
                 });
                 eprintln!(
                     "{} frames; mean frame time of the last {}: {mean:.1} ms ({:.1} fps) on {}; \
-                     blades drawn in the last read-back: {}; 3D passes at {w}x{h}; frame \
-                     budget: {}{tiles}",
+                     blades drawn in the last read-back: {}; billboards drawn: {}; 3D passes \
+                     at {w}x{h}; frame budget: {}{tiles}",
                     r.app.frame,
                     last.len(),
                     1000.0 / mean,
                     r.gpu.info.name,
                     r.app.stats.counters.drawn(),
+                    r.app.stats.billboards_drawn,
                     r.app.budget.status()
                 );
             }

@@ -162,6 +162,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut previous: Option<image::RgbaImage> = None;
     let mut resets = 0;
+    let mut last_billboards = 0u32;
     let (mut tiles_at_start, mut tiles_generated, mut tile_ms) = (0u64, 0u64, 0.0f64);
     for i in 0..o.warmup + o.frames {
         let flying = i.saturating_sub(o.warmup);
@@ -187,6 +188,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         let stats = renderer.stats(&gpu)?;
         let wall = start.elapsed().as_secs_f64() * 1000.0;
         resets = stats.blades_reset_nonfinite;
+        last_billboards = stats.billboards_drawn;
         let total = stats.tiles.map_or(0, |t| t.generated_total);
         if i < o.warmup {
             tiles_at_start = total;
@@ -241,7 +243,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         median_difference: percentile(&differences, 0.5),
         blades_drawn: drawn.last().copied().unwrap_or(0),
         blades_drawn_mean: drawn.iter().sum::<u64>() as f64 / drawn.len().max(1) as f64,
-        billboards_drawn: 0,
+        billboards_drawn: u64::from(last_billboards),
         tiles_generated,
         tiles_resident: renderer.tile_stats().map_or(0, |t| t.resident as u64),
         tile_gen_ms_per_frame: tile_ms / f64::from(o.frames.max(1)),

@@ -522,6 +522,11 @@ impl DrawPass {
 
     /// Writes this frame's uniforms (made for `camera`) and places the terrain's levels
     /// around the camera (the viewport and fog distance are in `frame.viewport_time`).
+    /// The terrain's height uniforms and grid (for the billboards).
+    pub fn terrain_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        self.terrain_pass.height_buffers()
+    }
+
     /// Says whether blades grow past the terrain square (see `TerrainPass::grass_everywhere`).
     pub fn set_grass_everywhere(&mut self, everywhere: bool) {
         self.terrain_pass.grass_everywhere = everywhere;
@@ -589,6 +594,7 @@ impl DrawPass {
         indirect: &wgpu::Buffer,
         sphere_count: u32,
         wireframe: bool,
+        billboards: Option<&super::billboard::BillboardPass>,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
         let depth_load = if depth_loaded {
@@ -609,6 +615,9 @@ impl DrawPass {
         }
 
         self.draw_grass(&mut pass, indirect, 0, wireframe);
+        if let Some(b) = billboards {
+            b.draw(&mut pass);
+        }
 
         // Front to back: what the grass covers of the ground and what the ground covers of
         // the sky is rejected by the depth test before it is shaded.

@@ -5,6 +5,7 @@
 //! with grass occlusion then depth pyramid again → late blade culling → late draw.
 
 pub mod arrows;
+pub mod billboard;
 pub mod camera;
 pub mod clipmap;
 pub mod cull;
@@ -53,6 +54,8 @@ pub struct FrameStats {
     pub blades_reset_nonfinite: u32,
     /// The streamed field's tiles, when the scene streams (`field.tile_size > 0`).
     pub tiles: Option<TileStats>,
+    /// Billboards drawn in the frame (`Renderer::billboards_drawn`).
+    pub billboards_drawn: u32,
 }
 
 /// What the tile streaming did: tiles resident now, generated in the last frame and since
@@ -126,6 +129,12 @@ pub struct Renderer {
     tiles: Option<TileStreamer>,
     /// At most this many samples per pixel, whatever `render.msaa` says (the frame budget).
     sample_cap: Option<u32>,
+    /// The billboards in the middle distance (`render.billboard_distance > 0`), and the
+    /// uniforms and view of the last frame (the stats count the cards drawn with them).
+    billboards: Option<billboard::BillboardPass>,
+    last_billboards: Option<(billboard::BillboardParams, glam::Mat4)>,
+    /// The density map, kept for the billboards' CPU count.
+    density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
     requested_samples: u32,
     samples: u32,
@@ -236,11 +245,15 @@ impl Renderer {
             format,
             tiles,
             sample_cap: None,
+            billboards: None,
+            last_billboards: None,
+            density,
             requested_samples,
             samples,
             msaa: None,
         };
         r.upload_colliders(gpu);
+        r.sync_billboards(gpu);
         if let Some(t) = &mut r.tiles {
             let eye = CameraView::from_scene(&r.scene.camera).eye;
             t.fill(gpu, eye.x, eye.z)?;
@@ -463,7 +476,76 @@ impl Renderer {
         if self.overlay.is_some() {
             self.enable_overlay(gpu, self.format);
         }
+        self.rebind_billboards(gpu);
         Ok(())
+    }
+
+    /// The wind grid the update reads (the fluid's velocity, or the dummy).
+    fn wind_grid(&self) -> &wgpu::Buffer {
+        self.fluid
+            .as_ref()
+            .map(|f| f.velocity())
+            .unwrap_or(&self._dummy_grid)
+    }
+
+    /// Builds, rebuilds or drops the billboard pass to match `render.billboard_distance`
+    /// (the panel may change it between frames).
+    fn sync_billboards(&mut self, gpu: &Gpu) {
+        let layout = billboard::BillboardLayout::from_scene(&self.scene.render, &self.scene.field);
+        if self.billboards.as_ref().map(|b| b.layout) == layout {
+            return;
+        }
+        self.billboards = layout.map(|layout| {
+            let (terrain_params, terrain_grid) = self.draw.terrain_buffers();
+            billboard::BillboardPass::new(
+                gpu,
+                layout,
+                &self.scene.field,
+                self.density.as_ref(),
+                &billboard::Inputs {
+                    frame: self.draw.frame_buffer(),
+                    terrain_params,
+                    terrain_grid,
+                    spheres: &self.buffers.spheres,
+                    sim_params: self.update.params_buffer(),
+                    wind_grid: self.wind_grid(),
+                },
+                self.format,
+                self.samples,
+            )
+        });
+    }
+
+    /// Rebinds the billboards to the current update and wind buffers.
+    fn rebind_billboards(&mut self, gpu: &Gpu) {
+        if let Some(mut b) = self.billboards.take() {
+            let (terrain_params, terrain_grid) = self.draw.terrain_buffers();
+            b.rebind(
+                &gpu.device,
+                &billboard::Inputs {
+                    frame: self.draw.frame_buffer(),
+                    terrain_params,
+                    terrain_grid,
+                    spheres: &self.buffers.spheres,
+                    sim_params: self.update.params_buffer(),
+                    wind_grid: self.wind_grid(),
+                },
+            );
+            self.billboards = Some(b);
+        }
+    }
+
+    /// Billboards drawn in the last frame (a CPU count with the frame's uniforms: the
+    /// cards in the ring, kept by the density map, in the view).
+    pub fn billboards_drawn(&self) -> u32 {
+        self.last_billboards.map_or(0, |(p, view_proj)| {
+            billboard::count_drawn(&p, &self.terrain, self.density.as_ref(), view_proj)
+        })
+    }
+
+    /// The billboard pass, when the scene has billboards.
+    pub fn billboards(&self) -> Option<&billboard::BillboardPass> {
+        self.billboards.as_ref()
     }
 
     /// Turns the wind overlay off.
@@ -616,6 +698,9 @@ impl Renderer {
         }
         self.samples = samples;
         self.draw.set_samples(&gpu.device, samples);
+        if let Some(b) = &mut self.billboards {
+            b.set_samples(&gpu.device, samples);
+        }
         self.msaa = None;
         // The pyramid's copy reads depth of the old sample count.
         self.pyramid = None;
@@ -734,6 +819,17 @@ impl Renderer {
             &self.frame_uniforms(camera, size.0, size.1),
             camera,
         );
+        self.sync_billboards(gpu);
+        self.last_billboards = self.billboards.as_ref().map(|b| {
+            let p = b.prepare(
+                &gpu.queue,
+                camera.eye,
+                &self.scene.culling,
+                self.sphere_count,
+                self.scene.terrain.size,
+            );
+            (p, camera.view_proj(self.aspect(size.0, size.1)))
+        });
         let timer = self.timer.as_ref();
         if occlusion {
             timed(timer, encoder, timing::OCCLUDERS, |e, q| {
@@ -764,6 +860,7 @@ impl Renderer {
                 &self.cull.args,
                 self.sphere_count,
                 wireframe,
+                self.billboards.as_ref(),
                 rs(q),
             )
         });
@@ -867,6 +964,7 @@ impl Renderer {
             wind_ms,
             blades_reset_nonfinite: self.buffers.read_resets(gpu)?,
             tiles: self.tile_stats(),
+            billboards_drawn: self.billboards_drawn(),
         })
     }
 }

@@ -65,7 +65,7 @@ pub(crate) fn params_buffer(device: &wgpu::Device, label: &str) -> wgpu::Buffer 
 
 /// The density map as an R8 texture (every `step`-th texel where the map is larger than
 /// the device allows), or one white texel.
-fn density_texture(gpu: &Gpu, density: Option<&DensityMap>) -> wgpu::Texture {
+pub(crate) fn density_texture(gpu: &Gpu, density: Option<&DensityMap>) -> wgpu::Texture {
     let max = gpu.device.limits().max_texture_dimension_2d.max(1);
     let (w, h, texels) = match density {
         Some(map) => {
@@ -237,6 +237,12 @@ impl TerrainPass {
             *v = clipmap::variant(&u, k) as u8;
         }
         self.drawn.set((variants, levels));
+    }
+
+    /// The height-function uniforms and the height grid (the billboards place their cards
+    /// on the same ground).
+    pub fn height_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.params, &self.grid)
     }
 
     /// Draws every level (the pipeline is set by the caller).

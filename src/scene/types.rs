@@ -618,6 +618,8 @@ pub struct Render {
     pub wireframe: bool,
     /// How the blades darken towards the ground, where their neighbours shade them.
     pub self_shadow: SelfShadow,
+    /// Billboards of grass from the blades' radius out to this distance (m); 0: none.
+    pub billboard_distance: f32,
     /// Samples per pixel of the 3D passes (MSAA): 1 (off), 2, 4 or 8. Thin, moving blades
     /// shimmer without it. 4 by default: every WebGPU adapter supports 4× for the formats
     /// used; where the adapter lacks the count asked for, the largest count below it is
@@ -699,6 +701,7 @@ impl Default for Render {
             color_mode: ColorMode::Natural,
             wireframe: false,
             self_shadow: SelfShadow::Height,
+            billboard_distance: 0.0,
             msaa: 4,
         }
     }

@@ -328,6 +328,11 @@ pub fn compute_storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLa
 }
 
 impl UpdatePass {
+    /// The uniform buffer of the update's `SimParams` (the billboards read the same wind).
+    pub fn params_buffer(&self) -> &wgpu::Buffer {
+        &self.params
+    }
+
     /// `wind_grid` is the fluid velocity grid the blades sample (a dummy when unused).
     pub fn new(gpu: &Gpu, buffers: &BladeBuffers, wind_grid: &wgpu::Buffer) -> Self {
         let device = &gpu.device;

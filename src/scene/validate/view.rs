@@ -23,6 +23,7 @@ const FAR_MAX: f32 = 1.0e6;
 const FAR_TEXT: &str = "near < far <= 1000000 m";
 const WIDTH_PIXELS: Allowed = Allowed::closed(0.0, 1024.0, "px");
 const SHADE: Allowed = Allowed::closed(0.0, 2.0, "");
+const BILLBOARD_DISTANCE: Allowed = Allowed::closed(0.0, 100000.0, "m");
 const SHADE_GAIN: Allowed = Allowed::closed(0.0, 10.0, "");
 const SHADE_OFFSET: Allowed = Allowed::closed(-2.0, 2.0, "");
 
@@ -71,6 +72,7 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("render.self_shadow.max", Rule::Text("min <= max <= 2")),
     ("render.self_shadow.c1", Rule::Real(SHADE_GAIN)),
     ("render.self_shadow.c2", Rule::Real(SHADE_OFFSET)),
+    ("render.billboard_distance", Rule::Real(BILLBOARD_DISTANCE)),
     ("render.msaa", Rule::Choice(MSAA_TEXT)),
 ];
 
@@ -164,6 +166,11 @@ pub(super) fn render(check: &Checker, render: &mut Render) -> Result<()> {
         check.real("render.self_shadow.c1", c1, SHADE_GAIN)?;
         check.real("render.self_shadow.c2", c2, SHADE_OFFSET)?;
     }
+    check.real(
+        "render.billboard_distance",
+        render.billboard_distance,
+        BILLBOARD_DISTANCE,
+    )?;
     if !crate::render::msaa::SAMPLE_COUNTS.contains(&render.msaa) {
         let message = format!(
             "render.msaa = {} is not a sample count: allowed {MSAA_TEXT}",

@@ -1,0 +1,102 @@
+// Billboards in the middle distance (issue 12; Qiu et al.'s middle level, the prairie
+// thesis's far plants): one camera-facing card per cell of a grid around the camera
+// (`billboard_place.wgsl`), drawn without instancing: vertex i belongs to card i / 6. A
+// card shows a tuft from the atlas sward renders from its own blades at start-up, lit by
+// the same sun as the far ground, swaying with the wind the blades read (analytic and
+// fluid, `wind_sample.wgsl`) and bent away from the colliders and balls (Qiu's billboard
+// bending). It fades in over the band where the blades thin out and out towards the
+// billboard radius: dithered (alpha test) or through alpha-to-coverage with MSAA.
+//!include common.wgsl
+//!include terrain_height.wgsl
+//!include wind.wgsl
+//!include billboard_place.wgsl
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(3) var<uniform> bb: BillboardParams;
+@group(0) @binding(4) var atlas: texture_2d_array<f32>;
+@group(0) @binding(5) var atlas_sampler: sampler;
+@group(0) @binding(6) var<storage, read> spheres: array<vec4<f32>>;
+@group(0) @binding(7) var<uniform> params: SimParams;
+@group(0) @binding(8) var<storage, read> wind_grid: array<vec2<f32>>;
+@group(0) @binding(9) var density_map: texture_2d<f32>;
+
+//!include wind_sample.wgsl
+//!include billboard_sway.wgsl
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) @interpolate(flat) layer: u32,
+    @location(3) @interpolate(flat) fade: f32,
+}
+
+// The density map at (x, z) (1 without one), as the terrain shades it.
+fn density_at(xz: vec2<f32>) -> f32 {
+    if bb.info.z == 0u {
+        return 1.0;
+    }
+    let dims = vec2<f32>(textureDimensions(density_map));
+    let g = (xz / bb.shape.z + 0.5) * (dims - 1.0);
+    let t = clamp(vec2<i32>(round(g)), vec2<i32>(0), vec2<i32>(dims) - 1);
+    return textureLoad(density_map, t, 0).r;
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
+    var out: VertexOut;
+    let c = card_at(vi / 6u);
+    // Outside the ring, or thinned by the density map: a degenerate triangle off screen.
+    if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
+        out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+        return out;
+    }
+    let k = vi % 6u;
+    let u = select(0.0, 1.0, k == 1u || k == 2u || k == 4u);
+    let v = select(0.0, 1.0, k == 2u || k == 4u || k == 5u);
+    var to_eye = frame.camera_pos.xz - c.pos.xz;
+    if length(to_eye) < 1e-4 {
+        to_eye = vec2<f32>(0.0, 1.0);
+    }
+    let e = normalize(to_eye);
+    let right = vec3<f32>(-e.y, 0.0, e.x);
+    let w = bb.eye_card.z * c.scale;
+    let h = bb.eye_card.w * c.scale;
+    // The root row sits a little into the ground so the card meets it on slopes.
+    var p = c.pos + right * ((u - 0.5) * w) + vec3<f32>(0.0, v * 1.05 * h - 0.05 * h, 0.0);
+    if v > 0.5 {
+        p += top_offset(c.pos, h);
+    }
+    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
+    out.world = p;
+    out.uv = vec2<f32>(select(1.0 - u, u, c.mirror > 0.0), 1.0 - v);
+    out.layer = c.variant;
+    out.fade = c.fade;
+    return out;
+}
+
+// 4×4 ordered dither in [0, 1): the screen-door fade of the single-sample path.
+fn bayer(p: vec2<f32>) -> f32 {
+    let x = u32(p.x) % 4u;
+    let y = u32(p.y) % 4u;
+    let m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    return (f32(m[y * 4u + x]) + 0.5) / 16.0;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    let tex = textureSample(atlas, atlas_sampler, in.uv, in.layer);
+    // Alpha test, with the fade as a dither: a card fading in shows more of its texels
+    // frame by frame, never a half-transparent sheet (no sorting needed). With MSAA the
+    // alpha also drives alpha-to-coverage, which smooths the cut.
+    if tex.a < 0.5 || in.fade < bayer(in.clip.xy) {
+        discard;
+    }
+    let sun = frame.sun_dir.xyz;
+    // The far ground's grass lighting (terrain.wgsl), so cards and ground read as one.
+    let diffuse = max(sun.y, 0.0);
+    var color = tex.rgb
+        * (AMBIENT_COLOR * 0.9 * 0.85 + SUN_COLOR * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+    color = apply_fog(color, in.world, frame);
+    return vec4<f32>(tonemap(color), tex.a);
+}

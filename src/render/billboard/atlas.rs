@@ -1,0 +1,228 @@
+//! The billboard atlas: tufts of sward's own blades rendered once at start-up into a
+//! texture array (one layer per variant) with a full mip chain. Each tuft is a row of
+//! blades seen from the side, drawn with the blades' geometry (quadratic Bézier, the
+//! triangle-tip shape of `grass.wgsl`, leaning by the field's bend range) and colours (the
+//! grass shader's fresh / deep / dry mix per blade, lighter towards the tip, darker at the
+//! base), rasterised on the CPU with 4×4 supersampling. The lighting is the sun's, applied
+//! by the billboard shader, so the cards and the far ground read as one.
+
+use glam::Vec2;
+
+use crate::field::hash32;
+use crate::scene::types::Field;
+
+/// Texels of one layer.
+pub const WIDTH: u32 = 128;
+pub const HEIGHT: u32 = 64;
+/// Tufts in the atlas.
+pub const VARIANTS: u32 = 4;
+/// Blades drawn in one tuft.
+const BLADES: u32 = 70;
+/// Supersamples per texel side.
+const SS: u32 = 4;
+
+/// One layer's linear RGB and coverage, row-major (row 0 at the top: the tips).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layer {
+    pub rgba: Vec<[f32; 4]>,
+}
+
+/// The grass shader's albedo for a blade's random tint at height `v` (0 root, 1 tip),
+/// with its height shading: the same mix as `grass.wgsl` `fs_main`.
+fn albedo(tint: [f32; 2], v: f32) -> [f32; 3] {
+    let fresh = [0.10, 0.34, 0.05];
+    let dry = [0.32, 0.40, 0.09];
+    let deep = [0.05, 0.22, 0.04];
+    // A tuft seen from afar: the grass shader's height shading, softened (the far ground's
+    // colour, which the atlas is scaled to match, averages it the same way).
+    let ao = 0.65 + 0.35 * v.powf(0.7);
+    std::array::from_fn(|k| {
+        let a = fresh[k] + (deep[k] - fresh[k]) * tint[1] * 0.7;
+        let a = a + (dry[k] - a) * tint[0] * tint[0] * 0.8;
+        let lit = a * 0.75 + (a * 1.1 + [0.015, 0.02, 0.0][k] - a * 0.75) * v;
+        lit * ao
+    })
+}
+
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 / 16_777_216.0
+}
+
+/// Renders variant `variant` of the tuft for `field` (heights relative to the card: the
+/// tallest blade of the field's range reaches 0.95 of the card).
+pub fn render_layer(field: &Field, variant: u32) -> Layer {
+    let (w, h) = ((WIDTH * SS) as usize, (HEIGHT * SS) as usize);
+    let mut color = vec![[0.0f32; 3]; w * h];
+    let mut cover = vec![false; w * h];
+    let max_h = field.height.max.max(1e-3);
+    let tau = 0.45;
+    for b in 0..BLADES {
+        let key = hash32(variant.wrapping_mul(0x9E37_79B9) ^ hash32(b + 1));
+        let r = |k: u32| unit(hash32(key.wrapping_add(k.wrapping_mul(0x85EB_CA6B))));
+        let root = 0.03 + 0.94 * r(0);
+        let height =
+            (field.height.min + (field.height.max - field.height.min) * r(1)) / max_h * 0.95;
+        let bend = (field.bend.min + (field.bend.max - field.bend.min) * r(2)).to_radians()
+            * if r(3) < 0.5 { -1.0 } else { 1.0 };
+        // Widths in card units: the card is 2:1, about 1.4 cells wide; blades a few texels.
+        let width = 0.012 + 0.01 * r(4);
+        let tint = [r(5), r(6)];
+        // The curve: root, a middle control point straight up, the tip leaning by `bend`
+        // (x in card widths, y in card heights; the card's aspect is WIDTH / HEIGHT).
+        let aspect = WIDTH as f32 / HEIGHT as f32;
+        let p0 = Vec2::new(root, 0.0);
+        let p1 = Vec2::new(root, height * 0.6);
+        let p2 = p0 + Vec2::new(bend.sin() / aspect, bend.cos()) * height;
+        let rows = (height * h as f32).ceil().max(1.0) as usize;
+        for row in 0..=rows {
+            let v = row as f32 / rows as f32;
+            let a = p0.lerp(p1, v);
+            let c = a.lerp(p1.lerp(p2, v), v);
+            // The triangle-tip shape: full width up to tau, then tapering to the tip.
+            let half = 0.5 * width * (1.0 - ((v - tau).max(0.0) / (1.0 - tau)));
+            let y = ((1.0 - c.y) * h as f32) as i64;
+            if y < 0 || y >= h as i64 {
+                continue;
+            }
+            let x0 = ((c.x - half) * w as f32).floor() as i64;
+            let x1 = ((c.x + half) * w as f32).ceil() as i64;
+            let col = albedo(tint, v);
+            for x in x0.max(0)..x1.min(w as i64) {
+                let i = y as usize * w + x as usize;
+                color[i] = col;
+                cover[i] = true;
+            }
+        }
+    }
+    // Down to texels: the mean colour of the covered supersamples, and the coverage.
+    let mut rgba = vec![[0.0f32; 4]; (WIDTH * HEIGHT) as usize];
+    for ty in 0..HEIGHT as usize {
+        for tx in 0..WIDTH as usize {
+            let (mut sum, mut n) = ([0.0f32; 3], 0u32);
+            for sy in 0..SS as usize {
+                for sx in 0..SS as usize {
+                    let i = (ty * SS as usize + sy) * w + tx * SS as usize + sx;
+                    if cover[i] {
+                        for k in 0..3 {
+                            sum[k] += color[i][k];
+                        }
+                        n += 1;
+                    }
+                }
+            }
+            let a = n as f32 / (SS * SS) as f32;
+            let c = if n > 0 {
+                sum.map(|s| s / n as f32)
+            } else {
+                [0.0; 3]
+            };
+            rgba[ty * WIDTH as usize + tx] = [c[0], c[1], c[2], a];
+        }
+    }
+    Layer { rgba }
+}
+
+/// The next mip level of a `w × h` level: the box filter of each 2×2 block, the colour
+/// weighted by coverage (so empty texels do not darken the edges).
+pub fn downsample(level: &[[f32; 4]], w: u32, h: u32) -> Vec<[f32; 4]> {
+    let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+    let mut out = vec![[0.0f32; 4]; (nw * nh) as usize];
+    for y in 0..nh {
+        for x in 0..nw {
+            let mut sum = [0.0f32; 4];
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let sx = (2 * x + dx).min(w - 1);
+                let sy = (2 * y + dy).min(h - 1);
+                let t = level[(sy * w + sx) as usize];
+                for k in 0..3 {
+                    sum[k] += t[k] * t[3];
+                }
+                sum[3] += t[3];
+            }
+            let a = sum[3] / 4.0;
+            let c: [f32; 3] = if sum[3] > 0.0 {
+                std::array::from_fn(|k| sum[k] / sum[3])
+            } else {
+                [0.0; 3]
+            };
+            out[(y * nw + x) as usize] = [c[0], c[1], c[2], a];
+        }
+    }
+    out
+}
+
+/// Every layer's mip chain: level 0 first, down to 1 × 1.
+pub fn mip_chain(layer: &Layer) -> Vec<Vec<[f32; 4]>> {
+    let mut levels = vec![layer.rgba.clone()];
+    let (mut w, mut h) = (WIDTH, HEIGHT);
+    while w > 1 || h > 1 {
+        let next = downsample(levels.last().unwrap(), w, h);
+        w = (w / 2).max(1);
+        h = (h / 2).max(1);
+        levels.push(next);
+    }
+    levels
+}
+
+/// Linear to sRGB-encoded 8 bits (the atlas is an sRGB texture).
+fn srgb8(v: f32) -> u8 {
+    let v = v.clamp(0.0, 1.0);
+    let s = if v <= 0.003_130_8 {
+        v * 12.92
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+/// The texels of one mip level as sRGB RGBA8 (alpha linear).
+pub fn encode(level: &[[f32; 4]]) -> Vec<u8> {
+    level
+        .iter()
+        .flat_map(|t| {
+            [
+                srgb8(t[0]),
+                srgb8(t[1]),
+                srgb8(t[2]),
+                (t[3].clamp(0.0, 1.0) * 255.0).round() as u8,
+            ]
+        })
+        .collect()
+}
+
+/// The coverage-weighted mean linear colour of the atlas (what the cards average to).
+pub fn mean_color(layers: &[Layer]) -> [f32; 3] {
+    let mut sum = [0.0f64; 3];
+    let mut weight = 0.0f64;
+    for l in layers {
+        for t in &l.rgba {
+            for k in 0..3 {
+                sum[k] += f64::from(t[k] * t[3]);
+            }
+            weight += f64::from(t[3]);
+        }
+    }
+    if weight <= 0.0 {
+        return [0.0; 3];
+    }
+    sum.map(|s| (s / weight) as f32)
+}
+
+/// Scales every layer's colours per channel so that their coverage-weighted mean is `target`.
+pub fn match_mean(layers: &mut [Layer], target: [f32; 3]) {
+    let mean = mean_color(layers);
+    let gain: [f32; 3] = std::array::from_fn(|k| {
+        if mean[k] > 1e-6 {
+            (target[k] / mean[k]).clamp(0.25, 4.0)
+        } else {
+            1.0
+        }
+    });
+    for layer in layers {
+        for t in &mut layer.rgba {
+            for k in 0..3 {
+                t[k] *= gain[k];
+            }
+        }
+    }
+}
