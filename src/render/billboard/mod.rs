@@ -30,12 +30,12 @@ use crate::sim::update::{compute_storage_entry, uniform_entry};
 
 /// Cells across the billboard radius: the grid is about `2 · CELLS_PER_RADIUS + 1` cells
 /// wide, so the vertex count is fixed whatever the radius.
-pub const CELLS_PER_RADIUS: f32 = 60.0;
+pub const CELLS_PER_RADIUS: f32 = 100.0;
 /// The smallest cell (m).
 const MIN_CELL: f32 = 0.5;
 /// Card width per cell side, and card height per tallest blade.
-const CARD_WIDTH: f32 = 1.4;
-const CARD_HEIGHT: f32 = 1.15;
+const CARD_WIDTH: f32 = 2.0;
+const CARD_HEIGHT: f32 = 0.9;
 /// Top offset per m/s² of wind, per metre of card height.
 pub const SWAY_GAIN: f32 = 0.08;
 /// How far past a sphere's radius a card's top is pushed away, in card heights.
