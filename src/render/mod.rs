@@ -11,6 +11,7 @@ pub mod clipmap;
 pub mod cull;
 pub mod draw;
 pub mod hiz;
+mod levels;
 pub mod mesh;
 pub mod msaa;
 pub mod overlay;
@@ -480,74 +481,6 @@ impl Renderer {
         Ok(())
     }
 
-    /// The wind grid the update reads (the fluid's velocity, or the dummy).
-    fn wind_grid(&self) -> &wgpu::Buffer {
-        self.fluid
-            .as_ref()
-            .map(|f| f.velocity())
-            .unwrap_or(&self._dummy_grid)
-    }
-
-    /// Builds, rebuilds or drops the billboard pass to match `render.billboard_distance`
-    /// (the panel may change it between frames).
-    fn sync_billboards(&mut self, gpu: &Gpu) {
-        let layout = billboard::BillboardLayout::from_scene(&self.scene.render, &self.scene.field);
-        if self.billboards.as_ref().map(|b| b.layout) == layout {
-            return;
-        }
-        self.billboards = layout.map(|layout| {
-            let (terrain_params, terrain_grid) = self.draw.terrain_buffers();
-            billboard::BillboardPass::new(
-                gpu,
-                layout,
-                &self.scene.field,
-                self.density.as_ref(),
-                &billboard::Inputs {
-                    frame: self.draw.frame_buffer(),
-                    terrain_params,
-                    terrain_grid,
-                    spheres: &self.buffers.spheres,
-                    sim_params: self.update.params_buffer(),
-                    wind_grid: self.wind_grid(),
-                },
-                self.format,
-                self.samples,
-            )
-        });
-    }
-
-    /// Rebinds the billboards to the current update and wind buffers.
-    fn rebind_billboards(&mut self, gpu: &Gpu) {
-        if let Some(mut b) = self.billboards.take() {
-            let (terrain_params, terrain_grid) = self.draw.terrain_buffers();
-            b.rebind(
-                &gpu.device,
-                &billboard::Inputs {
-                    frame: self.draw.frame_buffer(),
-                    terrain_params,
-                    terrain_grid,
-                    spheres: &self.buffers.spheres,
-                    sim_params: self.update.params_buffer(),
-                    wind_grid: self.wind_grid(),
-                },
-            );
-            self.billboards = Some(b);
-        }
-    }
-
-    /// Billboards drawn in the last frame (a CPU count with the frame's uniforms: the
-    /// cards in the ring, kept by the density map, in the view).
-    pub fn billboards_drawn(&self) -> u32 {
-        self.last_billboards.map_or(0, |(p, view_proj)| {
-            billboard::count_drawn(&p, &self.terrain, self.density.as_ref(), view_proj)
-        })
-    }
-
-    /// The billboard pass, when the scene has billboards.
-    pub fn billboards(&self) -> Option<&billboard::BillboardPass> {
-        self.billboards.as_ref()
-    }
-
     /// Turns the wind overlay off.
     pub fn disable_overlay(&mut self) {
         self.overlay = None;
@@ -630,105 +563,6 @@ impl Renderer {
         self.cull
             .set_pyramid(&gpu.device, &self.buffers, pyramid.view());
         self.pyramid = Some(pyramid);
-    }
-
-    /// Moves a streamed field's tiles with the camera at `eye` and records the generation
-    /// of the entering ones (before the patch pass reads their boxes).
-    fn stream_tiles(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, eye: Vec3) {
-        let Some(tiles) = &mut self.tiles else {
-            return;
-        };
-        let jobs = tiles.plan(eye.x, eye.z);
-        if jobs.is_empty() {
-            return;
-        }
-        timed(self.timer.as_ref(), encoder, timing::TILES, |e, q| {
-            tiles.encode(&gpu.queue, e, &jobs, cs(q))
-        });
-    }
-
-    /// The streamed field's tile counts, when the scene streams.
-    pub fn tile_stats(&self) -> Option<TileStats> {
-        self.tiles.as_ref().map(|t| {
-            let r = &t.residency;
-            TileStats {
-                resident: r.resident_count(),
-                slots: r.layout().slots,
-                generated_last: t.last_generated,
-                generated_total: r.generated(),
-                tile_size: r.layout().tile_size(),
-                blades_per_tile: r.layout().blades_per_tile(),
-            }
-        })
-    }
-
-    /// The streamed field's residency and generation uniforms (tests compare the pool with
-    /// the CPU twin).
-    pub fn tiles(&self) -> Option<&TileStreamer> {
-        self.tiles.as_ref()
-    }
-
-    /// Records a whole frame (step by `dt`, cull, draw into `color`) into `encoder`, so the
-    /// window can add its own passes (arrows, panel) before one submit.
-    /// Caps the samples per pixel below `render.msaa` (the window's frame budget switching
-    /// multisampling off) without changing the scene; `None` lifts the cap.
-    pub fn set_sample_cap(&mut self, cap: Option<u32>) {
-        self.sample_cap = cap;
-    }
-
-    /// The sample count the 3D passes draw with: `render.msaa`, or the largest count
-    /// below it the adapter supports for the colour and depth formats.
-    pub fn msaa_samples(&self) -> u32 {
-        self.samples
-    }
-
-    /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
-    /// for the new sample count before the next frame.
-    fn sync_msaa(&mut self, gpu: &Gpu) {
-        let wanted = self.sample_cap.map_or(self.scene.render.msaa, |cap| {
-            self.scene.render.msaa.min(cap)
-        });
-        if wanted == self.requested_samples {
-            return;
-        }
-        self.requested_samples = wanted;
-        let samples = msaa::effective_samples(gpu, self.format, self.requested_samples);
-        if samples == self.samples {
-            return;
-        }
-        self.samples = samples;
-        self.draw.set_samples(&gpu.device, samples);
-        if let Some(b) = &mut self.billboards {
-            b.set_samples(&gpu.device, samples);
-        }
-        self.msaa = None;
-        // The pyramid's copy reads depth of the old sample count.
-        self.pyramid = None;
-        if self.overlay.is_some() {
-            self.enable_overlay(gpu, self.format);
-        }
-    }
-
-    /// The colour and depth views the 3D passes draw into for a frame whose caller gave
-    /// `color` and `depth`: the multisampled pair with MSAA, else the caller's own. The
-    /// window draws its arrows into these between [`Renderer::encode_scene`] and
-    /// [`Renderer::resolve`].
-    pub fn scene_views<'a>(
-        &'a self,
-        color: &'a wgpu::TextureView,
-        depth: &'a wgpu::TextureView,
-    ) -> (&'a wgpu::TextureView, &'a wgpu::TextureView) {
-        match &self.msaa {
-            Some(m) => (&m.color, &m.depth),
-            None => (color, depth),
-        }
-    }
-
-    /// Resolves the multisampled colour of the frame into `color` (nothing without MSAA).
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
-        if let Some(m) = &self.msaa {
-            m.resolve(encoder, color);
-        }
     }
 
     /// Records a whole frame (step by `dt`, cull, draw into `color`, resolve) into

@@ -8,6 +8,7 @@
 //! samples the pixel takes the covered share of the blade's colour.
 
 use super::draw::DEPTH_FORMAT;
+use super::Renderer;
 use crate::gpu::Gpu;
 
 /// The sample counts a scene may ask for (`render.msaa`).
@@ -120,5 +121,70 @@ impl MsaaTarget {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+    }
+}
+
+/// The renderer's multisampling: the sample count in use, kept in step with `render.msaa`
+/// and the frame budget's cap, and the views the 3D passes draw into.
+impl Renderer {
+    /// Caps the samples per pixel below `render.msaa` (the window's frame budget switching
+    /// multisampling off) without changing the scene; `None` lifts the cap.
+    pub fn set_sample_cap(&mut self, cap: Option<u32>) {
+        self.sample_cap = cap;
+    }
+
+    /// The sample count the 3D passes draw with: `render.msaa`, or the largest count
+    /// below it the adapter supports for the colour and depth formats.
+    pub fn msaa_samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
+    /// for the new sample count before the next frame.
+    pub(super) fn sync_msaa(&mut self, gpu: &Gpu) {
+        let wanted = self.sample_cap.map_or(self.scene.render.msaa, |cap| {
+            self.scene.render.msaa.min(cap)
+        });
+        if wanted == self.requested_samples {
+            return;
+        }
+        self.requested_samples = wanted;
+        let samples = effective_samples(gpu, self.format, self.requested_samples);
+        if samples == self.samples {
+            return;
+        }
+        self.samples = samples;
+        self.draw.set_samples(&gpu.device, samples);
+        if let Some(b) = &mut self.billboards {
+            b.set_samples(&gpu.device, samples);
+        }
+        self.msaa = None;
+        // The pyramid's copy reads depth of the old sample count.
+        self.pyramid = None;
+        if self.overlay.is_some() {
+            self.enable_overlay(gpu, self.format);
+        }
+    }
+
+    /// The colour and depth views the 3D passes draw into for a frame whose caller gave
+    /// `color` and `depth`: the multisampled pair with MSAA, else the caller's own. The
+    /// window draws its arrows into these between [`Renderer::encode_scene`] and
+    /// [`Renderer::resolve`].
+    pub fn scene_views<'a>(
+        &'a self,
+        color: &'a wgpu::TextureView,
+        depth: &'a wgpu::TextureView,
+    ) -> (&'a wgpu::TextureView, &'a wgpu::TextureView) {
+        match &self.msaa {
+            Some(m) => (&m.color, &m.depth),
+            None => (color, depth),
+        }
+    }
+
+    /// Resolves the multisampled colour of the frame into `color` (nothing without MSAA).
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
+        if let Some(m) = &self.msaa {
+            m.resolve(encoder, color);
+        }
     }
 }
