@@ -50,6 +50,8 @@ pub const GROW: f32 = 1.08;
 /// Smallest d_max the budget sets, in metres (or the base, if that is smaller): the grass
 /// within this radius stays.
 pub const MIN_DISTANCE: f32 = 12.0;
+/// Smallest share of `render.billboard_distance` the budget keeps.
+pub const MIN_BILLBOARDS: f32 = 0.4;
 /// Smallest render scale of the 3D passes the budget sets (a quarter of the pixels).
 pub const MIN_SCALE: f32 = 0.5;
 
@@ -85,6 +87,9 @@ pub struct FrameBudget {
     /// Whether the budget may switch multisampling off, and whether it has.
     msaa_step: bool,
     msaa_off: bool,
+    /// The share of the billboard radius drawn (1 = the scene's), when the budget may
+    /// shorten it (after the resolution, before the blades).
+    billboards: Option<f32>,
 }
 
 impl FrameBudget {
@@ -103,7 +108,20 @@ impl FrameBudget {
             scale_floor: MIN_SCALE,
             msaa_step: false,
             msaa_off: false,
+            billboards: None,
         }
+    }
+
+    /// The same budget allowed to shorten the billboards' radius (down to
+    /// [`MIN_BILLBOARDS`] of it) after the resolution and before the blades' radius.
+    pub fn with_billboard_step(mut self, allowed: bool) -> Self {
+        self.billboards = allowed.then_some(1.0);
+        self
+    }
+
+    /// The share of `render.billboard_distance` to draw now.
+    pub fn billboards(&self) -> f32 {
+        self.billboards.unwrap_or(1.0)
     }
 
     /// The same budget allowed to switch multisampling off first (the window, whose scene
@@ -202,6 +220,10 @@ impl FrameBudget {
             self.scale = (self.scale * SHRINK).max(self.scale_floor);
             return true;
         }
+        if let Some(b) = self.billboards.filter(|b| *b > MIN_BILLBOARDS) {
+            self.billboards = Some((b * SHRINK).max(MIN_BILLBOARDS));
+            return true;
+        }
         if !culling.distance {
             // The cheapest first step: the user's own levels and d_max, now applied.
             culling.distance = true;
@@ -227,6 +249,10 @@ impl FrameBudget {
                 culling.max_distance = (culling.max_distance * GROW).min(self.base_distance);
                 return true;
             }
+        }
+        if let Some(b) = self.billboards.filter(|b| *b < 1.0) {
+            self.billboards = Some((b * GROW).min(1.0));
+            return true;
         }
         if self.scale < 1.0 {
             self.scale = (self.scale * GROW).min(1.0);
@@ -259,6 +285,12 @@ impl FrameBudget {
         line.push_str(&format!(", resolution scale {:.2}", self.scale));
         if self.msaa_off {
             line.push_str(", MSAA off");
+        }
+        if let Some(b) = self.billboards.filter(|b| *b < 1.0) {
+            line.push_str(&format!(
+                ", billboards to {:.0} % of their radius",
+                b * 100.0
+            ));
         }
         line
     }
@@ -372,6 +404,42 @@ mod tests {
             plain.observe(300.0, &mut c);
         }
         assert!(!plain.msaa_off());
+    }
+
+    #[test]
+    fn billboards_shorten_after_the_resolution_and_before_the_blades() {
+        let mut c = culling();
+        let base = c.max_distance;
+        let mut b = FrameBudget::new(&c, Some(100.0)).with_billboard_step(true);
+        let mut seen_short = false;
+        for _ in 0..400 {
+            b.observe(1000.0, &mut c);
+            if b.billboards() < 1.0 {
+                seen_short = true;
+                // The resolution went first, all the way to its floor.
+                assert_eq!(b.scale(), MIN_SCALE, "{}", b.status());
+            }
+            if c.max_distance < base {
+                // The billboards went before the blades, all the way to their floor.
+                assert_eq!(b.billboards(), MIN_BILLBOARDS, "{}", b.status());
+            }
+        }
+        assert!(seen_short && c.max_distance < base, "{}", b.status());
+        assert!(b.status().contains("billboards to 40 %"), "{}", b.status());
+        // Back: the blades first, then the billboards, then the resolution.
+        for _ in 0..2000 {
+            b.observe(1.0, &mut c);
+            if b.billboards() > MIN_BILLBOARDS {
+                assert_eq!(c.max_distance, base);
+            }
+            if b.scale() > MIN_SCALE {
+                assert_eq!(b.billboards(), 1.0);
+            }
+        }
+        assert_eq!(
+            (b.billboards(), b.scale(), c.max_distance),
+            (1.0, 1.0, base)
+        );
     }
 
     #[test]

@@ -146,7 +146,9 @@ impl AppState {
         };
         let (renderer, editor) = build(gpu, scene, format)?;
         let camera = CameraController::from_view(&CameraView::from_scene(&renderer.scene.camera));
-        let budget = FrameBudget::new(&renderer.scene.culling, None).with_msaa_step(true);
+        let budget = FrameBudget::new(&renderer.scene.culling, None)
+            .with_msaa_step(true)
+            .with_billboard_step(true);
         let mut balls = Balls::new();
         // The scene camera's target point, kept as the orbit centre.
         let target = camera.orbit_center;
@@ -411,7 +413,8 @@ impl AppState {
             CameraController::from_view(&CameraView::from_scene(&self.renderer.scene.camera));
         self.field_draft = self.renderer.scene.field.clone();
         self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms)
-            .with_msaa_step(true);
+            .with_msaa_step(true)
+            .with_billboard_step(true);
         self.balls.thrown.clear();
         let target = self.camera.orbit_center;
         self.balls.spawn_character(
@@ -585,6 +588,7 @@ impl AppState {
         // The budget caps the samples without touching the scene (Save keeps render.msaa).
         self.renderer
             .set_sample_cap(self.budget.msaa_off().then_some(1));
+        self.renderer.billboard_share = self.budget.billboards();
         self.renderer
             .encode_scene(gpu, encoder, dt, &view, color, depth, size);
         // The arrows are drawn in the multisampled scene, before its resolve: they are

@@ -134,6 +134,8 @@ pub struct Renderer {
     /// uniforms and view of the last frame (the stats count the cards drawn with them).
     billboards: Option<billboard::BillboardPass>,
     last_billboards: Option<(billboard::BillboardParams, glam::Mat4)>,
+    /// The share of `render.billboard_distance` drawn (the window's frame budget; 1: all).
+    pub billboard_share: f32,
     /// The density map, kept for the billboards' CPU count.
     density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
@@ -248,6 +250,7 @@ impl Renderer {
             sample_cap: None,
             billboards: None,
             last_billboards: None,
+            billboard_share: 1.0,
             density,
             requested_samples,
             samples,
@@ -661,6 +664,7 @@ impl Renderer {
                 &self.scene.culling,
                 self.sphere_count,
                 self.scene.terrain.size,
+                self.billboard_share,
             );
             (p, camera.view_proj(self.aspect(size.0, size.1)))
         });

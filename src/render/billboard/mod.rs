@@ -550,7 +550,8 @@ impl BillboardPass {
         }
     }
 
-    /// Writes this frame's uniforms; returns them (the stats count the cards with them).
+    /// Writes this frame's uniforms for the share `share` of the billboard radius; returns
+    /// them (the stats count the cards with them).
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
@@ -558,14 +559,20 @@ impl BillboardPass {
         culling: &Culling,
         spheres: u32,
         terrain_size: f32,
+        share: f32,
     ) -> BillboardParams {
-        let p = self.layout.params(
+        let mut p = self.layout.params(
             eye,
             culling.max_distance,
             self.has_density,
             spheres,
             terrain_size,
         );
+        // The frame budget may draw only the nearer part of the ring (the grid stays).
+        let radius = self.layout.radius * share.clamp(0.0, 1.0);
+        let radius = radius.max(p.fade[1]);
+        p.fade[2] = 0.85 * radius;
+        p.fade[3] = radius;
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         p
     }
