@@ -456,6 +456,9 @@ fn memory(blades: u64, (blade_bytes, gpu_bytes): (u64, u64)) -> Memory {
 /// 2 % (or one workgroup). Returns the scene and the blade count it generates.
 pub fn sweep_scene(base: &Scene, count: usize) -> (Scene, usize) {
     let mut scene = base.clone();
+    // A sweep times fields of given blade counts: a streamed field's count follows its
+    // radius, not its density × area, so the sweep generates whole fields.
+    scene.field.tile_size = 0.0;
     let area = f64::from(scene.terrain.size).powi(2);
     let mut density = (count as f64 / area) as f32;
     // The generator rounds density · size² up: nudge the f32 density down until that

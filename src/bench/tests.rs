@@ -80,7 +80,11 @@ fn sweep_scene_hits_the_count() {
         );
         assert!(f64::from(s.field.density) * 7.3f64.powi(2) <= n as f64);
         assert_eq!(s.field.patch_size % 64, 0);
+        assert_eq!(s.field.tile_size, 0.0, "a sweep point is a whole field");
     }
+    // Even from a streamed scene.
+    scene.field.tile_size = 8.0;
+    assert_eq!(sweep_scene(&scene, 100_000).0.field.tile_size, 0.0);
 }
 
 #[test]
