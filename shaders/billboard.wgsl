@@ -1,27 +1,21 @@
 // Billboards in the middle distance (issue 12; Qiu et al.'s middle level, the prairie
 // thesis's far plants): one camera-facing card per cell of a grid around the camera
-// (`billboard_place.wgsl`), drawn without instancing: vertex i belongs to card i / 6. A
-// card shows a tuft from the atlas sward renders from its own blades at start-up, lit by
-// the same sun as the far ground, swaying with the wind the blades read (analytic and
-// fluid, `wind_sample.wgsl`) and bent away from the colliders and balls (Qiu's billboard
-// bending). It fades in over the band where the blades thin out and out towards the
-// billboard radius: dithered (alpha test) or through alpha-to-coverage with MSAA.
+// (`billboard_place.wgsl`); the cull (`billboard_cull.wgsl`) keeps the cards in the ring and
+// in view, with their sway and bending, and this draw shows them without instancing:
+// vertex i belongs to kept card i / 6. A card shows a tuft from the atlas sward renders from
+// its own blades at start-up, lit by the same sun as the far ground, swaying with the wind
+// the blades read (analytic and fluid) and bent away from the colliders and balls (Qiu's
+// billboard bending). It fades in over the band where the blades thin out and out towards
+// the billboard radius: dithered (alpha test) or through alpha-to-coverage with MSAA.
 //!include common.wgsl
 //!include terrain_height.wgsl
-//!include wind.wgsl
 //!include billboard_place.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(3) var<uniform> bb: BillboardParams;
 @group(0) @binding(4) var atlas: texture_2d_array<f32>;
 @group(0) @binding(5) var atlas_sampler: sampler;
-@group(0) @binding(6) var<storage, read> spheres: array<vec4<f32>>;
-@group(0) @binding(7) var<uniform> params: SimParams;
-@group(0) @binding(8) var<storage, read> wind_grid: array<vec2<f32>>;
-@group(0) @binding(9) var density_map: texture_2d<f32>;
-
-//!include wind_sample.wgsl
-//!include billboard_sway.wgsl
+@group(0) @binding(10) var<storage, read> cards: array<DrawnCard>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -31,47 +25,32 @@ struct VertexOut {
     @location(3) @interpolate(flat) fade: f32,
 }
 
-// The density map at (x, z) (1 without one), as the terrain shades it.
-fn density_at(xz: vec2<f32>) -> f32 {
-    if bb.info.z == 0u {
-        return 1.0;
-    }
-    let dims = vec2<f32>(textureDimensions(density_map));
-    let g = (xz / bb.shape.z + 0.5) * (dims - 1.0);
-    let t = clamp(vec2<i32>(round(g)), vec2<i32>(0), vec2<i32>(dims) - 1);
-    return textureLoad(density_map, t, 0).r;
-}
-
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     var out: VertexOut;
-    let c = card_at(vi / 6u);
-    // Outside the ring, or thinned by the density map: a degenerate triangle off screen.
-    if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
-        out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
-        return out;
-    }
+    let c = cards[vi / 6u];
+    let pos = c.pos_fade.xyz;
     let k = vi % 6u;
     let u = select(0.0, 1.0, k == 1u || k == 2u || k == 4u);
     let v = select(0.0, 1.0, k == 2u || k == 4u || k == 5u);
-    var to_eye = frame.camera_pos.xz - c.pos.xz;
+    var to_eye = frame.camera_pos.xz - pos.xz;
     if length(to_eye) < 1e-4 {
         to_eye = vec2<f32>(0.0, 1.0);
     }
     let e = normalize(to_eye);
     let right = vec3<f32>(-e.y, 0.0, e.x);
-    let w = bb.eye_card.z * c.scale;
-    let h = bb.eye_card.w * c.scale;
+    let w = bb.eye_card.z * c.top_scale.w;
+    let h = bb.eye_card.w * c.top_scale.w;
     // The root row sits a little into the ground so the card meets it on slopes.
-    var p = c.pos + right * ((u - 0.5) * w) + vec3<f32>(0.0, v * 1.05 * h - 0.05 * h, 0.0);
+    var p = pos + right * ((u - 0.5) * w) + vec3<f32>(0.0, v * 1.05 * h - 0.05 * h, 0.0);
     if v > 0.5 {
-        p += top_offset(c.pos, h);
+        p += c.top_scale.xyz;
     }
     out.clip = frame.view_proj * vec4<f32>(p, 1.0);
     out.world = p;
-    out.uv = vec2<f32>(select(1.0 - u, u, c.mirror > 0.0), 1.0 - v);
-    out.layer = c.variant;
-    out.fade = c.fade;
+    out.uv = vec2<f32>(select(1.0 - u, u, c.info.z == 1u), 1.0 - v);
+    out.layer = c.info.y;
+    out.fade = c.pos_fade.w;
     return out;
 }
 

@@ -31,6 +31,16 @@ struct Card {
     accept: f32,
 }
 
+// A card the cull kept, as the draw reads it (`billboard::DrawnCard` in Rust).
+struct DrawnCard {
+    // Root on the terrain; fade in (0, 1].
+    pos_fade: vec4<f32>,
+    // Offset of the card's top (sway and bending); size factor.
+    top_scale: vec4<f32>,
+    // Cell index, atlas variant, 1 = mirrored, unused.
+    info: vec4<u32>,
+}
+
 const BB_QUANTUM: f32 = 1.0 / 1024.0;
 const BB_UNIT: f32 = 1.0 / 16777216.0;
 

@@ -12,6 +12,7 @@ struct BladeState {
     rest_eta: vec4<f32>,      // rest tip I_v2, collision strength eta
 }
 
+// min.w: 1 for an empty patch; max.w: the smallest up.y of its blades.
 struct PatchBox {
     min: vec4<f32>,
     max: vec4<f32>,
@@ -76,6 +77,27 @@ struct CullParams {
 // patch whose list overflowed (it tests every sphere). PATCH_SPHERE_STRIDE in Rust.
 const PATCH_SPHERE_STRIDE: u32 = 64u;
 const SPHERES_ALL: u32 = 0xffffffffu;
+
+// Blades per instance of the grass draw (DRAW_BATCH in Rust): each level's mesh is this
+// many copies of its blade mesh. A level's visible region is a multiple of it.
+const DRAW_BATCH: u32 = 32u;
+
+// What the grass draw reads of the cull's output (the whole buffer, bound read-only): how
+// many blades each level's early and late lists hold (`CullOutput.blades`, `late_blades`),
+// so that the slots past a list's end in its last batch draw nothing.
+struct DrawnBlades {
+    // CullOutput's draw arguments and counters before the blade counts
+    // (offset_of!(CullCounters, blades) / 4 in Rust).
+    head: array<u32, 41>,
+    early: array<u32, 3>,
+    late: array<u32, 3>,
+}
+
+// Where a level's late list starts in its region after `early` early blades: at the next
+// whole batch (CullCounters::late_start in Rust).
+fn late_start(early: u32) -> u32 {
+    return (early + DRAW_BATCH - 1u) / DRAW_BATCH * DRAW_BATCH;
+}
 
 // Projected height in pixels of a blade of `height` whose root is at `v0`: the measure the
 // level of detail is chosen by (cull) and morphed by (grass vertex shader).

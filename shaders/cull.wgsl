@@ -44,7 +44,11 @@ struct CullOutput {
     culled_occlusion_patch: atomic<u32>,
     patch_sphere_pairs: atomic<u32>,
     culled_occlusion_grass: atomic<u32>,
-    pad: array<u32, 3>,
+    // Blades in each level's early and late lists; the draws' instance counts are these
+    // in whole batches of DRAW_BATCH.
+    blades: array<atomic<u32>, 3>,
+    late_blades: array<atomic<u32>, 3>,
+    pad: u32,
     spheres_used: array<atomic<u32>, 32>,
 }
 
@@ -115,15 +119,17 @@ fn reset() {
         atomicStore(&out.draws[k].instance_count, 0u);
         out.draws[k].first_index = params.lod_first_index[k];
         out.draws[k].base_vertex = 0;
-        // With multi-draw, level k's instances start at its region; otherwise each level
-        // binds its region at an offset and counts from 0.
-        out.draws[k].first_instance = k * params.lod_index_count.w;
+        // With multi-draw, level k's instances (batches) start at its region; otherwise
+        // each level binds its region at an offset and counts from 0.
+        out.draws[k].first_instance = k * params.lod_index_count.w / DRAW_BATCH;
         // The late draws start after the early ones; `late` sets where.
         out.late_draws[k].index_count = params.lod_index_count[k];
         atomicStore(&out.late_draws[k].instance_count, 0u);
         out.late_draws[k].first_index = params.lod_first_index[k];
         out.late_draws[k].base_vertex = 0;
-        out.late_draws[k].first_instance = k * params.lod_index_count.w;
+        out.late_draws[k].first_instance = k * params.lod_index_count.w / DRAW_BATCH;
+        atomicStore(&out.blades[k], 0u);
+        atomicStore(&out.late_blades[k], 0u);
     }
     atomicStore(&out.visible_patches, 0u);
     atomicStore(&out.updated_patches, 0u);
@@ -254,6 +260,23 @@ fn patch_blades(p: u32) -> u32 {
     return min(params.patch_size, params.blade_count - p * params.patch_size);
 }
 
+// Whether every blade of the box is beyond the distance test's reach (twin:
+// `reference::patch_beyond_distance`). A blade's test measures d_proj, the camera's offset
+// from its root across its up vector: |rel x up|. With up leaning at most to up.y = c (the
+// box's max.w) and s = sqrt(1 - c^2), the horizontal part of rel x up alone gives
+// d_proj >= c H - s |y|, H the horizontal and y the vertical offset. Over the box, H is at
+// least the camera's distance to its (x, z) rectangle and |y| at most the camera's height
+// span to it, so a patch whose bound reaches max_distance has every blade culled by Eq. 20.
+fn patch_beyond_distance(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> bool {
+    let c = params.camera_pos.xyz;
+    let dh = max(max(bmin.xz - c.xz, c.xz - bmax.xz), vec2<f32>(0.0));
+    let h = length(dh);
+    let y = max(abs(c.y - bmin.y), abs(c.y - bmax.y));
+    let cos_up = clamp(up_y, 0.0, 1.0);
+    let sin_up = sqrt(max(1.0 - cos_up * cos_up, 0.0));
+    return cos_up * h - sin_up * y >= params.max_distance;
+}
+
 // Distance from the camera to the box (0 inside it).
 fn box_distance(bmin: vec3<f32>, bmax: vec3<f32>) -> f32 {
     let c = params.camera_pos.xyz;
@@ -275,10 +298,17 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = patch_blades(p);
     // The frustum test also drives the physics throttle, so it runs with patch culling off.
     let in_view = box_in_frustum(pbox.min.xyz, pbox.max.xyz);
+    // Every blade of a patch beyond the blades' radius fails the distance test: the patch
+    // is culled whole (counted as distance), and is not stepped every frame.
+    let too_far = (params.tests & TEST_DISTANCE) != 0u
+        && patch_beyond_distance(pbox.min.xyz, pbox.max.xyz, pbox.max.w);
     var visible_patch = true;
     if (params.tests & TEST_PATCH) != 0u {
         if !in_view {
             atomicAdd(&out.culled_patch, n);
+            visible_patch = false;
+        } else if too_far {
+            atomicAdd(&out.culled_distance, n);
             visible_patch = false;
         } else if (params.tests & TEST_OCCLUSION) != 0u && box_occluded(pbox.min.xyz, pbox.max.xyz) {
             atomicAdd(&out.culled_occlusion, n);
@@ -293,7 +323,7 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Physics: patches in the frustum or near the camera every frame, the others in turn.
     let throttle = max(params.physics_throttle, 1u);
     let near = box_distance(pbox.min.xyz, pbox.max.xyz) <= params.physics_radius;
-    let every_frame = in_view || near || throttle == 1u;
+    let every_frame = (in_view && !too_far) || near || throttle == 1u;
     if every_frame || (params.frame + p) % throttle == 0u {
         let slot = atomicAdd(&out.updated_patches, 1u);
         var entry = p;
@@ -466,7 +496,11 @@ fn main(
         seen[i] = SEEN_DRAWN_EARLY;
     }
     let level = lod_level(projected_height(blade.v0_dir.xyz, blade.v1_height.w, params), params);
-    let at = atomicAdd(&out.draws[level].instance_count, 1u);
+    let at = atomicAdd(&out.blades[level], 1u);
+    // The blade that opens a batch adds the batch's instance.
+    if at % DRAW_BATCH == 0u {
+        atomicAdd(&out.draws[level].instance_count, 1u);
+    }
     visible[level * region() + at] = i;
 }
 
@@ -476,7 +510,8 @@ fn late(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    // The early counts are final here: each late list goes on where its early list ended.
+    // The early counts are final here: each late list goes on at the first whole batch
+    // after its early list (the early draw's instances are whole batches).
     if wid.x == 0u && wid.y == 0u && lid == 0u {
         for (var k = 0u; k < 3u; k++) {
             out.late_draws[k].first_instance = out.draws[k].first_instance
@@ -514,7 +549,10 @@ fn late(
     let level = lod_level(projected_height(v0, blade.v1_height.w, params), params);
     // Computed here rather than read from `late_draws`, whose first_instance another
     // workgroup writes.
-    let early = atomicLoad(&out.draws[level].instance_count);
-    let at = atomicAdd(&out.late_draws[level].instance_count, 1u);
-    visible[level * region() + early + at] = i;
+    let start = late_start(atomicLoad(&out.blades[level]));
+    let at = atomicAdd(&out.late_blades[level], 1u);
+    if at % DRAW_BATCH == 0u {
+        atomicAdd(&out.late_draws[level].instance_count, 1u);
+    }
+    visible[level * region() + start + at] = i;
 }

@@ -1,5 +1,6 @@
-// Grass draw: one instance per visible blade, geometry built in the vertex shader from the
-// blade buffer (Jahrmann & Wimmer Section 6.3): De Casteljau on the Bezier curve (Eq. 21),
+// Grass draw: one instance per batch of DRAW_BATCH visible blades (the level's mesh holds a
+// batch of blade meshes; the vertex index says which blade of the batch and which vertex of
+// it), geometry built in the vertex shader from the blade buffer (Jahrmann & Wimmer Section 6.3): De Casteljau on the Bezier curve (Eq. 21),
 // the shape's interpolation parameter (Eq. 22), 3D displacement (Eq. 23) and width
 // correction (Eq. 24). The mesh has 3 columns (u = 0, 0.5, 1) and `segments + 1` rows,
 // where each level of detail has its own segment count (`CullParams::lod_segments`).
@@ -17,6 +18,8 @@
 // x: this draw's level of detail, or FROM_INSTANCE with multi-draw (the level is then the
 // instance's region); y: slots per region.
 @group(0) @binding(4) var<uniform> draw_level: vec4<u32>;
+// The cull's output (also this draw's indirect arguments), for the lists' lengths.
+@group(0) @binding(5) var<storage, read> drawn: DrawnBlades;
 
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
@@ -124,15 +127,39 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
 }
 
 @vertex
-fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
+fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
+    // The slot in the visible list: the instance's batch, the blade in the batch.
     var level = draw_level.x;
+    var rows = 1u;
+    var slot = 0u;
+    var rel = 0u;
     if level == FROM_INSTANCE {
-        level = min(inst / max(draw_level.y, 1u), 2u);
+        // Multi-draw: the level is the region the batch lies in. The regions are whole
+        // batches, so a batch never straddles two of them.
+        let region = max(draw_level.y, 1u);
+        level = min(inst * DRAW_BATCH / region, 2u);
+        rows = max(cull.lod_segments[level], 1u);
+        slot = inst * DRAW_BATCH + batch_vid / (3u * (rows + 1u));
+        rel = slot - level * region;
+    } else {
+        // One draw per level, its region bound at an offset: slots count from 0.
+        rows = max(cull.lod_segments[level], 1u);
+        slot = inst * DRAW_BATCH + batch_vid / (3u * (rows + 1u));
+        rel = slot;
     }
-    let index = visible[inst];
+    let vid = batch_vid % (3u * (rows + 1u));
+    // The last batch of a list runs past its end: those slots hold stale indices and draw
+    // nothing (a degenerate triangle outside the clip volume).
+    let early = drawn.early[level];
+    let late_from = late_start(early);
+    if rel >= early && (rel < late_from || rel >= late_from + drawn.late[level]) {
+        var none: VertexOut;
+        none.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
+        return none;
+    }
+    let index = visible[slot];
     let blade = blades[index];
     let v0 = blade.v0_dir.xyz;
-    let rows = max(cull.lod_segments[level], 1u);
     let row = vid / 3u;
     let u = f32(vid % 3u) * 0.5;
     let v = f32(row) / f32(rows);

@@ -185,6 +185,7 @@ fn gen_blades(
 var<workgroup> lo: array<vec3<f32>, 64>;
 var<workgroup> hi: array<vec3<f32>, 64>;
 var<workgroup> tall: array<f32, 64>;
+var<workgroup> lean: array<f32, 64>;
 
 // The box of one pid of a generated tile (the twin of `tiles::patch_box`), or an empty box
 // for every pid of a freed slot.
@@ -200,6 +201,7 @@ fn gen_boxes(
     var mn = vec3<f32>(3.0e38);
     var mx = vec3<f32>(-3.0e38);
     var t = 0.0;
+    var up_y = 1.0;
     if job.generate != 0u {
         for (var k = lid; k < ps; k += 64u) {
             let b = blades[pid * ps + k];
@@ -207,26 +209,30 @@ fn gen_boxes(
                 mn = min(mn, b.v0_dir.xyz);
                 mx = max(mx, b.v0_dir.xyz);
                 t = max(t, b.v1_height.w);
+                up_y = min(up_y, b.up_stiffness.y);
             }
         }
     }
     lo[lid] = mn;
     hi[lid] = mx;
     tall[lid] = t;
+    lean[lid] = up_y;
     workgroupBarrier();
     for (var stride = 32u; stride > 0u; stride >>= 1u) {
         if lid < stride {
             lo[lid] = min(lo[lid], lo[lid + stride]);
             hi[lid] = max(hi[lid], hi[lid + stride]);
             tall[lid] = max(tall[lid], tall[lid + stride]);
+            lean[lid] = min(lean[lid], lean[lid + stride]);
         }
         workgroupBarrier();
     }
     if lid == 0u {
         let tallest = tall[0];
         if tallest > 0.0 {
+            // max.w: the smallest up.y, which bounds the patch's distance test.
             patches[pid].min = vec4<f32>(lo[0] - tallest, 0.0);
-            patches[pid].max = vec4<f32>(hi[0] + tallest, 0.0);
+            patches[pid].max = vec4<f32>(hi[0] + tallest, lean[0]);
         } else {
             patches[pid].min = vec4<f32>(0.0, 0.0, 0.0, EMPTY_PATCH);
             patches[pid].max = vec4<f32>(0.0);

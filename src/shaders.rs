@@ -29,6 +29,10 @@ const FILES: &[(&str, &str)] = &[
         "billboard_probe.wgsl",
         include_str!("../shaders/billboard_probe.wgsl"),
     ),
+    (
+        "billboard_cull.wgsl",
+        include_str!("../shaders/billboard_cull.wgsl"),
+    ),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
@@ -86,6 +90,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "tile_gen.wgsl",
     "billboard.wgsl",
     "billboard_probe.wgsl",
+    "billboard_cull.wgsl",
     "cull.wgsl",
     "hiz.wgsl",
     "grass.wgsl",

@@ -8,7 +8,9 @@
 //!   ground's grass colour;
 //! - the sway follows the wind and the bending points away from a sphere;
 //! - a render from above: the band between the blades and the billboard radius changes when
-//!   billboards are on, and stays grass-green.
+//!   billboards are on, and stays grass-green;
+//! - the cull (`billboard_cull.wgsl`) keeps the cards its CPU twin (`drawn_cells`) keeps,
+//!   with their placement.
 
 mod common;
 
@@ -255,4 +257,81 @@ fn billboards_fill_the_middle_distance_with_grass() {
         green * 10 > n * 9,
         "only {green} of {n} pixels are grass-green"
     );
+}
+
+#[test]
+fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
+    use sward::render::billboard::drawn_cells;
+    use sward::render::camera::CameraView;
+    use sward::render::target::{Target, COLOR_FORMAT};
+    use sward::render::Renderer;
+    use sward::session::Session;
+    const SIZE: (u32, u32) = (96, 64);
+    let mut s = common::still_scene();
+    s.render.billboard_distance = 50.0;
+    s.render.msaa = 1;
+    s.culling.max_distance = 8.0;
+    s.field.tile_size = 4.0;
+    s.field.density = 20.0;
+    s.field.patch_size = 256;
+    s.camera.eye = (1.5, 5.0, -2.0);
+    s.camera.target = (20.0, 0.0, 25.0);
+    let gpu = common::gpu();
+    let session = Session::new(s, None, Some(&gpu)).expect("session");
+    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+    let camera = CameraView::from_scene(&session.scene.camera);
+    r.frame(
+        &gpu,
+        1.0 / 30.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        SIZE,
+    );
+    gpu.check_errors().expect("no GPU error");
+    let (params, view_proj) = r.billboard_frame().expect("billboards on");
+    let cards = r.billboards().unwrap().read_cards(&gpu).expect("cards");
+    let terrain = sward::field::HeightField::from_scene(&session.scene.terrain).unwrap();
+    let cpu = drawn_cells(&params, &terrain, None, view_proj);
+    let mut gpu_cells: Vec<u32> = cards.iter().map(|c| c.info[0]).collect();
+    gpu_cells.sort_unstable();
+    let before = gpu_cells.len();
+    gpu_cells.dedup();
+    assert_eq!(gpu_cells.len(), before, "a cell kept twice");
+    // The view test compares f32 clip coordinates: a card exactly on the margin may fall
+    // either way on the two sides, nothing else may differ.
+    let only_gpu = gpu_cells
+        .iter()
+        .filter(|c| cpu.binary_search(c).is_err())
+        .count();
+    let only_cpu = cpu
+        .iter()
+        .filter(|c| gpu_cells.binary_search(c).is_err())
+        .count();
+    println!(
+        "billboard cull: gpu {} cpu {} cards, {only_gpu} only on the GPU, {only_cpu} only on the CPU",
+        gpu_cells.len(),
+        cpu.len()
+    );
+    assert!(cpu.len() > 100, "{} cards in view", cpu.len());
+    assert!(
+        only_gpu + only_cpu <= 2,
+        "{only_gpu} + {only_cpu} cards differ"
+    );
+    // The cards the draw reads are the placement's, with their fade and a top offset
+    // within the sway's bound (0.9 of the card's height).
+    for c in &cards {
+        let card = place_card(&params, &terrain, c.info[0]);
+        assert_eq!(c.pos_fade[0].to_bits(), card.pos.x.to_bits());
+        assert_eq!(c.pos_fade[2].to_bits(), card.pos.z.to_bits());
+        assert!((c.pos_fade[1] - card.pos.y).abs() <= 2e-3);
+        // A card on the ring's edge may fade from 0 on one side and 1e-6 on the other.
+        assert!((c.pos_fade[3] - card.fade).abs() <= 1e-5 && c.pos_fade[3] > 0.0);
+        assert_eq!(c.info[1], card.variant);
+        assert_eq!(c.info[2] == 1, card.mirror > 0.0);
+        assert_eq!(c.top_scale[3].to_bits(), card.scale.to_bits());
+        let top = Vec3::new(c.top_scale[0], c.top_scale[1], c.top_scale[2]);
+        assert!(top.length() <= 0.9 * params.eye_card[3] * card.scale + 1e-4);
+    }
 }

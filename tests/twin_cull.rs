@@ -10,7 +10,7 @@ use sward::render::camera::CameraView;
 use sward::render::target::Target;
 use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
-use sward::sim::layout::{CullCounters, LOD_LEVELS, SEEN_NO, SEEN_YES};
+use sward::sim::layout::{CullCounters, DRAW_BATCH, LOD_LEVELS, SEEN_NO, SEEN_YES};
 use sward::sim::reference::{
     cull_blade, early_seen, grass_hidden, late_pass, patch_spheres, patch_update, CullOutcome,
     Late, Pyramid,
@@ -105,7 +105,9 @@ fn run(
         [cpu.culled_patch, cpu.culled_orientation, cpu.culled_frustum, cpu.culled_distance, cpu.culled_occlusion],
     );
     for (k, (draw, list)) in counters.draws.iter().zip(&levels).enumerate() {
-        assert_eq!(draw.instance_count as usize, list.len());
+        // Blades in whole batches: the instance count is the blade count rounded up.
+        assert_eq!(counters.blades[k] as usize, list.len());
+        assert_eq!(draw.instance_count, counters.blades[k].div_ceil(DRAW_BATCH));
         assert_eq!(draw.first_index, cp.lod_first_index[k]);
         assert_eq!(draw.index_count, cp.lod_index_count[k]);
     }
@@ -375,7 +377,12 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
     let n = blades.len();
     let mut differ = 0;
     for k in 0..LOD_LEVELS {
-        let split = c.draws[k].instance_count as usize;
+        let split = c.blades[k] as usize;
+        assert_eq!(c.draws[k].instance_count, c.blades[k].div_ceil(DRAW_BATCH));
+        assert_eq!(
+            c.late_draws[k].instance_count,
+            c.late_blades[k].div_ceil(DRAW_BATCH)
+        );
         let (mut gpu_early, mut gpu_late) =
             (levels[k][..split].to_vec(), levels[k][split..].to_vec());
         gpu_early.sort_unstable();

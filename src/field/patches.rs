@@ -104,21 +104,24 @@ fn morton_sort(patch: &mut [Blade]) {
 
 /// The box of the roots grown by the tallest blade in every direction: a tip never gets
 /// further from its root than the blade's height (the curve length is the height), so the
-/// box holds every pose the simulation can produce.
+/// box holds every pose the simulation can produce. `max[3]` is the smallest up.y of its
+/// blades (how far they lean at most), which bounds their distance test from below.
 fn patch_box(patch: &[Blade]) -> PatchBox {
     let mut min = [f32::INFINITY; 3];
     let mut max = [f32::NEG_INFINITY; 3];
     let mut tallest = 0.0f32;
+    let mut up_y = 1.0f32;
     for b in patch {
         for k in 0..3 {
             min[k] = min[k].min(b.v0_dir[k]);
             max[k] = max[k].max(b.v0_dir[k]);
         }
         tallest = tallest.max(b.v1_height[3]);
+        up_y = up_y.min(b.up_stiffness[1]);
     }
     PatchBox {
         min: [min[0] - tallest, min[1] - tallest, min[2] - tallest, 0.0],
-        max: [max[0] + tallest, max[1] + tallest, max[2] + tallest, 0.0],
+        max: [max[0] + tallest, max[1] + tallest, max[2] + tallest, up_y],
     }
 }
 

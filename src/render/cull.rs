@@ -311,8 +311,15 @@ impl CullPass {
         let all: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
         let region = buffers.region as usize;
         Ok(std::array::from_fn(|k| {
-            let n = counters.per_level()[k] as usize;
-            all[k * region..k * region + n].to_vec()
+            // The late list starts at the first whole draw batch after the early one.
+            let base = k * region;
+            let early = counters.blades[k] as usize;
+            let late = CullCounters::late_start(counters.blades[k]) as usize;
+            let mut list = all[base..base + early].to_vec();
+            list.extend_from_slice(
+                &all[base + late..base + late + counters.late_blades[k] as usize],
+            );
+            list
         }))
     }
 

@@ -1,6 +1,6 @@
 //! The draw pass: sky, terrain, colliders and the grass (one indexed indirect draw per level
-//! of detail, whose instance counts the cull pass wrote; one multi-draw where the adapter
-//! has first-instance support), depth tested, into any colour view. Before it, a depth-only
+//! of detail, whose instance counts — batches of `DRAW_BATCH` blades — the cull pass wrote;
+//! one multi-draw where the adapter has first-instance support), depth tested, into any colour view. Before it, a depth-only
 //! pass of the opaque objects (terrain, colliders) feeds the occlusion test's pyramid.
 
 use wgpu::util::DeviceExt;
@@ -314,6 +314,7 @@ impl DrawPass {
         blend: (f32, f32),
         lod: &LodMeshes,
         cull_params: &wgpu::Buffer,
+        cull_output: &wgpu::Buffer,
         multi_draw: bool,
         format: wgpu::TextureFormat,
         samples: u32,
@@ -338,6 +339,7 @@ impl DrawPass {
                 read_storage(2, wgpu::ShaderStages::VERTEX),
                 uniform_entry(3, wgpu::ShaderStages::VERTEX),
                 uniform_entry(4, wgpu::ShaderStages::VERTEX),
+                read_storage(5, wgpu::ShaderStages::VERTEX),
             ],
         });
         let spheres_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -399,6 +401,10 @@ impl DrawPass {
                     wgpu::BindGroupEntry {
                         binding: 4,
                         resource: level_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: cull_output.as_entire_binding(),
                     },
                 ],
             }));

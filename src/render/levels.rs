@@ -114,6 +114,12 @@ impl Renderer {
         })
     }
 
+    /// The billboards' uniforms and the view-projection of the last frame (what the cull
+    /// read), when the scene has billboards.
+    pub fn billboard_frame(&self) -> Option<(billboard::BillboardParams, glam::Mat4)> {
+        self.last_billboards
+    }
+
     /// The billboard pass, when the scene has billboards.
     pub fn billboards(&self) -> Option<&billboard::BillboardPass> {
         self.billboards.as_ref()

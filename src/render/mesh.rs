@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::field::HeightField;
-use crate::sim::layout::LOD_LEVELS;
+use crate::sim::layout::{DRAW_BATCH, LOD_LEVELS};
 
 /// Terrain vertex: position and normal.
 #[repr(C)]
@@ -84,7 +84,10 @@ pub fn blade_indices(segments: u32) -> Vec<u32> {
     indices
 }
 
-/// The blade meshes of the levels of detail, one after the other in one index buffer.
+/// The blade meshes of the levels of detail, one after the other in one index buffer. Each
+/// level's mesh is [`DRAW_BATCH`] copies of its blade mesh, copy `b` on vertices
+/// `b * vertices_per_blade ..`: one instance draws a batch of blades, and the grass shader
+/// splits its vertex index into the blade of the batch and the vertex of the blade.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LodMeshes {
     /// Segments of each level: the scene's count, about half of it, and one.
@@ -109,9 +112,12 @@ pub fn lod_meshes(segments: u32) -> LodMeshes {
     let mut first_index = [0; LOD_LEVELS];
     for (k, &s) in segments.iter().enumerate() {
         first_index[k] = indices.len() as u32;
-        let level = blade_indices(s);
-        index_count[k] = level.len() as u32;
-        indices.extend(level);
+        let blade = blade_indices(s);
+        let vertices = (s + 1) * 3;
+        for b in 0..DRAW_BATCH {
+            indices.extend(blade.iter().map(|i| i + b * vertices));
+        }
+        index_count[k] = indices.len() as u32 - first_index[k];
     }
     LodMeshes {
         segments,
@@ -140,18 +146,24 @@ mod tests {
     #[test]
     fn lod_meshes_are_concatenated_and_coarser_each_level() {
         let m = lod_meshes(6);
+        let n = DRAW_BATCH;
         assert_eq!(m.segments, [6, 3, 1]);
-        assert_eq!(m.index_count, [72, 36, 12]);
-        assert_eq!(m.first_index, [0, 72, 108]);
-        assert_eq!(m.indices.len(), 120);
-        // Vertices per blade: 21, 12, 6 (3 columns × rows).
+        assert_eq!(m.index_count, [72 * n, 36 * n, 12 * n]);
+        assert_eq!(m.first_index, [0, 72 * n, 108 * n]);
+        assert_eq!(m.indices.len() as u32, 120 * n);
+        // Vertices per blade: 21, 12, 6 (3 columns × rows); a batch of blades one after
+        // the other, each copy the first one moved by a blade's vertices.
         for k in 0..LOD_LEVELS {
             let a = m.first_index[k] as usize;
             let level = &m.indices[a..a + m.index_count[k] as usize];
-            assert_eq!(
-                level.iter().max().map(|v| v + 1),
-                Some((m.segments[k] + 1) * 3)
-            );
+            let per_blade = (m.segments[k] + 1) * 3;
+            assert_eq!(level.iter().max().map(|v| v + 1), Some(per_blade * n));
+            let one = level.len() / n as usize;
+            for (b, copy) in level.chunks(one).enumerate() {
+                for (x, y) in copy.iter().zip(&level[..one]) {
+                    assert_eq!(*x, y + b as u32 * per_blade);
+                }
+            }
         }
         assert_eq!(lod_segments(1), [1, 1, 1]);
     }

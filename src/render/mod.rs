@@ -212,6 +212,7 @@ impl Renderer {
             clipmap::grass_blend(scene.culling.max_distance),
             &lod,
             &cull.params,
+            &cull.args,
             multi_draw,
             format,
             samples,
@@ -688,6 +689,11 @@ impl Renderer {
         timed(timer, encoder, timing::CULL, |e, q| {
             self.cull.encode_blades(e, &self.buffers.dispatch, cs(q))
         });
+        if let Some(b) = &self.billboards {
+            timed(timer, encoder, timing::BILLBOARDS, |e, q| {
+                b.encode_cull(e, cs(q))
+            });
+        }
         let wireframe = self.scene.render.wireframe;
         timed(timer, encoder, timing::DRAW, |e, q| {
             self.draw.encode(

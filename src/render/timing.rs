@@ -13,8 +13,9 @@ use crate::gpu::Gpu;
 /// The passes that are timed, by scope name: the occluders' depth pass, the depth pyramid,
 /// the patch pass, the blade update, the blade cull and the draw; then, with grass
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
-/// tiles entering a streamed field. A pass that did not run in a frame reads 0.
-pub const PASSES: [&str; 10] = [
+/// tiles entering a streamed field and the billboards' cull. A pass that did not run in a
+/// frame reads 0.
+pub const PASSES: [&str; 11] = [
     "occluders",
     "pyramid",
     "patches",
@@ -25,6 +26,7 @@ pub const PASSES: [&str; 10] = [
     "late cull",
     "late draw",
     "tiles",
+    "billboards",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -37,6 +39,7 @@ pub const LATE_PYRAMID: usize = 6;
 pub const LATE_CULL: usize = 7;
 pub const LATE_DRAW: usize = 8;
 pub const TILES: usize = 9;
+pub const BILLBOARDS: usize = 10;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

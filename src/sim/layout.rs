@@ -10,6 +10,12 @@ pub const MAX_SPHERES: usize = 1024;
 /// u32 slots per patch in the collision broad phase's lists: a count, then up to
 /// `PATCH_SPHERE_STRIDE - 1` sphere indices (more: `SPHERES_ALL`, the patch tests them all).
 pub const PATCH_SPHERE_STRIDE: u32 = 64;
+
+/// Blades per instance of the grass draw (`DRAW_BATCH` in `common.wgsl`). One instance per
+/// blade costs a software rasteriser a whole pass through its vertex pipeline per blade
+/// (llvmpipe: ~17 µs each, most of the grass draw); an instance of 32 blades amortises it.
+/// Divides 64, so a level's region (a multiple of 64) holds whole batches.
+pub const DRAW_BATCH: u32 = 32;
 /// Count value of a patch whose spheres did not fit its list.
 pub const SPHERES_ALL: u32 = u32::MAX;
 
@@ -36,6 +42,7 @@ pub struct BladeState {
 }
 
 /// A patch's bounding box, already grown by the tallest blade so that it holds every pose.
+/// `min[3]`: 1 for an empty patch; `max[3]`: the smallest up.y of its blades.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct PatchBox {
@@ -171,15 +178,16 @@ pub struct DispatchIndirect {
 
 /// The cull pass's output buffer: one `draw_indexed_indirect` argument block per level of
 /// detail followed by the counters, all written with atomics (`CullOutput` in
-/// `cull.wgsl`). The instance counts sum to the number of blades drawn.
+/// `cull.wgsl`). An instance draws a batch of [`DRAW_BATCH`] blades; the blade counts are
+/// `blades` and `late_blades`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct CullCounters {
     /// The early draws (blades seen last frame, or every survivor with grass occlusion
-    /// off); their instance counts also hold the late blades once the late pass has run.
+    /// off): `blades[k]` blades in `ceil(blades[k] / DRAW_BATCH)` instances.
     pub draws: [DrawIndexedIndirect; LOD_LEVELS],
     /// The late draws: blades not seen last frame that no grass drawn early hides. Each
-    /// starts in its level's region after the early blades.
+    /// starts in its level's region at the first whole batch after the early blades.
     pub late_draws: [DrawIndexedIndirect; LOD_LEVELS],
     /// Patches that passed the frustum and occlusion tests.
     pub visible_patches: u32,
@@ -199,23 +207,32 @@ pub struct CullCounters {
     pub patch_sphere_pairs: u32,
     /// Blades hidden by grass drawn early (part of `culled_occlusion`).
     pub culled_occlusion_grass: u32,
-    pub _pad: [u32; 3],
+    /// Blades in each level's early list.
+    pub blades: [u32; LOD_LEVELS],
+    /// Blades in each level's late list.
+    pub late_blades: [u32; LOD_LEVELS],
+    pub _pad: [u32; 1],
     /// Bit s set: sphere s is on some stepped patch's list.
     pub spheres_used: [u32; MAX_SPHERES / 32],
 }
 
 impl CullCounters {
+    /// Where a level's late list starts in its region after `early` early blades: at the
+    /// next whole batch, so that the late draw's instances are whole batches too.
+    pub fn late_start(early: u32) -> u32 {
+        early.div_ceil(DRAW_BATCH) * DRAW_BATCH
+    }
     /// Blades that passed every test (early and late).
     pub fn drawn(&self) -> u32 {
         self.per_level().iter().sum()
     }
     /// Blades drawn at each level of detail (early and late).
     pub fn per_level(&self) -> [u32; LOD_LEVELS] {
-        std::array::from_fn(|k| self.draws[k].instance_count + self.late_draws[k].instance_count)
+        std::array::from_fn(|k| self.blades[k] + self.late_blades[k])
     }
     /// Blades drawn late (not seen last frame, not hidden by the grass drawn early).
     pub fn drawn_late(&self) -> u32 {
-        self.late_draws.iter().map(|d| d.instance_count).sum()
+        self.late_blades.iter().sum()
     }
     /// Spheres on at least one stepped patch's collision list.
     pub fn spheres_considered(&self) -> u32 {
@@ -280,7 +297,9 @@ const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 192);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 240);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 304);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 320);
+// `DrawnBlades.head` in common.wgsl skips this many words.
+const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);

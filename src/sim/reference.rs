@@ -569,12 +569,33 @@ pub fn cull_patch(patch: &PatchBox, params: &CullParams, pyramid: Option<&Pyrami
     if !box_in_frustum(view_proj, min, max) {
         return CullOutcome::Patch;
     }
+    if params.tests & TEST_DISTANCE != 0 && patch_beyond_distance(patch, params) {
+        return CullOutcome::Distance;
+    }
     if let Some(p) = pyramid.filter(|_| params.tests & TEST_OCCLUSION != 0) {
         if box_occluded(min, max, params, p) {
             return CullOutcome::Occlusion;
         }
     }
     CullOutcome::Drawn(0)
+}
+
+/// Whether every blade of `patch` fails the distance test (Eq. 20) for the camera of
+/// `params` (the twin of `patch_beyond_distance` in `cull.wgsl`): a blade's d_proj is
+/// |rel × up|, at least `c·H − s·|y|` for an up vector leaning at most to up.y = c
+/// (`patch.max[3]`, s = √(1 − c²)), H the horizontal and y the vertical offset of the
+/// camera from the root; over the box H is at least the distance to its (x, z) rectangle
+/// and |y| at most the height span.
+pub fn patch_beyond_distance(patch: &PatchBox, params: &CullParams) -> bool {
+    let c = v4(params.camera_pos).xyz();
+    let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
+    let dx = (min.x - c.x).max(c.x - max.x).max(0.0);
+    let dz = (min.z - c.z).max(c.z - max.z).max(0.0);
+    let h = (dx * dx + dz * dz).sqrt();
+    let y = (c.y - min.y).abs().max((c.y - max.y).abs());
+    let cos_up = patch.max[3].clamp(0.0, 1.0);
+    let sin_up = (1.0 - cos_up * cos_up).max(0.0).sqrt();
+    cos_up * h - sin_up * y >= params.max_distance
 }
 
 /// Whether the patch step puts patch `p` on this frame's update list, and whether at the
@@ -589,7 +610,8 @@ pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<boo
     let c = v4(params.camera_pos).xyz();
     let distance = (min - c).max(c - max).max(Vec3::ZERO).length();
     let throttle = params.physics_throttle.max(1);
-    let every_frame = in_view || distance <= params.physics_radius || throttle == 1;
+    let too_far = params.tests & TEST_DISTANCE != 0 && patch_beyond_distance(patch, params);
+    let every_frame = (in_view && !too_far) || distance <= params.physics_radius || throttle == 1;
     if every_frame {
         Some(false)
     } else if params.frame.wrapping_add(p).is_multiple_of(throttle) {

@@ -4,7 +4,7 @@
 use wgpu::util::DeviceExt;
 
 use super::layout::{
-    Blade, BladeState, PatchBox, PatchDispatch, SimParams, LOD_LEVELS, MAX_SPHERES,
+    Blade, BladeState, PatchBox, PatchDispatch, SimParams, DRAW_BATCH, LOD_LEVELS, MAX_SPHERES,
     PATCH_SPHERE_STRIDE, WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
@@ -39,8 +39,9 @@ pub struct BladeBuffers {
     pub count: u32,
     pub patch_size: u32,
     pub patch_count: u32,
-    /// Slots per level-of-detail region of `visible`: the blade count rounded up to 64, so
-    /// every region starts at a 256-byte-aligned offset (bindable on its own).
+    /// Slots per level-of-detail region of `visible`: the blade count plus one draw batch
+    /// (the late list starts at a whole batch), rounded up to 64, so every region starts at
+    /// a 256-byte-aligned offset (bindable on its own).
     pub region: u32,
 }
 
@@ -94,7 +95,7 @@ impl BladeBuffers {
             &format!("a field of {patch_count} patches"),
             patch_count.div_ceil(WORKGROUP_SIZE),
         )?;
-        let region = (count as u32).max(1).div_ceil(WORKGROUP_SIZE) * WORKGROUP_SIZE;
+        let region = (count as u32 + DRAW_BATCH).div_ceil(WORKGROUP_SIZE) * WORKGROUP_SIZE;
         gpu.check_storage(
             &format!("the visible lists of {count} blades"),
             LOD_LEVELS as u64 * region as u64 * 4,

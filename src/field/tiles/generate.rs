@@ -272,25 +272,28 @@ fn pose(d: &Draw, terrain: &HeightField) -> Blade {
     }
 }
 
-/// The box of a patch's live blades grown by the tallest (like a generated field's), or an
+/// The box of a patch's live blades grown by the tallest, with their smallest up.y in
+/// `max[3]` (like a generated field's), or an
 /// empty patch (`min[3] = EMPTY_PATCH`) when every blade was removed.
 pub fn patch_box(patch: &[Blade]) -> PatchBox {
     let mut min = [f32::INFINITY; 3];
     let mut max = [f32::NEG_INFINITY; 3];
     let mut tallest = 0.0f32;
+    let mut up_y = 1.0f32;
     for b in patch.iter().filter(|b| b.v1_height[3] > 0.0) {
         for k in 0..3 {
             min[k] = min[k].min(b.v0_dir[k]);
             max[k] = max[k].max(b.v0_dir[k]);
         }
         tallest = tallest.max(b.v1_height[3]);
+        up_y = up_y.min(b.up_stiffness[1]);
     }
     if tallest <= 0.0 {
         return empty_patch();
     }
     PatchBox {
         min: [min[0] - tallest, min[1] - tallest, min[2] - tallest, 0.0],
-        max: [max[0] + tallest, max[1] + tallest, max[2] + tallest, 0.0],
+        max: [max[0] + tallest, max[1] + tallest, max[2] + tallest, up_y],
     }
 }
 

@@ -1,0 +1,78 @@
+// Billboard cull (issue 12, the middle distance): one invocation per cell of the grid
+// around the camera places its card (`billboard_place.wgsl`), drops it outside the ring,
+// where the density map thins it or outside the view (its centre with a card's margin:
+// the test `billboard::count_drawn` makes on the CPU), computes its sway and bending once
+// (`billboard_sway.wgsl`) and appends the survivors to a list that the draw reads, six
+// vertices per card, through an indirect draw whose vertex count this pass writes.
+//
+// Why a compute pass: the draw used to place every cell's card in the vertex shader, six
+// times per card, for the whole grid (about 40,000 cards, most of them behind the camera
+// or outside the ring). A software rasteriser runs vertex shaders on one thread; the
+// compute pass runs on all of them and the draw shades only the cards in view.
+//!include common.wgsl
+//!include terrain_height.wgsl
+//!include wind.wgsl
+//!include billboard_place.wgsl
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(3) var<uniform> bb: BillboardParams;
+@group(0) @binding(6) var<storage, read> spheres: array<vec4<f32>>;
+@group(0) @binding(7) var<uniform> params: SimParams;
+@group(0) @binding(8) var<storage, read> wind_grid: array<vec2<f32>>;
+@group(0) @binding(9) var density_map: texture_2d<f32>;
+@group(0) @binding(10) var<storage, read_write> cards: array<DrawnCard>;
+@group(0) @binding(11) var<storage, read_write> args: CardDrawArgs;
+
+//!include wind_sample.wgsl
+//!include billboard_sway.wgsl
+
+// `draw_indirect` arguments (wgpu::util::DrawIndirectArgs): six vertices per card.
+struct CardDrawArgs {
+    vertex_count: atomic<u32>,
+    instance_count: u32,
+    first_vertex: u32,
+    first_instance: u32,
+}
+
+// The density map at (x, z) (1 without one), as the terrain shades it.
+fn density_at(xz: vec2<f32>) -> f32 {
+    if bb.info.z == 0u {
+        return 1.0;
+    }
+    let dims = vec2<f32>(textureDimensions(density_map));
+    let g = (xz / bb.shape.z + 0.5) * (dims - 1.0);
+    let t = clamp(vec2<i32>(round(g)), vec2<i32>(0), vec2<i32>(dims) - 1);
+    return textureLoad(density_map, t, 0).r;
+}
+
+@compute @workgroup_size(64)
+fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
+    let g = u32(bb.cells.z);
+    let i = id.x;
+    if i == 0u {
+        args.instance_count = 1u;
+        args.first_vertex = 0u;
+        args.first_instance = 0u;
+    }
+    if i >= g * g {
+        return;
+    }
+    let c = card_at(i);
+    if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
+        return;
+    }
+    let h = bb.eye_card.w * c.scale;
+    let centre = c.pos + vec3<f32>(0.0, 0.5 * h, 0.0);
+    let clip = frame.view_proj * vec4<f32>(centre, 1.0);
+    let margin = 1.0 + bb.eye_card.z / max(clip.w, 1e-3);
+    if !(clip.w > 0.0 && abs(clip.x) <= clip.w * margin && abs(clip.y) <= clip.w * margin
+        && clip.z <= clip.w) {
+        return;
+    }
+    let at = atomicAdd(&args.vertex_count, 6u) / 6u;
+    var out: DrawnCard;
+    out.pos_fade = vec4<f32>(c.pos, c.fade);
+    out.top_scale = vec4<f32>(top_offset(c.pos, h), c.scale);
+    out.info = vec4<u32>(i, c.variant, select(0u, 1u, c.mirror > 0.0), 0u);
+    cards[at] = out;
+}

@@ -1,0 +1,471 @@
+//! The billboards' GPU side: the atlas, the uniforms, the cull that keeps the cards in the
+//! ring and in view (`billboard_cull.wgsl`, one invocation per cell) and the indirect draw
+//! of the cards it kept (`billboard.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::{atlas, BillboardLayout, BillboardParams};
+use crate::error::Result;
+use crate::field::DensityMap;
+use crate::gpu::{read_buffer, Gpu};
+use crate::render::draw::DEPTH_FORMAT;
+use crate::scene::types::{Culling, Field};
+use crate::shaders;
+use crate::sim::update::{compute_storage_entry, uniform_entry};
+
+/// A card the cull kept (`DrawnCard` in `billboard_place.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct DrawnCard {
+    /// Root on the terrain; fade in (0, 1].
+    pub pos_fade: [f32; 4],
+    /// Offset of the card's top (sway and bending); size factor.
+    pub top_scale: [f32; 4],
+    /// Cell index, atlas variant, 1 = mirrored, unused.
+    pub info: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<DrawnCard>() == 48);
+
+/// Cells per workgroup of the cull.
+const CULL_WORKGROUP: u32 = 64;
+
+fn buf(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: b.as_entire_binding(),
+    }
+}
+
+/// The billboard pass: the atlas, the uniforms, the cull and the draw for one sample count.
+pub struct BillboardPass {
+    pub layout: BillboardLayout,
+    params: wgpu::Buffer,
+    /// The kept cards, and the draw's indirect arguments (six vertices per card).
+    cards: wgpu::Buffer,
+    args: wgpu::Buffer,
+    cull_layout: wgpu::BindGroupLayout,
+    cull_group: wgpu::BindGroup,
+    cull_pipeline: wgpu::ComputePipeline,
+    draw_layout: wgpu::BindGroupLayout,
+    draw_group: wgpu::BindGroup,
+    pipeline: wgpu::RenderPipeline,
+    format: wgpu::TextureFormat,
+    samples: u32,
+    density: wgpu::Texture,
+    has_density: bool,
+    /// The coverage-weighted mean albedo of the atlas.
+    pub mean_albedo: [f32; 3],
+}
+
+/// The buffers the billboards read from the rest of the frame.
+pub struct Inputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub terrain_params: &'a wgpu::Buffer,
+    pub terrain_grid: &'a wgpu::Buffer,
+    pub spheres: &'a wgpu::Buffer,
+    pub sim_params: &'a wgpu::Buffer,
+    pub wind_grid: &'a wgpu::Buffer,
+}
+
+impl BillboardPass {
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        gpu: &Gpu,
+        layout: BillboardLayout,
+        field: &Field,
+        density: Option<&DensityMap>,
+        inputs: &Inputs,
+        format: wgpu::TextureFormat,
+        samples: u32,
+    ) -> Self {
+        let device = &gpu.device;
+        let mut layers: Vec<atlas::Layer> = (0..atlas::VARIANTS)
+            .map(|v| atlas::render_layer(field, v))
+            .collect();
+        // The cards average to the far ground's grass colour, so that the middle and the
+        // far level read as one field (the tufts keep their variation around it).
+        atlas::match_mean(
+            &mut layers,
+            crate::render::clipmap::far_grass_albedo().into(),
+        );
+        let mean_albedo = atlas::mean_color(&layers);
+        let atlas_tex = upload_atlas(gpu, &layers);
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sward.billboard.sampler"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Nearest,
+            ..Default::default()
+        });
+        let density_tex = crate::render::terrain::density_texture(gpu, density);
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.billboard.params"),
+            size: std::mem::size_of::<BillboardParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let cards = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.billboard.cards"),
+            size: layout.card_count() as u64 * std::mem::size_of::<DrawnCard>() as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let args = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.billboard.args"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let c = wgpu::ShaderStages::COMPUTE;
+        let texture = |binding, dim, visibility| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: dim,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let cull_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.billboard.cull_layout"),
+            entries: &[
+                uniform_entry(0, c),
+                uniform_entry(1, c),
+                compute_storage_entry(2, true),
+                uniform_entry(3, c),
+                compute_storage_entry(6, true),
+                uniform_entry(7, c),
+                compute_storage_entry(8, true),
+                texture(9, wgpu::TextureViewDimension::D2, c),
+                compute_storage_entry(10, false),
+                compute_storage_entry(11, false),
+            ],
+        });
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let v = wgpu::ShaderStages::VERTEX;
+        let mut cards_entry = compute_storage_entry(10, true);
+        cards_entry.visibility = v;
+        let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.billboard.draw_layout"),
+            entries: &[
+                uniform_entry(0, vf),
+                uniform_entry(3, vf),
+                texture(
+                    4,
+                    wgpu::TextureViewDimension::D2Array,
+                    wgpu::ShaderStages::FRAGMENT,
+                ),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+                cards_entry,
+            ],
+        });
+        let cull_module = shaders::module(device, "billboard_cull.wgsl");
+        let cull_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.billboard.cull_pipeline_layout"),
+            bind_group_layouts: &[Some(&cull_layout)],
+            immediate_size: 0,
+        });
+        let cull_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("sward.billboard.cull"),
+            layout: Some(&cull_pipeline_layout),
+            module: &cull_module,
+            entry_point: Some("cull_cards"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let atlas_view = atlas_tex.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("sward.billboard.atlas_view"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.billboard.draw_group"),
+            layout: &draw_layout,
+            entries: &[
+                buf(0, inputs.frame),
+                buf(3, &params),
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&atlas_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+                buf(10, &cards),
+            ],
+        });
+        let cull_group = Self::bind_cull(
+            device,
+            &cull_layout,
+            &params,
+            &cards,
+            &args,
+            &density_tex,
+            inputs,
+        );
+        let pipeline = Self::pipeline(device, &draw_layout, format, samples);
+        Self {
+            layout,
+            params,
+            cards,
+            args,
+            cull_layout,
+            cull_group,
+            cull_pipeline,
+            draw_layout,
+            draw_group,
+            pipeline,
+            format,
+            samples,
+            density: density_tex,
+            has_density: density.is_some(),
+            mean_albedo,
+        }
+    }
+
+    fn bind_cull(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        cards: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+        density: &wgpu::Texture,
+        inputs: &Inputs,
+    ) -> wgpu::BindGroup {
+        let density_view = density.create_view(&Default::default());
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.billboard.cull_group"),
+            layout,
+            entries: &[
+                buf(0, inputs.frame),
+                buf(1, inputs.terrain_params),
+                buf(2, inputs.terrain_grid),
+                buf(3, params),
+                buf(6, inputs.spheres),
+                buf(7, inputs.sim_params),
+                buf(8, inputs.wind_grid),
+                wgpu::BindGroupEntry {
+                    binding: 9,
+                    resource: wgpu::BindingResource::TextureView(&density_view),
+                },
+                buf(10, cards),
+                buf(11, args),
+            ],
+        })
+    }
+
+    /// Rebinds the frame's buffers (after the wind solver or the update was rebuilt). The
+    /// draw reads only the frame uniforms, which the draw pass keeps for its life.
+    pub fn rebind(&mut self, device: &wgpu::Device, inputs: &Inputs) {
+        self.cull_group = Self::bind_cull(
+            device,
+            &self.cull_layout,
+            &self.params,
+            &self.cards,
+            &self.args,
+            &self.density,
+            inputs,
+        );
+    }
+
+    fn pipeline(
+        device: &wgpu::Device,
+        bind_layout: &wgpu::BindGroupLayout,
+        format: wgpu::TextureFormat,
+        samples: u32,
+    ) -> wgpu::RenderPipeline {
+        let module = shaders::module(device, "billboard.wgsl");
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.billboard.pipeline_layout"),
+            bind_group_layouts: &[Some(bind_layout)],
+            immediate_size: 0,
+        });
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("sward.billboard"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            // With MSAA the card's alpha also covers samples (alpha-to-coverage): smooth
+            // cut-outs without sorting.
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                alpha_to_coverage_enabled: samples > 1,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// Rebuilds the pipeline for another sample count.
+    pub fn set_samples(&mut self, device: &wgpu::Device, samples: u32) {
+        if samples != self.samples {
+            self.samples = samples;
+            self.pipeline = Self::pipeline(device, &self.draw_layout, self.format, samples);
+        }
+    }
+
+    /// Writes this frame's uniforms for the share `share` of the billboard radius; returns
+    /// them (the stats count the cards with them).
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        eye: Vec3,
+        culling: &Culling,
+        spheres: u32,
+        terrain_size: f32,
+        share: f32,
+    ) -> BillboardParams {
+        let mut p = self.layout.params(
+            eye,
+            culling.max_distance,
+            self.has_density,
+            spheres,
+            terrain_size,
+        );
+        // The frame budget may draw only the nearer part of the ring (the grid stays).
+        let radius = self.layout.radius * share.clamp(0.0, 1.0);
+        let radius = radius.max(p.fade[1]);
+        p.fade[2] = 0.85 * radius;
+        p.fade[3] = radius;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        p
+    }
+
+    /// Records the cull over every cell of the grid (after [`Self::prepare`] and the frame
+    /// uniforms, before the draw pass).
+    pub fn encode_cull(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
+        encoder.clear_buffer(&self.args, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.billboard.cull"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.cull_pipeline);
+        pass.set_bind_group(0, &self.cull_group, &[]);
+        pass.dispatch_workgroups(self.layout.card_count().div_ceil(CULL_WORKGROUP), 1, 1);
+    }
+
+    /// Draws the cards the cull kept (in the caller's colour pass).
+    pub fn draw<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.draw_group, &[]);
+        pass.draw_indirect(&self.args, 0);
+    }
+
+    /// Reads the cards the last cull kept back (blocking), in the order it wrote them.
+    pub fn read_cards(&self, gpu: &Gpu) -> Result<Vec<DrawnCard>> {
+        let args: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(gpu, &self.args, 16)?);
+        let n = (args[0] / 6) as usize;
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = read_buffer(
+            gpu,
+            &self.cards,
+            (n * std::mem::size_of::<DrawnCard>()) as u64,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// GPU bytes held: the atlas with its mips, the uniforms, the card list and its draw.
+    pub fn gpu_bytes(&self) -> u64 {
+        (atlas::WIDTH * atlas::HEIGHT * 4 * atlas::VARIANTS) as u64 * 4 / 3
+            + std::mem::size_of::<BillboardParams>() as u64
+            + self.cards.size()
+            + self.args.size()
+    }
+}
+
+/// The atlas as a texture array with its mips.
+fn upload_atlas(gpu: &Gpu, layers: &[atlas::Layer]) -> wgpu::Texture {
+    let chains: Vec<Vec<Vec<[f32; 4]>>> = layers.iter().map(atlas::mip_chain).collect();
+    let mips = chains[0].len() as u32;
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("sward.billboard.atlas"),
+        size: wgpu::Extent3d {
+            width: atlas::WIDTH,
+            height: atlas::HEIGHT,
+            depth_or_array_layers: atlas::VARIANTS,
+        },
+        mip_level_count: mips,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (layer, chain) in chains.iter().enumerate() {
+        for (level, texels) in chain.iter().enumerate() {
+            let w = (atlas::WIDTH >> level).max(1);
+            let h = (atlas::HEIGHT >> level).max(1);
+            gpu.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: layer as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &atlas::encode(texels),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * w),
+                    rows_per_image: Some(h),
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+    }
+    texture
+}
