@@ -87,16 +87,38 @@ fn gpu_placement_and_sway_match_the_cpu_twin() {
 
 #[test]
 fn the_atlas_covers_its_cards_and_its_mips_are_box_filters() {
-    let field = Scene::default().field;
+    let mut s = Scene::default();
+    s.render.billboard_distance = 160.0;
+    let field = s.field.clone();
+    let layout = BillboardLayout::from_scene(&s.render, &field).unwrap();
+    // The meadow's cards (160 m radius): 3.2 m × 0.68 m, so 512 × 64 texels of about 6 mm.
+    assert_eq!(atlas::layer_size(layout.card), (512, 64));
+    assert_eq!(atlas::layer_size((1.0, 1.0)), (64, 64));
+    assert_eq!(atlas::layer_size((1e6, 1.0)), (atlas::MAX_WIDTH, 64));
+    assert_eq!(atlas::layer_size((f32::NAN, 0.0)), (64, 64));
     let mut layers: Vec<atlas::Layer> = (0..atlas::VARIANTS)
-        .map(|v| atlas::render_layer(&field, v))
+        .map(|v| atlas::render_layer(&field, layout.card, v))
         .collect();
     for (v, l) in layers.iter().enumerate() {
         let cover: f32 = l.rgba.iter().map(|t| t[3]).sum::<f32>() / l.rgba.len() as f32;
         assert!((0.1..0.6).contains(&cover), "variant {v} covers {cover}");
+        // Blades stay thin: along the base row, runs of covered texels are short (a
+        // texel or two per blade, a few where blades overlap), never a smeared wedge.
+        let edges = |y: u32| {
+            let row = &l.rgba[(y * l.width) as usize..((y + 1) * l.width) as usize];
+            row.windows(2)
+                .filter(|p| p[0][3] > 0.5 && p[1][3] <= 0.5)
+                .count() as u32
+        };
+        let (base, middle) = (edges(l.height - 4), edges(l.height / 2));
+        println!("variant {v}: {base} blade edges on the base row, {middle} halfway up");
+        assert!(
+            base + middle > l.width / 12,
+            "variant {v}: {base} + {middle} blade edges"
+        );
         let chain = atlas::mip_chain(l);
-        assert_eq!(chain.len(), 8, "128 × 64 down to 1 × 1");
-        let (mut w, mut h) = (atlas::WIDTH, atlas::HEIGHT);
+        assert_eq!(chain.len(), 10, "512 × 64 down to 1 × 1");
+        let (mut w, mut h) = (l.width, l.height);
         for pair in chain.windows(2) {
             let expected = atlas::downsample(&pair[0], w, h);
             w = (w / 2).max(1);

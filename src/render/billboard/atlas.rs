@@ -1,30 +1,50 @@
-//! The billboard atlas: tufts of sward's own blades rendered once at start-up into a
-//! texture array (one layer per variant) with a full mip chain. Each tuft is a row of
-//! blades seen from the side, drawn with the blades' geometry (quadratic Bézier, the
-//! triangle-tip shape of `grass.wgsl`, leaning by the field's bend range) and colours (the
-//! grass shader's fresh / deep / dry mix per blade, lighter towards the tip, darker at the
-//! base), rasterised on the CPU with 4×4 supersampling. The lighting is the sun's, applied
-//! by the billboard shader, so the cards and the far ground read as one.
+//! The billboard atlas: strips of sward's own blades rendered once at start-up into a
+//! texture array (one layer per variant) with a full mip chain. Each layer is the grass of
+//! one card seen from the side, at the card's real size: blades of the field's widths and
+//! heights, drawn with the blades' geometry (quadratic Bézier, the triangle-tip shape of
+//! `grass.wgsl`, leaning by the field's bend range) and colours (the grass shader's fresh /
+//! deep / dry mix per blade, lighter towards the tip, darker at the base), as many as cover
+//! the card's base about one and a half times, rasterised on the CPU with 4×4
+//! supersampling. The texture's width follows the card's aspect so that texels are about
+//! square and a blade is a texel or two wide, never a smeared wedge. The lighting is the
+//! sun's, applied by the billboard shader, so the cards and the far ground read as one.
 
 use glam::Vec2;
 
 use crate::field::hash32;
 use crate::scene::types::Field;
 
-/// Texels of one layer.
-pub const WIDTH: u32 = 128;
+/// Texel rows of one layer; its width follows the card's aspect ([`layer_size`]).
 pub const HEIGHT: u32 = 64;
-/// Tufts in the atlas.
+/// Widest layer (texels).
+pub const MAX_WIDTH: u32 = 1024;
+/// Strips in the atlas.
 pub const VARIANTS: u32 = 4;
-/// Blades drawn in one tuft.
-const BLADES: u32 = 70;
+/// Blades drawn in one strip: enough to cover the card's base this many times over.
+const BASE_COVER: f32 = 1.6;
+const MIN_BLADES: u32 = 40;
+const MAX_BLADES: u32 = 4000;
 /// Supersamples per texel side.
 const SS: u32 = 4;
 
 /// One layer's linear RGB and coverage, row-major (row 0 at the top: the tips).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layer {
+    pub width: u32,
+    pub height: u32,
     pub rgba: Vec<[f32; 4]>,
+}
+
+/// Texels of a layer for a card of `card` (width, height in metres): [`HEIGHT`] rows and
+/// about square texels, the width a power of two between `HEIGHT` and [`MAX_WIDTH`].
+pub fn layer_size(card: (f32, f32)) -> (u32, u32) {
+    let aspect = if card.1 > 0.0 && card.0.is_finite() {
+        (card.0 / card.1).clamp(1.0, (MAX_WIDTH / HEIGHT) as f32)
+    } else {
+        1.0
+    };
+    let w = (HEIGHT as f32 * aspect).round() as u32;
+    (w.next_power_of_two().clamp(HEIGHT, MAX_WIDTH), HEIGHT)
 }
 
 /// The grass shader's albedo for a blade's random tint at height `v` (0 root, 1 tip),
@@ -48,15 +68,22 @@ fn unit(h: u32) -> f32 {
     (h >> 8) as f32 / 16_777_216.0
 }
 
-/// Renders variant `variant` of the tuft for `field` (heights relative to the card: the
-/// tallest blade of the field's range reaches 0.95 of the card).
-pub fn render_layer(field: &Field, variant: u32) -> Layer {
-    let (w, h) = ((WIDTH * SS) as usize, (HEIGHT * SS) as usize);
+/// Renders variant `variant` of the strip of `field`'s grass on a card of `card` (width,
+/// height in metres; heights relative to the card: the tallest blade of the field's range
+/// reaches 0.95 of it).
+pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
+    let (width, height) = layer_size(card);
+    let (w, h) = ((width * SS) as usize, (height * SS) as usize);
     let mut color = vec![[0.0f32; 3]; w * h];
     let mut cover = vec![false; w * h];
     let max_h = field.height.max.max(1e-3);
     let tau = 0.45;
-    for b in 0..BLADES {
+    let card_w = card.0.max(1e-3);
+    // The card's aspect in texture units (x in card widths, y in card heights).
+    let aspect = card_w / card.1.max(1e-3);
+    let mean_width = (0.5 * (field.width.min + field.width.max)).max(1e-4);
+    let blades = ((BASE_COVER * card_w / mean_width).round() as u32).clamp(MIN_BLADES, MAX_BLADES);
+    for b in 0..blades {
         let key = hash32(variant.wrapping_mul(0x9E37_79B9) ^ hash32(b + 1));
         let r = |k: u32| unit(hash32(key.wrapping_add(k.wrapping_mul(0x85EB_CA6B))));
         let root = 0.03 + 0.94 * r(0);
@@ -64,12 +91,12 @@ pub fn render_layer(field: &Field, variant: u32) -> Layer {
             (field.height.min + (field.height.max - field.height.min) * r(1)) / max_h * 0.95;
         let bend = (field.bend.min + (field.bend.max - field.bend.min) * r(2)).to_radians()
             * if r(3) < 0.5 { -1.0 } else { 1.0 };
-        // Widths in card units: the card is 2:1, about 1.4 cells wide; blades a few texels.
-        let width = 0.012 + 0.01 * r(4);
+        // The blade's real width in card widths, at least a supersample.
+        let blade_w = field.width.min + (field.width.max - field.width.min) * r(4);
+        let width = (blade_w / card_w).max(1.0 / w as f32);
         let tint = [r(5), r(6)];
         // The curve: root, a middle control point straight up, the tip leaning by `bend`
-        // (x in card widths, y in card heights; the card's aspect is WIDTH / HEIGHT).
-        let aspect = WIDTH as f32 / HEIGHT as f32;
+        // (x in card widths, y in card heights).
         let p0 = Vec2::new(root, 0.0);
         let p1 = Vec2::new(root, height * 0.6);
         let p2 = p0 + Vec2::new(bend.sin() / aspect, bend.cos()) * height;
@@ -95,9 +122,9 @@ pub fn render_layer(field: &Field, variant: u32) -> Layer {
         }
     }
     // Down to texels: the mean colour of the covered supersamples, and the coverage.
-    let mut rgba = vec![[0.0f32; 4]; (WIDTH * HEIGHT) as usize];
-    for ty in 0..HEIGHT as usize {
-        for tx in 0..WIDTH as usize {
+    let mut rgba = vec![[0.0f32; 4]; (width * height) as usize];
+    for ty in 0..height as usize {
+        for tx in 0..width as usize {
             let (mut sum, mut n) = ([0.0f32; 3], 0u32);
             for sy in 0..SS as usize {
                 for sx in 0..SS as usize {
@@ -116,10 +143,14 @@ pub fn render_layer(field: &Field, variant: u32) -> Layer {
             } else {
                 [0.0; 3]
             };
-            rgba[ty * WIDTH as usize + tx] = [c[0], c[1], c[2], a];
+            rgba[ty * width as usize + tx] = [c[0], c[1], c[2], a];
         }
     }
-    Layer { rgba }
+    Layer {
+        width,
+        height,
+        rgba,
+    }
 }
 
 /// The next mip level of a `w × h` level: the box filter of each 2×2 block, the colour
@@ -154,7 +185,7 @@ pub fn downsample(level: &[[f32; 4]], w: u32, h: u32) -> Vec<[f32; 4]> {
 /// Every layer's mip chain: level 0 first, down to 1 × 1.
 pub fn mip_chain(layer: &Layer) -> Vec<Vec<[f32; 4]>> {
     let mut levels = vec![layer.rgba.clone()];
-    let (mut w, mut h) = (WIDTH, HEIGHT);
+    let (mut w, mut h) = (layer.width, layer.height);
     while w > 1 || h > 1 {
         let next = downsample(levels.last().unwrap(), w, h);
         w = (w / 2).max(1);

@@ -82,7 +82,7 @@ impl BillboardPass {
     ) -> Self {
         let device = &gpu.device;
         let mut layers: Vec<atlas::Layer> = (0..atlas::VARIANTS)
-            .map(|v| atlas::render_layer(field, v))
+            .map(|v| atlas::render_layer(field, layout.card, v))
             .collect();
         // The cards average to the far ground's grass colour, so that the middle and the
         // far level read as one field (the tufts keep their variation around it).
@@ -413,7 +413,8 @@ impl BillboardPass {
 
     /// GPU bytes held: the atlas with its mips, the uniforms, the card list and its draw.
     pub fn gpu_bytes(&self) -> u64 {
-        (atlas::WIDTH * atlas::HEIGHT * 4 * atlas::VARIANTS) as u64 * 4 / 3
+        let (w, h) = atlas::layer_size(self.layout.card);
+        (w * h * 4 * atlas::VARIANTS) as u64 * 4 / 3
             + std::mem::size_of::<BillboardParams>() as u64
             + self.cards.size()
             + self.args.size()
@@ -427,8 +428,8 @@ fn upload_atlas(gpu: &Gpu, layers: &[atlas::Layer]) -> wgpu::Texture {
     let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("sward.billboard.atlas"),
         size: wgpu::Extent3d {
-            width: atlas::WIDTH,
-            height: atlas::HEIGHT,
+            width: layers[0].width,
+            height: layers[0].height,
             depth_or_array_layers: atlas::VARIANTS,
         },
         mip_level_count: mips,
@@ -440,8 +441,8 @@ fn upload_atlas(gpu: &Gpu, layers: &[atlas::Layer]) -> wgpu::Texture {
     });
     for (layer, chain) in chains.iter().enumerate() {
         for (level, texels) in chain.iter().enumerate() {
-            let w = (atlas::WIDTH >> level).max(1);
-            let h = (atlas::HEIGHT >> level).max(1);
+            let w = (layers[0].width >> level).max(1);
+            let h = (layers[0].height >> level).max(1);
             gpu.queue.write_texture(
                 wgpu::TexelCopyTextureInfo {
                     texture: &texture,
