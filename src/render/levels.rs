@@ -6,6 +6,7 @@ use glam::Vec3;
 
 use super::timing::{self, cs, timed};
 use super::{billboard, Renderer, TileStats};
+use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::sim::tiles::TileStreamer;
 
@@ -106,12 +107,13 @@ impl Renderer {
         }
     }
 
-    /// Billboards drawn in the last frame (a CPU count with the frame's uniforms: the
-    /// cards in the ring, kept by the density map, in the view).
-    pub fn billboards_drawn(&self) -> u32 {
-        self.last_billboards.map_or(0, |(p, view_proj)| {
-            billboard::count_drawn(&p, &self.terrain, self.density.as_ref(), view_proj)
-        })
+    /// Billboards drawn in the last frame, as the GPU cull counted them (blocks until the
+    /// frame is done). `billboard::count_drawn` is its CPU twin.
+    pub fn billboards_drawn(&self, gpu: &Gpu) -> Result<u32> {
+        match &self.billboards {
+            Some(b) if self.last_billboards.is_some() => b.read_drawn(gpu),
+            _ => Ok(0),
+        }
     }
 
     /// The billboards' uniforms and the view-projection of the last frame (what the cull

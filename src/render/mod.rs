@@ -808,7 +808,7 @@ impl Renderer {
             wind_ms,
             blades_reset_nonfinite: self.buffers.read_resets(gpu)?,
             tiles: self.tile_stats(),
-            billboards_drawn: self.billboards_drawn(),
+            billboards_drawn: self.billboards_drawn(gpu)?,
         })
     }
 }

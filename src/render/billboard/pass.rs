@@ -396,10 +396,15 @@ impl BillboardPass {
         pass.draw_indirect(&self.args, 0);
     }
 
+    /// How many cards the last cull kept (blocking).
+    pub fn read_drawn(&self, gpu: &Gpu) -> Result<u32> {
+        let args: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(gpu, &self.args, 16)?);
+        Ok(args[0] / 6)
+    }
+
     /// Reads the cards the last cull kept back (blocking), in the order it wrote them.
     pub fn read_cards(&self, gpu: &Gpu) -> Result<Vec<DrawnCard>> {
-        let args: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(gpu, &self.args, 16)?);
-        let n = (args[0] / 6) as usize;
+        let n = self.read_drawn(gpu)? as usize;
         if n == 0 {
             return Ok(Vec::new());
         }
