@@ -36,6 +36,20 @@ pub struct ObstacleGpu {
     pub velocity: [f32; 4],
 }
 
+/// Uniforms of one multigrid level (`MgParams` in `shaders/fluid_multigrid.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct MgParams {
+    /// Cells per side of the level.
+    pub size: u32,
+    /// 0 closed, 1 open, 2 periodic.
+    pub boundary: u32,
+    /// H² of the level in m² (H = the finest cell size · 2^level).
+    pub h2: f32,
+    /// The colour a red-black sweep updates: cells with (i + j) % 2 == colour.
+    pub colour: u32,
+}
+
 /// Uniforms of every fluid pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
@@ -48,6 +62,7 @@ pub struct FluidParams {
     pub downwash_pos: [f32; 4],
     pub resolution: u32,
     pub dt: f32,
+    /// Vorticity confinement ε in 1/s (the shader multiplies by h).
     pub vorticity: f32,
     pub dissipation: f32,
     /// ν Δt / h² of the diffusion Jacobi step.
@@ -61,6 +76,7 @@ pub struct FluidParams {
 const _: () = assert!(std::mem::size_of::<ArrowGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<ObstacleGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<FluidParams>() == 80);
+const _: () = assert!(std::mem::size_of::<MgParams>() == 16);
 
 /// Everything that pushes the air during one step, in world units.
 #[derive(Clone, Debug, Default, PartialEq)]
