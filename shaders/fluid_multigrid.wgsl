@@ -2,7 +2,8 @@
 // Σ w_k (p_k − p) / H² = f of every level (f = D on the finest, the restricted residual
 // below), with the face weights w_k of `fluid_splat.wgsl` on the finest level and their
 // averages below (`coarsen_weights`): a coarse face is as open as the two fine faces it
-// covers, so solids are carried down by their coefficients, and a coarse cell whose faces
+// covers (open-border faces rescaled, see `coarsen_weights`), so solids are carried down by
+// their coefficients, and a coarse cell whose faces
 // are all closed (all four children solid, or walled in) drops out of its level.
 // Entry points, in the order of a cycle on each level:
 // `smooth_colour` – red-black Gauss–Seidel over the cells of one colour (i + j parity);
@@ -10,8 +11,8 @@
 //   is the coarse right-hand side; the coarse error starts at 0;
 // `prolong` – the coarse error, bilinear (9/16, 3/16, 3/16, 1/16) from the four nearest
 //   coarse cells, added to the fine pressure; beyond a border the coarse error is mirrored
-//   (closed, Neumann) or mirrored with its sign flipped (open, Dirichlet 0 on the border),
-//   a dropped-out coarse cell counts as the nearest one.
+//   (closed, Neumann) or extrapolated linearly to the open border's 0 (`open_ghost`), a
+//   dropped-out coarse cell counts as the nearest one.
 // CPU twin: src/sim/reference/fluid/multigrid.rs.
 //!include fluid_common.wgsl
 
@@ -23,6 +24,11 @@ struct MgParams {
     h2: f32,
     // Which colour `smooth_colour` updates: cells with (i + j) % 2 == colour.
     colour: u32,
+    // Factor on the open-border face weights of the next coarser level.
+    border_scale: f32,
+    // Factor on the coarse edge value for a coarse cell beyond an open border.
+    open_ghost: f32,
+    pad: vec2<u32>,
 }
 
 @group(0) @binding(0) var<uniform> level: MgParams;
@@ -111,12 +117,26 @@ fn coarsen_weights(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = w[j * m + i + 1u];
     let d = w[(j + 1u) * m + i];
     let e = w[(j + 1u) * m + i + 1u];
-    coarse_w[gid.y * mc + gid.x] = vec4<f32>(
+    var cw = vec4<f32>(
         (a.x + d.x) * 0.5,
         (b.y + e.y) * 0.5,
         (a.z + b.z) * 0.5,
         (d.w + e.w) * 0.5,
     );
+    // The 0 pressure of an open border lies half a finest cell beyond it, which is farther
+    // from a coarse cell's centre in its own units than from a fine one's: scale the
+    // border faces so that every level puts it at the same place.
+    if level.boundary != FLUID_PERIODIC {
+        let last = mc - 1u;
+        let s = level.border_scale;
+        cw = cw * vec4<f32>(
+            select(1.0, s, gid.x == 0u),
+            select(1.0, s, gid.x == last),
+            select(1.0, s, gid.y == 0u),
+            select(1.0, s, gid.y == last),
+        );
+    }
+    coarse_w[gid.y * mc + gid.x] = cw;
 }
 
 // The coarse error at (ci, cj), which may lie beyond the border; `centre` stands in for a
@@ -132,10 +152,10 @@ fn coarse_at(ci: i32, cj: i32, centre: f32) -> f32 {
     } else {
         if level.boundary == FLUID_OPEN {
             if ci < 0 || ci >= mc {
-                sign = -sign;
+                sign = sign * level.open_ghost;
             }
             if cj < 0 || cj >= mc {
-                sign = -sign;
+                sign = sign * level.open_ghost;
             }
         }
         i = clamp(ci, 0, mc - 1);

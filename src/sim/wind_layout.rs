@@ -48,6 +48,13 @@ pub struct MgParams {
     pub h2: f32,
     /// The colour a red-black sweep updates: cells with (i + j) % 2 == colour.
     pub colour: u32,
+    /// Factor on the open-border face weights of the next coarser level
+    /// (`reference::fluid::multigrid::border_scale`).
+    pub border_scale: f32,
+    /// What `prolong` multiplies the next coarser level's edge value by for a cell beyond
+    /// an open border (`reference::fluid::multigrid::open_ghost`).
+    pub open_ghost: f32,
+    pub _pad: [u32; 2],
 }
 
 /// Uniforms of every fluid pass.
@@ -76,7 +83,7 @@ pub struct FluidParams {
 const _: () = assert!(std::mem::size_of::<ArrowGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<ObstacleGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<FluidParams>() == 80);
-const _: () = assert!(std::mem::size_of::<MgParams>() == 16);
+const _: () = assert!(std::mem::size_of::<MgParams>() == 32);
 
 /// Everything that pushes the air during one step, in world units.
 #[derive(Clone, Debug, Default, PartialEq)]

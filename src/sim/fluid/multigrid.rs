@@ -9,7 +9,9 @@
 
 use super::kernels::{module, Kernel, Slot};
 use super::FluidConfig;
-use crate::sim::reference::fluid::multigrid::{coarsest_sweeps, POST_SWEEPS, PRE_SWEEPS};
+use crate::sim::reference::fluid::multigrid::{
+    border_scale, coarsest_sweeps, open_ghost, POST_SWEEPS, PRE_SWEEPS,
+};
 use crate::sim::wind_layout::{MgParams, FLUID_WORKGROUP};
 
 /// One level below the finest: its grids.
@@ -223,6 +225,9 @@ impl Multigrid {
                     boundary: config.boundary_id(),
                     h2: cell * cell,
                     colour: colour as u32,
+                    border_scale: border_scale(l),
+                    open_ghost: open_ghost(l + 1),
+                    _pad: [0; 2],
                 };
                 queue.write_buffer(buffer, 0, bytemuck::bytes_of(&p));
             }
