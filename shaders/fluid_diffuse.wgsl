@@ -1,35 +1,47 @@
-// Wind step, pass 3 (viscous diffusion, only when ν > 0): one Jacobi iteration of
-// (I − νΔt∇²) v = v0, x' = (v0 + α Σ neighbours of x) / (1 + 4α) with α = νΔt/h²
-// (Stam's `diffuse`, with Jacobi instead of Gauss–Seidel so that every cell updates in
-// parallel).
-// Solid cells keep their obstacle velocity. CPU twin: `FluidCpu::diffuse`.
+// Wind step, pass 4 (viscous diffusion, only when ν > 0): one Jacobi iteration of
+// (I − νΔt∇²) u = u0 on every face, x' = (u0 + α Σ neighbours of x) / (1 + 4α) with
+// α = νΔt/h² and the four neighbours the faces of the same axis around it (Stam's
+// `diffuse`, with Jacobi instead of Gauss–Seidel so that every face updates in parallel).
+// Faces of solid cells keep the obstacle velocity, closed walls 0. CPU twin:
+// `FluidCpu::diffuse`.
 //!include fluid_common.wgsl
 
 @group(0) @binding(0) var<uniform> params: FluidParams;
-@group(0) @binding(1) var<storage, read> vel_start: array<vec2<f32>>;
-@group(0) @binding(2) var<storage, read> x_in: array<vec2<f32>>;
-@group(0) @binding(3) var<storage, read_write> x_out: array<vec2<f32>>;
+@group(0) @binding(1) var<storage, read> vel_start: array<f32>;
+@group(0) @binding(2) var<storage, read> x_in: array<f32>;
+@group(0) @binding(3) var<storage, read_write> x_out: array<f32>;
 @group(0) @binding(4) var<storage, read> solid: array<u32>;
 
-fn x_at(i: i32, j: i32) -> vec2<f32> {
-    let r = fluid_velocity_ref(i, j, i32(params.resolution), params.boundary);
-    return x_in[r.index] * r.sign;
+fn x_at(axis: u32, i: i32, j: i32) -> f32 {
+    return x_in[fluid_face_ref(axis, i, j, i32(params.resolution), params.boundary)];
+}
+
+fn is_solid(i: i32, j: i32) -> bool {
+    let c = fluid_cell_ref(i, j, i32(params.resolution), params.boundary);
+    return c >= 0 && solid[c] != 0u;
 }
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let n = params.resolution;
-    if gid.x >= n || gid.y >= n {
+    let n = i32(params.resolution);
+    let face = fluid_face(gid, params.resolution);
+    if !face.valid {
         return;
     }
-    let idx = gid.y * n + gid.x;
-    if solid[idx] != 0u {
-        x_out[idx] = vel_start[idx];
+    let out = fluid_face_index(face.axis, face.i, face.j, n);
+    if fluid_is_wall(face.axis, face.i, face.j, n, params.boundary) {
+        x_out[out] = 0.0;
         return;
     }
-    let i = i32(gid.x);
-    let j = i32(gid.y);
+    let f = fluid_canonical(face, n, params.boundary);
+    let at = fluid_face_index(f.axis, f.i, f.j, n);
+    let cells = fluid_face_cells(f.axis, f.i, f.j);
+    if is_solid(cells.x, cells.y) || is_solid(cells.z, cells.w) {
+        x_out[out] = vel_start[at];
+        return;
+    }
     let a = params.diffusion_alpha;
-    let sum = x_at(i - 1, j) + x_at(i + 1, j) + x_at(i, j - 1) + x_at(i, j + 1);
-    x_out[idx] = (vel_start[idx] + sum * a) / (1.0 + 4.0 * a);
+    let sum = x_at(f.axis, f.i - 1, f.j) + x_at(f.axis, f.i + 1, f.j) + x_at(f.axis, f.i, f.j - 1)
+        + x_at(f.axis, f.i, f.j + 1);
+    x_out[out] = (vel_start[at] + sum * a) / (1.0 + 4.0 * a);
 }

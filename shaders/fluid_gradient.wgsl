@@ -1,43 +1,46 @@
-// Wind step, pass 6 (subtract the pressure gradient, CWD-Sim Eq. 8):
-// v −= (p_R − p_L, p_T − p_B) / 2h, with the same border and solid rules as the pressure
-// pass. Solid cells keep the obstacle velocity. CPU twin: `FluidCpu::subtract_gradient`.
+// Wind step, pass 7 (subtract the pressure gradient, CWD-Sim Eq. 8 on the staggered grid):
+// every face with weight 1 (between two fluid cells, or from a fluid cell to an open
+// border) loses the pressure difference across it, u(i, j) −= (p(i, j) − p(i − 1, j)) / h,
+// with p = 0 beyond an open border. That is the same stencil as the divergence and the
+// pressure Laplacian, so after a converged solve the divergence is the solver's residual.
+// Faces of solid cells keep the obstacle velocity, closed walls 0. CPU twin:
+// `FluidCpu::subtract_gradient`.
 //!include fluid_common.wgsl
 
 @group(0) @binding(0) var<uniform> params: FluidParams;
-@group(0) @binding(1) var<storage, read> vel_in: array<vec2<f32>>;
+@group(0) @binding(1) var<storage, read> faces_in: array<f32>;
 @group(0) @binding(2) var<storage, read> pressure: array<f32>;
-@group(0) @binding(3) var<storage, read_write> vel_out: array<vec2<f32>>;
+@group(0) @binding(3) var<storage, read_write> faces_out: array<f32>;
 @group(0) @binding(4) var<storage, read> solid: array<u32>;
-
-fn p_at(i: i32, j: i32, centre: f32) -> f32 {
-    let r = fluid_pressure_ref(i, j, i32(params.resolution), params.boundary);
-    if !r.inside {
-        return 0.0;
-    }
-    if solid[r.index] != 0u {
-        return centre;
-    }
-    return pressure[r.index];
-}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let n = params.resolution;
-    if gid.x >= n || gid.y >= n {
+    let n = i32(params.resolution);
+    let face = fluid_face(gid, params.resolution);
+    if !face.valid {
         return;
     }
-    let idx = gid.y * n + gid.x;
-    let v = vel_in[idx];
-    if solid[idx] != 0u {
-        vel_out[idx] = v;
+    let out = fluid_face_index(face.axis, face.i, face.j, n);
+    if fluid_is_wall(face.axis, face.i, face.j, n, params.boundary) {
+        faces_out[out] = 0.0;
         return;
     }
-    let i = i32(gid.x);
-    let j = i32(gid.y);
-    let c = pressure[idx];
-    let grad = vec2<f32>(
-        p_at(i + 1, j, c) - p_at(i - 1, j, c),
-        p_at(i, j + 1, c) - p_at(i, j - 1, c),
-    );
-    vel_out[idx] = v - grad * (0.5 * params.origin_cell.w);
+    let f = fluid_canonical(face, n, params.boundary);
+    let v = faces_in[fluid_face_index(f.axis, f.i, f.j, n)];
+    let cells = fluid_face_cells(f.axis, f.i, f.j);
+    let lo = fluid_cell_ref(cells.x, cells.y, n, params.boundary);
+    let hi = fluid_cell_ref(cells.z, cells.w, n, params.boundary);
+    if (lo >= 0 && solid[lo] != 0u) || (hi >= 0 && solid[hi] != 0u) {
+        faces_out[out] = v;
+        return;
+    }
+    var p_lo = 0.0;
+    if lo >= 0 {
+        p_lo = pressure[lo];
+    }
+    var p_hi = 0.0;
+    if hi >= 0 {
+        p_hi = pressure[hi];
+    }
+    faces_out[out] = v - (p_hi - p_lo) * params.origin_cell.w;
 }

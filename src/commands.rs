@@ -380,27 +380,34 @@ pub struct CpuRun {
     pub blades_reset_nonfinite: u64,
 }
 
-/// The wind grid as `--dump-wind` writes it (row-major, x fastest).
+/// The wind grid as `--dump-wind` writes it: the staggered grid's face velocities after the
+/// step (u on the (W + 1) · H vertical faces, v on the W · (H + 1) horizontal ones), the
+/// solid mask and the pressure per cell, all row-major with x fastest, so that anyone can
+/// compute the divergence (u[j(W+1)+i+1] − u[j(W+1)+i] + v[(j+1)W+i] − v[jW+i]) / h.
 #[derive(Serialize)]
 struct WindJson<'a> {
+    grid: &'static str,
     width: u32,
     height: u32,
     cell_size: f32,
     origin: [f32; 2],
-    velocity: &'a [[f32; 2]],
+    u: &'a [f32],
+    v: &'a [f32],
+    solid: Vec<u8>,
     pressure: &'a [f32],
-    divergence: &'a [f32],
 }
 
 fn wind_json(path: &Path, state: &FluidState) -> Result<Vec<u8>> {
     let json = WindJson {
+        grid: "staggered",
         width: state.resolution,
         height: state.resolution,
         cell_size: state.cell_size,
         origin: state.origin,
-        velocity: &state.velocity,
+        u: &state.u,
+        v: &state.v,
+        solid: state.solid.iter().map(|&s| u8::from(s != 0)).collect(),
         pressure: &state.pressure,
-        divergence: &state.divergence,
     };
     serde_json::to_vec(&json).map_err(|e| Error::Write {
         path: path.to_path_buf(),

@@ -196,6 +196,11 @@ enum Command {
         /// opens it), one track per configuration.
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
+        /// Time the wind solver alone once per pressure solver (jacobi, multigrid;
+        /// comma-separated) on the same frames: GPU ms of the pressure solve and RMS
+        /// divergence before and after the projection.
+        #[arg(long, value_name = "SOLVERS")]
+        pressure_solvers: Option<String>,
     },
 }
 
@@ -395,6 +400,7 @@ fn main() -> ExitCode {
             images,
             flight,
             trace,
+            pressure_solvers,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -409,6 +415,12 @@ fn main() -> ExitCode {
             b.flight = flight;
             b.trace = trace;
             b
+        })
+        .and_then(|mut b| {
+            if let Some(text) = &pressure_solvers {
+                b.pressure_solvers = sward::bench::pressure::parse_pressure_solvers(text)?;
+            }
+            Ok(b)
         })
         .and_then(|o| o.with_images(images))
         .and_then(|o| bench(&o)),

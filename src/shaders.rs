@@ -82,6 +82,14 @@ const FILES: &[(&str, &str)] = &[
         "fluid_advect.wgsl",
         include_str!("../shaders/fluid_advect.wgsl"),
     ),
+    (
+        "fluid_multigrid.wgsl",
+        include_str!("../shaders/fluid_multigrid.wgsl"),
+    ),
+    (
+        "fluid_centre.wgsl",
+        include_str!("../shaders/fluid_centre.wgsl"),
+    ),
 ];
 
 /// The entry files, one per pass (the others are only included).
@@ -108,6 +116,8 @@ pub const ENTRY_FILES: &[&str] = &[
     "fluid_pressure.wgsl",
     "fluid_gradient.wgsl",
     "fluid_advect.wgsl",
+    "fluid_multigrid.wgsl",
+    "fluid_centre.wgsl",
 ];
 
 fn raw(name: &str) -> Option<&'static str> {

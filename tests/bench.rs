@@ -418,3 +418,48 @@ fn a_flight_reports_percentiles_pops_and_saves_its_frames() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--sweep and --flight"));
 }
+
+#[test]
+fn pressure_solvers_run_on_the_same_frames() {
+    let out = sward(&[
+        "bench",
+        "--scene",
+        "assets/scenes/two_winds.ron",
+        "--json",
+        "--pressure-solvers",
+        "jacobi,multigrid",
+        "--set",
+        "wind.fluid.resolution=32",
+        "--frames",
+        "3",
+        "--warmup",
+        "2",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(v["resolution"], 32);
+    let solvers = v["pressure_solvers"].as_array().expect("pressure_solvers");
+    let names: Vec<&str> = solvers
+        .iter()
+        .map(|s| s["name"].as_str().expect("name"))
+        .collect();
+    assert_eq!(names, ["jacobi", "multigrid"]);
+    for s in solvers {
+        let before = s["rms_divergence_before"].as_f64().expect("before");
+        let after = s["rms_divergence"].as_f64().expect("after");
+        assert!(
+            before > 0.0,
+            "the guides must make divergence to remove: {s}"
+        );
+        assert!(after < before, "the solve must remove some: {s}");
+        assert!(s["ms"].is_number() || s["ms"].is_null(), "{s}");
+    }
+    let err = sward(&["bench", "--pressure-solvers", "jacobi,sor"]);
+    assert_eq!(err.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&err.stderr);
+    assert!(
+        text.contains("--pressure-solvers entry 2 (\"sor\") is not a solver"),
+        "{text}"
+    );
+}

@@ -10,7 +10,10 @@ use super::camera::CameraMode;
 use super::state::{AppState, Mode, Status};
 use crate::gpu::Gpu;
 use crate::render::timing::PASSES;
-use crate::scene::{Boundary, ColorMode, Range, SelfShadow, Shape, WindSource};
+use crate::scene::{
+    Advection, Boundary, ColorMode, PressureSolver, Range, SelfShadow, Shape, WindSource,
+};
+use crate::sim::fluid::MAX_MULTIGRID_CYCLES;
 
 /// Keyboard and mouse shortcuts, shown in the Help window (and listed in the README).
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -330,8 +333,29 @@ fn wind_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
             f.resolution = resolution;
             rebuild = true;
         }
-        ui.add(egui::Slider::new(&mut f.pressure_iterations, 1..=200).text("pressure iterations"));
-        ui.add(egui::Slider::new(&mut f.vorticity, 0.0..=10.0).text("vorticity λ"));
+        ui.horizontal(|ui| {
+            ui.label("pressure");
+            for s in [PressureSolver::Multigrid, PressureSolver::Jacobi] {
+                ui.selectable_value(&mut f.pressure_solver, s, format!("{s:?}"));
+            }
+        });
+        match f.pressure_solver {
+            PressureSolver::Jacobi => ui.add(
+                egui::Slider::new(&mut f.pressure_iterations, 1..=200).text("Jacobi iterations"),
+            ),
+            PressureSolver::Multigrid => ui.add(
+                egui::Slider::new(&mut f.multigrid_cycles, 1..=MAX_MULTIGRID_CYCLES)
+                    .text("V-cycles"),
+            ),
+        };
+        ui.checkbox(&mut f.warm_start, "warm start (last frame's pressure)");
+        ui.horizontal(|ui| {
+            ui.label("advection");
+            for a in [Advection::SemiLagrangian, Advection::MacCormack] {
+                ui.selectable_value(&mut f.advection, a, format!("{a:?}"));
+            }
+        });
+        ui.add(egui::Slider::new(&mut f.vorticity, 0.0..=50.0).text("vorticity ε 1/s"));
         ui.add(egui::Slider::new(&mut f.dissipation, 0.0..=5.0).text("dissipation 1/s"));
         ui.add(egui::Slider::new(&mut f.response, 0.0..=10.0).text("blade response 1/s"));
         ui.horizontal(|ui| {

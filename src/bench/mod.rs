@@ -39,6 +39,7 @@ use measure::measure;
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
 pub mod flight;
 mod measure;
+pub mod pressure;
 mod table;
 
 pub use table::{format_report, thousands};
@@ -80,6 +81,9 @@ pub struct BenchOptions {
     pub flight: bool,
     /// `--trace FILE`: a Chrome trace of the measured frames' GPU passes.
     pub trace: Option<PathBuf>,
+    /// `--pressure-solvers jacobi,multigrid`: time the wind solver alone once per pressure
+    /// solver instead of the three configurations (empty: not asked for).
+    pub pressure_solvers: Vec<crate::scene::PressureSolver>,
 }
 
 impl BenchOptions {
@@ -109,6 +113,7 @@ impl BenchOptions {
             images: None,
             flight: false,
             trace: None,
+            pressure_solvers: Vec::new(),
         })
     }
 
@@ -692,6 +697,17 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if !o.pressure_solvers.is_empty() {
+        let report = pressure::run_pressure_bench(o)?;
+        if o.json {
+            let text = serde_json::to_string_pretty(&report)
+                .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
+            println!("{text}");
+        } else {
+            print!("{}", pressure::format_pressure(&report));
+        }
+        return Ok(());
+    }
     if o.flight {
         flight::check_flight_options(o)?;
         let report = flight::run_flight(o)?;

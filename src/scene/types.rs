@@ -297,18 +297,46 @@ pub enum Boundary {
     Periodic,
 }
 
-/// The Stable-Fluids wind solver (CWD-Sim Eq. 4–10, Stam's solver) on a square grid laid
-/// over the terrain; the cell size is the terrain size / resolution.
+/// How the pressure Poisson equation of the projection is solved.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum PressureSolver {
+    /// `pressure_iterations` Jacobi iterations (slow to remove smooth divergence).
+    Jacobi,
+    /// `multigrid_cycles` V-cycles (red-black Gauss–Seidel smoothing on a grid hierarchy).
+    #[default]
+    Multigrid,
+}
+
+/// How the velocity is carried along itself.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum Advection {
+    /// One semi-Lagrangian back-trace (Stam): stable, smears small swirls.
+    #[default]
+    SemiLagrangian,
+    /// MacCormack (Selle et al. 2008): a forward and a backward trace cancel most of the
+    /// smearing; clamped to the values it interpolated from, so it cannot overshoot.
+    MacCormack,
+}
+
+/// The Stable-Fluids wind solver (CWD-Sim Eq. 4–10, Stam's solver) on a square staggered
+/// (MAC) grid laid over the terrain; the cell size is the terrain size / resolution.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Fluid {
     /// Cells per side (the grid is resolution²).
     pub resolution: u32,
-    /// Jacobi iterations of the pressure solve.
+    /// How the pressure is solved.
+    pub pressure_solver: PressureSolver,
+    /// Jacobi iterations of the pressure solve (`pressure_solver: Jacobi`); with
+    /// `warm_start` an odd count runs one more (see `FluidConfig::jacobi_iterations`).
     pub pressure_iterations: u32,
+    /// V-cycles of the pressure solve (`pressure_solver: Multigrid`); with `warm_start` an
+    /// odd count runs one more.
+    pub multigrid_cycles: u32,
     /// Start the pressure solve from the last frame's pressure.
     pub warm_start: bool,
-    /// Vorticity confinement λ.
+    /// Vorticity confinement ε in 1/s: the force is ε h (N × ω) (Fedkiw et al. 2001), with
+    /// h the cell size, so that a scene swirls alike at any grid resolution.
     pub vorticity: f32,
     /// Velocity dissipation per second (v /= 1 + dissipation · Δt after advection).
     pub dissipation: f32,
@@ -317,6 +345,7 @@ pub struct Fluid {
     /// Jacobi iterations of the viscous diffusion.
     pub diffusion_iterations: u32,
     pub boundary: Boundary,
+    pub advection: Advection,
     /// Wind force on a blade per m/s of air speed (1/s): w_i = response · velocity.
     pub response: f32,
     /// CWD-Sim's grouping: every blade of a cell takes the cell's value (no interpolation).
@@ -329,13 +358,18 @@ impl Default for Fluid {
     fn default() -> Self {
         Self {
             resolution: 256,
+            pressure_solver: PressureSolver::Multigrid,
             pressure_iterations: 30,
+            multigrid_cycles: 2,
             warm_start: true,
-            vorticity: 1.5,
+            // 1.5 / h of the default grid (40 m / 256): the confinement the collocated
+            // solver's λ = 1.5 gave there, before the h factor.
+            vorticity: 9.6,
             dissipation: 0.15,
             viscosity: 0.0,
             diffusion_iterations: 20,
             boundary: Boundary::Open,
+            advection: Advection::SemiLagrangian,
             response: 1.2,
             per_cell: false,
             obstacles: true,

@@ -36,6 +36,27 @@ pub struct ObstacleGpu {
     pub velocity: [f32; 4],
 }
 
+/// Uniforms of one multigrid level (`MgParams` in `shaders/fluid_multigrid.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct MgParams {
+    /// Cells per side of the level.
+    pub size: u32,
+    /// 0 closed, 1 open, 2 periodic.
+    pub boundary: u32,
+    /// H² of the level in m² (H = the finest cell size · 2^level).
+    pub h2: f32,
+    /// The colour a red-black sweep updates: cells with (i + j) % 2 == colour.
+    pub colour: u32,
+    /// Factor on the open-border face weights of the next coarser level
+    /// (`reference::fluid::multigrid::border_scale`).
+    pub border_scale: f32,
+    /// What `prolong` multiplies the next coarser level's edge value by for a cell beyond
+    /// an open border (`reference::fluid::multigrid::open_ghost`).
+    pub open_ghost: f32,
+    pub _pad: [u32; 2],
+}
+
 /// Uniforms of every fluid pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
@@ -48,6 +69,7 @@ pub struct FluidParams {
     pub downwash_pos: [f32; 4],
     pub resolution: u32,
     pub dt: f32,
+    /// Vorticity confinement ε in 1/s (the shader multiplies by h).
     pub vorticity: f32,
     pub dissipation: f32,
     /// ν Δt / h² of the diffusion Jacobi step.
@@ -61,6 +83,7 @@ pub struct FluidParams {
 const _: () = assert!(std::mem::size_of::<ArrowGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<ObstacleGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<FluidParams>() == 80);
+const _: () = assert!(std::mem::size_of::<MgParams>() == 32);
 
 /// Everything that pushes the air during one step, in world units.
 #[derive(Clone, Debug, Default, PartialEq)]

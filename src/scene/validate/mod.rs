@@ -37,7 +37,7 @@
 //! | `colliders[i].motion: Path` | ≥ 2 points, total length > 0, 0 ≤ speed ≤ 1000 m/s |
 //! | `wind.directional` | direction non-zero, 0 ≤ strength ≤ 1000 m/s², 0 ≤ gust ≤ 4, 0.1 ≤ wavelength ≤ 100000 m, 0 ≤ speed ≤ 1000 m/s |
 //! | `wind.point` | 0 ≤ strength ≤ 1000 m/s², 0.01 ≤ radius ≤ 10000 m, 0 ≤ frequency ≤ 100 Hz |
-//! | `wind.fluid` | 8 ≤ resolution ≤ 2048 cells per side, 0 ≤ pressure_iterations ≤ 1000, 0 ≤ vorticity ≤ 1000, 0 ≤ dissipation ≤ 100 1/s, 0 ≤ viscosity ≤ 10 m²/s, 1 ≤ diffusion_iterations ≤ 200, 0 ≤ response ≤ 100 1/s |
+//! | `wind.fluid` | 8 ≤ resolution ≤ 2048 cells per side, 0 ≤ pressure_iterations ≤ 1000, 1 ≤ multigrid_cycles ≤ 20 (Multigrid + Periodic: even resolution), 0 ≤ vorticity ≤ 1000, 0 ≤ dissipation ≤ 100 1/s, 0 ≤ viscosity ≤ 10 m²/s, 1 ≤ diffusion_iterations ≤ 200, 0 ≤ response ≤ 100 1/s |
 //! | `wind.global` | direction non-zero, 0 ≤ strength ≤ 1000 m/s² |
 //! | `wind.downwash` | 0.01 ≤ radius ≤ 10000 m, 0 ≤ strength ≤ 1000 m/s², motion as for colliders |
 //! | `wind.guides[i]` | 0 ≤ strength ≤ 1000 m/s², 0 < radius ≤ terrain.size m, ≥ 1 point |

@@ -1,0 +1,297 @@
+//! The staggered-grid wind solver on the test adapter against its CPU twin
+//! (`sim::reference::fluid`): one step with each pass's work switched on in turn, for every
+//! boundary mode, then fifty steps with everything on. Each comparison covers the grids the
+//! solver exposes: the faces (u, v), the cell-centred velocity, the solid mask, the
+//! divergence that entered the pressure solve and the pressure. Every measured figure is
+//! printed (`cargo test --release --test twin_fluid_mac -- --nocapture`).
+
+mod common;
+#[path = "common/fluid.rs"]
+mod fluid_common;
+
+use fluid_common::{arrow, config, flat, gpu_step, max_abs, max_diff, random_faces, BOUNDARIES};
+use sward::gpu::Gpu;
+use sward::scene::{Advection, PressureSolver};
+use sward::sim::fluid::{FluidConfig, FluidSolver, FluidState, FLUID_PASSES};
+use sward::sim::reference::fluid::FluidCpu;
+use sward::sim::wind_layout::{FluidForces, ObstacleGpu};
+
+/// One step's tolerance, relative to the largest magnitude of each compared grid. Kernel
+/// and twin run the same f32 operations in the same order; the GPU may fuse a·b + c into
+/// one rounding and round division and sqrt within a few ulps (~1e-7 relative per
+/// operation), and one step chains some tens of operations (hundreds in a V-cycle, whose
+/// smoothing damps them again). Measured on lavapipe: bit-identical (0) for every pass but
+/// the confinement, ≤ 2.2e-7 there (its sqrt and division); a wrong index, border rule or
+/// operand order shows up at 1e-2 and above.
+const STEP_TOLERANCE: f32 = 2e-5;
+
+/// Fifty steps without vorticity confinement, in m/s of any face: the solver is
+/// dissipative and rounding does not grow (measured on lavapipe: 0, bit-identical, at peak
+/// speeds of 7–9 m/s).
+const RUN_TOLERANCE: f32 = 1e-4;
+
+/// With confinement the same rounding is amplified by the dynamics (it feeds vorticity
+/// back at a rate of ε h |∇|ω||/|ω| ~ ε, so a 1e-7 difference grows by e^(ε · 1.7 s) over
+/// fifty steps). It is still rounding, so the bound is relative: 1e-3 of the peak speed.
+const RUN_TOLERANCE_CONFINED: f32 = 1e-3;
+
+/// The largest difference of each grid, relative to the larger of its magnitudes (1 for
+/// grids that are all zero), and whether the solid masks agree.
+struct Diff {
+    faces: f32,
+    velocity: f32,
+    divergence: f32,
+    pressure: f32,
+    solid_equal: bool,
+    /// Peak face speed of the CPU grid, m/s.
+    peak: f32,
+    /// Largest absolute face difference, m/s.
+    faces_abs: f32,
+}
+
+fn relative(a: &[f32], b: &[f32]) -> f32 {
+    let scale = max_abs(a).max(max_abs(b));
+    max_diff(a, b) / if scale > 0.0 { scale } else { 1.0 }
+}
+
+fn compare(g: &FluidState, c: &FluidState) -> Diff {
+    let gf: Vec<f32> = g.u.iter().chain(&g.v).copied().collect();
+    let cf: Vec<f32> = c.u.iter().chain(&c.v).copied().collect();
+    Diff {
+        faces: relative(&gf, &cf),
+        velocity: relative(&flat(&g.velocity), &flat(&c.velocity)),
+        divergence: relative(&g.divergence, &c.divergence),
+        pressure: relative(&g.pressure, &c.pressure),
+        solid_equal: g.solid == c.solid,
+        peak: max_abs(&cf),
+        faces_abs: max_diff(&gf, &cf),
+    }
+}
+
+fn forces(t: f32) -> FluidForces {
+    FluidForces {
+        // An AGC branch: a trunk along x and a branch turning up-right from its end.
+        arrows: vec![
+            arrow([-12.0, -6.0], [2.0, -6.0], 6.0, 3.0),
+            arrow([2.0, -6.0], [8.0, 6.0], 5.0, 2.5),
+        ],
+        // A ball rolling along +x through the flow.
+        obstacles: vec![ObstacleGpu {
+            circle: [-10.0 + 4.0 * t, 5.0, 2.0, 0.0],
+            velocity: [4.0, 0.0, 0.0, 0.0],
+        }],
+        global: [0.3, 0.1],
+        downwash: [6.0, 8.0, 6.0, 8.0],
+    }
+}
+
+/// Runs `steps` steps on both sides from `start` faces and compares.
+fn run(
+    gpu: &Gpu,
+    cfg: &FluidConfig,
+    start: &(Vec<f32>, Vec<f32>),
+    steps: u32,
+    forces_at: &dyn Fn(f32) -> FluidForces,
+) -> (Diff, Option<Vec<(&'static str, f64)>>) {
+    let dt = 1.0 / 30.0;
+    let mut solver = FluidSolver::new(gpu, cfg).expect("64² fits any adapter");
+    solver.write_faces(&gpu.queue, &start.0, &start.1);
+    let mut cpu = FluidCpu::new(cfg);
+    cpu.set_faces(&start.0, &start.1);
+    for step in 0..steps {
+        let f = forces_at(step as f32 * dt);
+        gpu_step(gpu, &mut solver, dt, &f);
+        cpu.step(dt, &f);
+    }
+    let g = solver.read_state(gpu).expect("read-back");
+    let ms = solver.read_pass_ms(gpu).expect("timestamps");
+    (compare(&g, &cpu.state()), ms)
+}
+
+#[test]
+fn each_pass_matches_its_twin_after_one_step() {
+    let gpu = common::gpu();
+    let n = 64;
+    let none = |_: f32| FluidForces::default();
+    let with_forces = |t: f32| forces(t);
+    let static_ball = |_: f32| FluidForces {
+        obstacles: vec![ObstacleGpu {
+            circle: [1.0, -2.0, 3.0, 0.0],
+            velocity: [0.0; 4],
+        }],
+        ..Default::default()
+    };
+    for boundary in BOUNDARIES {
+        let base = config(n, 32.0, boundary);
+        // 8 m/s on a 0.5 m grid: traces of half a cell per step, across cell borders.
+        let random = random_faces(n as usize, boundary, 11, 8.0);
+        let still = (vec![0.0; base.faces() / 2], vec![0.0; base.faces() / 2]);
+        type Case<'a> = (
+            &'a str,
+            FluidConfig,
+            &'a (Vec<f32>, Vec<f32>),
+            &'a dyn Fn(f32) -> FluidForces,
+        );
+        let cases: Vec<Case> = vec![
+            (
+                "advect: semi-Lagrangian",
+                FluidConfig {
+                    dissipation: 0.15,
+                    ..base.clone()
+                },
+                &random,
+                &none,
+            ),
+            (
+                "advect: MacCormack",
+                FluidConfig {
+                    dissipation: 0.15,
+                    advection: Advection::MacCormack,
+                    ..base.clone()
+                },
+                &random,
+                &none,
+            ),
+            (
+                "splat: forces and a moving obstacle",
+                base.clone(),
+                &still,
+                &with_forces,
+            ),
+            (
+                "vorticity: ε = 10",
+                FluidConfig {
+                    vorticity: 10.0,
+                    ..base.clone()
+                },
+                &random,
+                &none,
+            ),
+            (
+                "diffuse: 7 iterations",
+                FluidConfig {
+                    viscosity: 0.05,
+                    diffusion_iterations: 7,
+                    ..base.clone()
+                },
+                &random,
+                &none,
+            ),
+            (
+                "divergence, Jacobi ×21, gradient",
+                FluidConfig {
+                    pressure_iterations: 21,
+                    ..base.clone()
+                },
+                &random,
+                &none,
+            ),
+            (
+                "multigrid ×2 around a static obstacle, gradient",
+                FluidConfig {
+                    pressure_solver: PressureSolver::Multigrid,
+                    ..base.clone()
+                },
+                &random,
+                &static_ball,
+            ),
+        ];
+        for (name, cfg, start, f) in cases {
+            let (d, _) = run(&gpu, &cfg, start, 1, f);
+            println!(
+                "one step {boundary:?}, {name}: max relative |gpu - cpu| faces {:.2e}, \
+                 velocity {:.2e}, divergence {:.2e}, pressure {:.2e}; solid equal {} \
+                 (tolerance {STEP_TOLERANCE:.0e})",
+                d.faces, d.velocity, d.divergence, d.pressure, d.solid_equal
+            );
+            assert!(d.peak > 0.1, "{name}: nothing moved ({})", d.peak);
+            assert!(d.solid_equal, "{boundary:?}, {name}: solid masks differ");
+            for (what, e) in [
+                ("faces", d.faces),
+                ("velocity", d.velocity),
+                ("divergence", d.divergence),
+                ("pressure", d.pressure),
+            ] {
+                assert!(
+                    e <= STEP_TOLERANCE,
+                    "{boundary:?}, {name}: {what} differ by {e:e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn fifty_steps_match_the_twin_for_every_boundary() {
+    let gpu = common::gpu();
+    for boundary in BOUNDARIES {
+        let base = FluidConfig {
+            dissipation: 0.15,
+            viscosity: 0.05,
+            warm_start: true,
+            ..config(64, 32.0, boundary)
+        };
+        // Odd and even counts of the Jacobi and diffusion ping-pongs, both advections and
+        // both solvers, with and without confinement.
+        let variants = [
+            (
+                "Jacobi ×21 (22: warm start), diffusion ×8, semi-Lagrangian",
+                FluidConfig {
+                    pressure_iterations: 21,
+                    diffusion_iterations: 8,
+                    ..base.clone()
+                },
+            ),
+            (
+                "multigrid ×2, diffusion ×7, MacCormack",
+                FluidConfig {
+                    pressure_solver: PressureSolver::Multigrid,
+                    diffusion_iterations: 7,
+                    advection: Advection::MacCormack,
+                    ..base.clone()
+                },
+            ),
+            (
+                "multigrid ×1 (cold start), diffusion ×8, ε = 3",
+                FluidConfig {
+                    pressure_solver: PressureSolver::Multigrid,
+                    multigrid_cycles: 1,
+                    warm_start: false,
+                    diffusion_iterations: 8,
+                    vorticity: 3.0,
+                    ..base.clone()
+                },
+            ),
+        ];
+        for (name, cfg) in variants {
+            let still = (vec![0.0; cfg.faces() / 2], vec![0.0; cfg.faces() / 2]);
+            let (d, ms) = run(&gpu, &cfg, &still, 50, &forces);
+            let tolerance = if cfg.vorticity == 0.0 {
+                RUN_TOLERANCE
+            } else {
+                RUN_TOLERANCE_CONFINED * d.peak
+            };
+            println!(
+                "50 steps {boundary:?}, {name}: peak {:.2} m/s, max |gpu - cpu| faces {:.3e} \
+                 m/s (tolerance {tolerance:.1e}), relative pressure {:.2e}",
+                d.peak, d.faces_abs, d.pressure
+            );
+            if let Some(ms) = &ms {
+                assert_eq!(ms.len(), FLUID_PASSES.len());
+                let line: Vec<String> = ms.iter().map(|(n, t)| format!("{n} {t:.3}")).collect();
+                println!("  GPU ms of the last step: {}", line.join(", "));
+            }
+            assert!(
+                d.peak > 2.0,
+                "the forces must have moved the air ({})",
+                d.peak
+            );
+            assert!(d.solid_equal, "{boundary:?}, {name}: solid masks differ");
+            assert!(
+                d.faces_abs < tolerance,
+                "{boundary:?}, {name}: GPU and CPU differ by {} m/s",
+                d.faces_abs
+            );
+        }
+    }
+}
