@@ -320,11 +320,14 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let slot = atomicAdd(&out.visible_patches, 1u);
         patch_lists[1u + slot] = p;
     }
-    // Physics: patches in the frustum or near the camera every frame, the others in turn.
+    // Physics: patches in the frustum or near the camera every frame, the others in turn;
+    // patches beyond the blades' radius not at all (no turn of the camera shows them as
+    // blades; they go on from their last pose when the radius grows again), unless the
+    // throttle is off.
     let throttle = max(params.physics_throttle, 1u);
     let near = box_distance(pbox.min.xyz, pbox.max.xyz) <= params.physics_radius;
     let every_frame = (in_view && !too_far) || near || throttle == 1u;
-    if every_frame || (params.frame + p) % throttle == 0u {
+    if every_frame || (!too_far && (params.frame + p) % throttle == 0u) {
         let slot = atomicAdd(&out.updated_patches, 1u);
         var entry = p;
         if !every_frame {

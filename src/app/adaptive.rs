@@ -49,7 +49,7 @@ pub const SHRINK: f32 = 0.85;
 pub const GROW: f32 = 1.08;
 /// Smallest d_max the budget sets, in metres (or the base, if that is smaller): the grass
 /// within this radius stays.
-pub const MIN_DISTANCE: f32 = 12.0;
+pub const MIN_DISTANCE: f32 = 8.0;
 /// Smallest share of `render.billboard_distance` the budget keeps.
 pub const MIN_BILLBOARDS: f32 = 0.4;
 /// Smallest render scale of the 3D passes the budget sets (a quarter of the pixels).
@@ -521,7 +521,7 @@ mod tests {
     fn a_very_slow_machine_keeps_the_near_grass_and_its_levels() {
         let mut c = culling();
         let mut b = FrameBudget::new(&c, Some(20.0)).with_scale_floor(1.0);
-        // Even at d_max = 12 m and 8 levels: 15 + 0.2·144 = 43.8 ms > 22.
+        // Even at d_max = 8 m and 8 levels: 15 + 0.2·64 = 27.8 ms > 22.
         let mut m = Machine {
             fixed: 15.0,
             k: 0.2,

@@ -579,8 +579,9 @@ pub struct Culling {
     /// towards the coarser mesh across it, so a level change moves no vertex.
     pub lod_morph: f32,
     /// Patches outside the view and beyond `physics_radius` update every this many frames
-    /// with a Δt that many times longer (capped at `physics.max_dt`); 1 updates every patch
-    /// every frame.
+    /// with a Δt that many times longer (capped at `physics.max_dt`); patches beyond
+    /// `max_distance` (whose blades no view shows) and `physics_radius` not at all. 1
+    /// updates every patch every frame.
     pub physics_throttle: u32,
     /// Metres around the camera in which every patch updates every frame.
     pub physics_radius: f32,

@@ -600,6 +600,8 @@ pub fn patch_beyond_distance(patch: &PatchBox, params: &CullParams) -> bool {
 
 /// Whether the patch step puts patch `p` on this frame's update list, and whether at the
 /// throttled rate: `None` (skipped this frame), `Some(false)` (every frame), `Some(true)`.
+/// A patch beyond the blades' radius ([`patch_beyond_distance`]) and not within
+/// `physics_radius` is not stepped at all while the throttle is on.
 pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<bool> {
     if patch.min[3] != 0.0 {
         return None;
@@ -614,7 +616,7 @@ pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<boo
     let every_frame = (in_view && !too_far) || distance <= params.physics_radius || throttle == 1;
     if every_frame {
         Some(false)
-    } else if params.frame.wrapping_add(p).is_multiple_of(throttle) {
+    } else if !too_far && params.frame.wrapping_add(p).is_multiple_of(throttle) {
         Some(true)
     } else {
         None
