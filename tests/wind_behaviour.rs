@@ -1,0 +1,128 @@
+//! The wind's behaviour against the papers' figures (issue 13, point 7), on the GPU solver:
+//! - two guides pointing at each other meet and turn aside (CWD-Sim Fig. 10): the air that
+//!   runs into the meeting point leaves it sideways, in opposite directions on the two
+//!   sides, and the deflection is measured as an angle, not only as moving air;
+//! - air goes around a static obstacle and is slower behind it than in the free stream.
+
+mod common;
+#[path = "common/fluid.rs"]
+mod fluid_common;
+
+use fluid_common::{arrow, config, gpu_step};
+use sward::scene::{Boundary, PressureSolver};
+use sward::sim::fluid::{FluidConfig, FluidSolver};
+use sward::sim::reference::fluid::sample_velocity;
+use sward::sim::wind_layout::{FluidForces, ObstacleGpu};
+
+fn speed(v: [f32; 2]) -> f32 {
+    (v[0] * v[0] + v[1] * v[1]).sqrt()
+}
+
+/// The mean velocity over a box of sample points (x0..x1, z0..z1), every 0.25 m.
+fn mean_velocity(s: &sward::sim::fluid::FluidState, x: (f32, f32), z: (f32, f32)) -> [f32; 2] {
+    let (mut sum, mut n) = ([0.0f32; 2], 0.0f32);
+    let mut xi = x.0;
+    while xi <= x.1 {
+        let mut zi = z.0;
+        while zi <= z.1 {
+            let v = sample_velocity(s, xi, zi);
+            sum[0] += v[0];
+            sum[1] += v[1];
+            n += 1.0;
+            zi += 0.25;
+        }
+        xi += 0.25;
+    }
+    [sum[0] / n, sum[1] / n]
+}
+
+#[test]
+fn two_guides_pointing_at_each_other_meet_and_turn_aside() {
+    let gpu = common::gpu();
+    // `assets/scenes/two_winds.ron` on a 64² grid: two 8 m guides along x, 1.2 m apart
+    // across, blowing at each other.
+    let cfg = FluidConfig {
+        vorticity: 10.7,
+        dissipation: 0.4,
+        pressure_solver: PressureSolver::Multigrid,
+        multigrid_cycles: 2,
+        warm_start: true,
+        ..config(64, 24.0, Boundary::Open)
+    };
+    let mut solver = FluidSolver::new(&gpu, &cfg).expect("solver");
+    let forces = FluidForces {
+        arrows: vec![
+            arrow([-10.5, -0.6], [-2.5, -0.6], 6.0, 1.8),
+            arrow([10.5, 0.6], [2.5, 0.6], 6.0, 1.8),
+        ],
+        ..Default::default()
+    };
+    for _ in 0..90 {
+        gpu_step(&gpu, &mut solver, 1.0 / 30.0, &forces);
+    }
+    let s = solver.read_state(&gpu).expect("read-back");
+    // Along each guide the air runs towards the middle.
+    let left = mean_velocity(&s, (-7.0, -5.0), (-1.0, -0.2));
+    let right = mean_velocity(&s, (5.0, 7.0), (0.2, 1.0));
+    // Beside the meeting point, 2 to 5 m off the guides' axis on either side.
+    let above = mean_velocity(&s, (-1.5, 1.5), (2.0, 5.0));
+    let below = mean_velocity(&s, (-1.5, 1.5), (-5.0, -2.0));
+    let angle = |v: [f32; 2]| v[1].abs().atan2(v[0].abs()).to_degrees();
+    println!(
+        "two winds after 3 s: along the guides {left:?} / {right:?} m/s; beside the meeting \
+         point {above:?} ({:.0}° off the guides' axis) / {below:?} ({:.0}°)",
+        angle(above),
+        angle(below)
+    );
+    assert!(left[0] > 0.5 && right[0] < -0.5, "the guides do not blow inwards");
+    assert!(
+        speed(above) > 0.2 * speed(left) && speed(below) > 0.2 * speed(right),
+        "little air leaves the meeting point"
+    );
+    // Turned aside: the flow beside the meeting point runs across the guides' axis, away
+    // from it on each side.
+    assert!(above[1] > 0.0 && below[1] < 0.0, "the air does not leave sideways");
+    assert!(
+        angle(above) > 45.0 && angle(below) > 45.0,
+        "deflected by only {:.0}° / {:.0}°",
+        angle(above),
+        angle(below)
+    );
+}
+
+#[test]
+fn air_goes_around_a_static_obstacle_and_is_slower_behind_it() {
+    let gpu = common::gpu();
+    let cfg = FluidConfig {
+        pressure_solver: PressureSolver::Multigrid,
+        warm_start: true,
+        dissipation: 0.1,
+        ..config(64, 32.0, Boundary::Periodic)
+    };
+    let r = 3.0;
+    let forces = FluidForces {
+        global: [2.0, 0.0],
+        obstacles: vec![ObstacleGpu {
+            circle: [0.0, 0.0, r, 0.0],
+            velocity: [0.0; 4],
+        }],
+        ..Default::default()
+    };
+    let mut solver = FluidSolver::new(&gpu, &cfg).expect("solver");
+    for _ in 0..60 {
+        gpu_step(&gpu, &mut solver, 1.0 / 30.0, &forces);
+    }
+    let s = solver.read_state(&gpu).expect("read-back");
+    let free = mean_velocity(&s, (-2.0, 2.0), (10.0, 13.0));
+    let beside = mean_velocity(&s, (-1.0, 1.0), (r + 0.5, r + 2.0));
+    let behind = mean_velocity(&s, (r + 0.5, r + 3.0), (-1.0, 1.0));
+    println!(
+        "static obstacle r = {r} m: free stream {free:?}, beside {beside:?}, behind {behind:?} m/s"
+    );
+    assert!(free[0] > 0.5, "no wind");
+    assert!(beside[0] > free[0], "no speed-up beside the obstacle");
+    assert!(
+        speed(behind) < 0.7 * speed(free),
+        "the air behind the obstacle is not slower ({behind:?} vs {free:?})"
+    );
+}
