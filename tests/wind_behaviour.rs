@@ -2,7 +2,10 @@
 //! - two guides pointing at each other meet and turn aside (CWD-Sim Fig. 10): the air that
 //!   runs into the meeting point leaves it sideways, in opposite directions on the two
 //!   sides, and the deflection is measured as an angle, not only as moving air;
-//! - air goes around a static obstacle and is slower behind it than in the free stream.
+//! - air goes around a static obstacle and is slower behind it than in the free stream;
+//! - a ball rolling through the default meadow's wind (its fluid on, as the window turns it
+//!   on for the first guide) leaves a wake: behind it the air differs from the same place
+//!   in a run without the ball, dragged along the ball's path.
 
 mod common;
 #[path = "common/fluid.rs"]
@@ -74,14 +77,20 @@ fn two_guides_pointing_at_each_other_meet_and_turn_aside() {
         angle(above),
         angle(below)
     );
-    assert!(left[0] > 0.5 && right[0] < -0.5, "the guides do not blow inwards");
+    assert!(
+        left[0] > 0.5 && right[0] < -0.5,
+        "the guides do not blow inwards"
+    );
     assert!(
         speed(above) > 0.2 * speed(left) && speed(below) > 0.2 * speed(right),
         "little air leaves the meeting point"
     );
     // Turned aside: the flow beside the meeting point runs across the guides' axis, away
     // from it on each side.
-    assert!(above[1] > 0.0 && below[1] < 0.0, "the air does not leave sideways");
+    assert!(
+        above[1] > 0.0 && below[1] < 0.0,
+        "the air does not leave sideways"
+    );
     assert!(
         angle(above) > 45.0 && angle(below) > 45.0,
         "deflected by only {:.0}° / {:.0}°",
@@ -124,5 +133,87 @@ fn air_goes_around_a_static_obstacle_and_is_slower_behind_it() {
     assert!(
         speed(behind) < 0.7 * speed(free),
         "the air behind the obstacle is not slower ({behind:?} vs {free:?})"
+    );
+}
+
+/// Runs the default meadow with its fluid switched on (as the window does when a guide is
+/// added) under a global wind along the meadow's own wind direction, with a ball rolling
+/// across it at 3 m/s or without one; returns the air velocity 1.5 m behind where the ball
+/// ends, and the ball's last position.
+fn meadow_wind_behind_a_ball(with_ball: bool) -> ([f32; 2], glam::Vec3) {
+    use sward::render::camera::CameraView;
+    use sward::render::target::{Target, COLOR_FORMAT};
+    use sward::render::{DynamicSphere, Renderer};
+    use sward::scene::{GlobalWind, WindSource};
+    use sward::session::Session;
+    let mut s = sward::commands::load(None, &[]).expect("the default scene");
+    s.wind.source = WindSource::Both;
+    s.wind.fluid.resolution = 64;
+    s.wind.global = Some(GlobalWind {
+        direction: (1.0, 0.35),
+        strength: 1.0,
+    });
+    // A lighter field: the wind, not the grass, is under test.
+    s.field.density = 20.0;
+    s.culling.max_distance = 6.0;
+    s.render.billboard_distance = 0.0;
+    s.render.msaa = 1;
+    s.colliders.clear();
+    let gpu = common::gpu();
+    let session = Session::new(s, None, Some(&gpu)).expect("session");
+    let terrain = sward::field::HeightField::from_scene(&session.scene.terrain).unwrap();
+    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let target = Target::new(&gpu, 64, 36).expect("target");
+    let camera = CameraView::from_scene(&session.scene.camera);
+    let radius = 0.6;
+    let velocity = glam::Vec3::new(0.0, 0.0, 3.0);
+    let mut centre = glam::Vec3::new(2.0, 0.0, -6.0);
+    for _ in 0..75 {
+        centre += velocity / 30.0;
+        centre.y = terrain.height(centre.x, centre.z) + radius;
+        r.dynamic_spheres = if with_ball {
+            vec![DynamicSphere {
+                center: centre,
+                radius,
+                velocity,
+            }]
+        } else {
+            Vec::new()
+        };
+        r.frame(
+            &gpu,
+            1.0 / 30.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            (64, 36),
+        );
+    }
+    gpu.check_errors().expect("no GPU error");
+    let state = r
+        .fluid
+        .as_ref()
+        .expect("the fluid is on")
+        .read_state(&gpu)
+        .expect("read-back");
+    (sample_velocity(&state, centre.x, centre.z - 1.5), centre)
+}
+
+#[test]
+fn a_ball_rolling_through_the_default_meadows_wind_leaves_a_wake() {
+    let (free, _) = meadow_wind_behind_a_ball(false);
+    let (wake, ball) = meadow_wind_behind_a_ball(true);
+    let d = [wake[0] - free[0], wake[1] - free[1]];
+    println!(
+        "ball at {ball}: air 1.5 m behind it {wake:?} m/s, the same place without the ball \
+         {free:?} m/s, difference {:.3} m/s",
+        speed(d)
+    );
+    assert!(speed(free) > 0.3, "no free stream ({free:?})");
+    // The ball drags the air behind it along its path (+z) and shades it from the wind.
+    assert!(speed(d) > 0.3, "no wake: {wake:?} vs {free:?}");
+    assert!(
+        wake[1] > free[1],
+        "the air behind the ball is not dragged along"
     );
 }
