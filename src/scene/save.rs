@@ -290,6 +290,8 @@ mod tests {
             "nature.ron",
             "helicopter.ron",
             "two_winds.ron",
+            "around_a_boulder.ron",
+            "prairie.ron",
         ];
         for name in names {
             let scene = load_scene(&asset(name)).expect("load shipped scene");
