@@ -80,8 +80,19 @@ fn vs_field(in: TerrainIn) -> FieldOut {
     return out;
 }
 
+// Whether (x, z) lies on the wind grid (which may cover only the part of the terrain
+// around the camera when it follows the camera).
+fn on_grid(xz: vec2<f32>) -> bool {
+    let side = overlay.grid.z * f32(overlay.info.x);
+    let q = xz - overlay.grid.xy;
+    return all(q >= vec2<f32>(0.0)) && all(q <= vec2<f32>(side));
+}
+
 @fragment
 fn fs_field(in: FieldOut) -> @location(0) vec4<f32> {
+    if !on_grid(in.world.xz) {
+        discard;
+    }
     let v = sample_velocity(in.world.xz);
     let speed = length(v);
     let t = clamp(speed / overlay.grid.w, 0.0, 1.0);
@@ -119,11 +130,13 @@ fn arrow_vertex(vid: u32, start: vec2<f32>, end: vec2<f32>, width: f32, lift: f3
 
 @vertex
 fn vs_glyph(@builtin(vertex_index) vid: u32, @builtin(instance_index) inst: u32) -> LineOut {
+    // The glyphs cover the wind grid (the terrain square, or the square that follows the
+    // camera).
     let n = overlay.info.y;
-    let size = overlay.extra.x;
-    let spacing = size / f32(n);
+    let side = overlay.grid.z * f32(overlay.info.x);
+    let spacing = side / f32(n);
     let ij = vec2<f32>(f32(inst % n), f32(inst / n)) + 0.5;
-    let p = -0.5 * size + ij * spacing;
+    let p = overlay.grid.xy + ij * spacing;
     let v = sample_velocity(p);
     let speed = length(v);
     let t = clamp(speed / overlay.grid.w, 0.0, 1.0);

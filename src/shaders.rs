@@ -83,6 +83,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/fluid_advect.wgsl"),
     ),
     (
+        "fluid_scroll.wgsl",
+        include_str!("../shaders/fluid_scroll.wgsl"),
+    ),
+    (
         "fluid_multigrid.wgsl",
         include_str!("../shaders/fluid_multigrid.wgsl"),
     ),
@@ -118,6 +122,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "fluid_advect.wgsl",
     "fluid_multigrid.wgsl",
     "fluid_centre.wgsl",
+    "fluid_scroll.wgsl",
 ];
 
 fn raw(name: &str) -> Option<&'static str> {

@@ -358,10 +358,33 @@ fn wind_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
         ui.add(egui::Slider::new(&mut f.vorticity, 0.0..=50.0).text("vorticity ε 1/s"));
         ui.add(egui::Slider::new(&mut f.dissipation, 0.0..=5.0).text("dissipation 1/s"));
         ui.add(egui::Slider::new(&mut f.response, 0.0..=10.0).text("blade response 1/s"));
+        // A grid that follows the camera (unbounded terrains); it cannot wrap around.
+        let mut follow = f.extent > 0.0;
+        if ui
+            .checkbox(&mut follow, "grid follows the camera")
+            .changed()
+        {
+            f.extent = if follow { 128.0 } else { 0.0 };
+            if follow && f.boundary == Boundary::Periodic {
+                f.boundary = Boundary::Open;
+            }
+            rebuild = true;
+        }
+        if f.extent > 0.0 {
+            let before = f.extent;
+            ui.add(
+                egui::Slider::new(&mut f.extent, 16.0..=4096.0)
+                    .logarithmic(true)
+                    .text("grid side m"),
+            );
+            rebuild |= f.extent != before;
+        }
         ui.horizontal(|ui| {
             ui.label("boundary");
             for b in [Boundary::Open, Boundary::Closed, Boundary::Periodic] {
-                ui.selectable_value(&mut f.boundary, b, format!("{b:?}"));
+                if b != Boundary::Periodic || f.extent <= 0.0 {
+                    ui.selectable_value(&mut f.boundary, b, format!("{b:?}"));
+                }
             }
         });
         if let Some(d) = &mut wind.directional {

@@ -292,10 +292,18 @@ impl Renderer {
         dt
     }
 
-    /// Records the wind step and the blade update over the patches the patch pass picked.
-    fn encode_update(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, dt: f32) {
+    /// Records the wind step and the blade update over the patches the patch pass picked;
+    /// a wind grid that follows the camera is centred on `eye` first.
+    fn encode_update(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        eye: glam::Vec3,
+    ) {
         // The wind moves first; the blades then read this step's air velocity.
         if let Some(fluid) = &mut self.fluid {
+            fluid.follow(&gpu.queue, encoder, [eye.x, eye.z]);
             let mut forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
             if self.scene.wind.fluid.obstacles {
                 forces
@@ -320,6 +328,14 @@ impl Renderer {
         );
         params.patch_size = self.buffers.patch_size;
         params.patch_count = self.buffers.patch_count;
+        // The grid's corner and cell now (a following grid moves; the blades and the
+        // billboards must sample it where it is).
+        if let Some(f) = &self.fluid {
+            let o = f.origin();
+            params.fluid_grid[0] = o[0];
+            params.fluid_grid[1] = o[1];
+            params.fluid_grid[2] = f.config().cell_size;
+        }
         params.throttled_dt = throttled_dt(
             dt,
             self.scene.culling.physics_throttle,
@@ -383,7 +399,7 @@ impl Renderer {
         cp.physics_throttle = 1;
         self.cull.prepare(&gpu.queue, &cp);
         self.cull.encode_patches(&mut encoder, None);
-        self.encode_update(gpu, &mut encoder, dt);
+        self.encode_update(gpu, &mut encoder, dt, camera.eye);
         if let Some(t) = &mut self.timer {
             t.resolve(&mut encoder);
         }
@@ -684,7 +700,7 @@ impl Renderer {
         timed(timer, encoder, timing::PATCHES, |e, q| {
             self.cull.encode_patches(e, cs(q))
         });
-        self.encode_update(gpu, encoder, dt);
+        self.encode_update(gpu, encoder, dt, cull_camera.eye);
         let timer = self.timer.as_ref();
         timed(timer, encoder, timing::CULL, |e, q| {
             self.cull.encode_blades(e, &self.buffers.dispatch, cs(q))
@@ -727,6 +743,9 @@ impl Renderer {
         if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {
             // The arrows' on/off state moves with the clock.
             self.refresh_overlay_guides(gpu);
+        }
+        if let (Some(o), Some(f)) = (&mut self.overlay, &self.fluid) {
+            o.move_grid(&gpu.queue, f.origin());
         }
         if let Some(o) = &self.overlay {
             o.encode(encoder, color);

@@ -36,6 +36,8 @@ pub struct OverlayPass {
     uniforms: wgpu::Buffer,
     arrows: wgpu::Buffer,
     arrow_count: u32,
+    /// The strongest guide's strength (the arrows' colour scale).
+    max_strength: f32,
     terrain_vertices: wgpu::Buffer,
     terrain_indices: wgpu::Buffer,
     terrain_count: u32,
@@ -171,6 +173,7 @@ impl OverlayPass {
             uniforms,
             arrows,
             arrow_count: 0,
+            max_strength: 1e-3,
             terrain_vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("sward.overlay.terrain_vertices"),
                 contents: bytemuck::cast_slice::<TerrainVertex, u8>(&tv),
@@ -195,11 +198,24 @@ impl OverlayPass {
             queue.write_buffer(&self.arrows, 0, bytemuck::cast_slice(&arrows[..n]));
         }
         self.arrow_count = n as u32;
-        let max_strength = arrows.iter().map(|a| a.strength).fold(1e-3, f32::max);
+        self.max_strength = arrows.iter().map(|a| a.strength).fold(1e-3, f32::max);
+        self.write_uniforms(queue);
+    }
+
+    /// Moves the velocity layer with a grid that follows the camera (its corner now).
+    pub fn move_grid(&mut self, queue: &wgpu::Queue, origin: [f32; 2]) {
+        if [self.grid[0], self.grid[1]] != origin {
+            self.grid[0] = origin[0];
+            self.grid[1] = origin[1];
+            self.write_uniforms(queue);
+        }
+    }
+
+    fn write_uniforms(&self, queue: &wgpu::Queue) {
         let u = OverlayUniforms {
             grid: self.grid,
             info: [self.resolution, GLYPHS, self.arrow_count, 0],
-            extra: [self.terrain_size, 0.03, 0.05, max_strength],
+            extra: [self.terrain_size, 0.03, 0.05, self.max_strength],
         };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
     }

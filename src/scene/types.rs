@@ -352,6 +352,10 @@ pub struct Fluid {
     pub per_cell: bool,
     /// Colliders block the air (their footprint cells take the collider's velocity).
     pub obstacles: bool,
+    /// Side in metres of a grid that follows the camera (scrolling by whole cells; the
+    /// cells that enter take the old grid's edge values), or 0: the grid covers the terrain
+    /// square. For unbounded terrains, where a terrain-sized grid would have huge cells.
+    pub extent: f32,
 }
 
 impl Default for Fluid {
@@ -373,6 +377,7 @@ impl Default for Fluid {
             response: 1.2,
             per_cell: false,
             obstacles: true,
+            extent: 0.0,
         }
     }
 }

@@ -27,6 +27,7 @@ pub fn config(resolution: u32, size: f32, boundary: Boundary) -> FluidConfig {
         diffusion_iterations: 0,
         boundary,
         advection: Advection::SemiLagrangian,
+        follow: false,
     }
 }
 

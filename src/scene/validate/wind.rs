@@ -29,6 +29,8 @@ const DISSIPATION: Allowed = Allowed::closed(0.0, 100.0, "1/s");
 const VISCOSITY: Allowed = Allowed::closed(0.0, 10.0, "m²/s");
 const DIFFUSION_ITERATIONS: Integers = Integers::new(1, 200, "");
 const RESPONSE: Allowed = Allowed::closed(0.0, 100.0, "1/s");
+/// 0 (the terrain square) or the side of a grid that follows the camera.
+const EXTENT: Allowed = Allowed::closed(0.0, 100000.0, "m");
 const GUIDE_RADIUS_TEXT: &str = "0 < radius <= terrain.size m";
 
 /// The rules of every `wind` value.
@@ -87,6 +89,7 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         ("wind.fluid.response", Rule::Real(RESPONSE)),
         ("wind.fluid.per_cell", Rule::Bool),
         ("wind.fluid.obstacles", Rule::Bool),
+        ("wind.fluid.extent", Rule::Real(EXTENT)),
         (
             "wind.guides",
             Rule::Text("a list of guides (strength: .., radius: .., points: [..])"),
@@ -196,7 +199,20 @@ fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
         iterations,
         DIFFUSION_ITERATIONS,
     )?;
-    check.real(&at("response"), fluid.response, RESPONSE)
+    check.real(&at("response"), fluid.response, RESPONSE)?;
+    check.real(&at("extent"), fluid.extent, EXTENT)?;
+    // A grid that follows the camera has edges where the air enters and leaves; wrapping
+    // them around would join air from opposite sides of the camera.
+    if fluid.extent > 0.0 && fluid.boundary == Boundary::Periodic {
+        let name = at("boundary");
+        let message = format!(
+            "{name} = Periodic does not go with wind.fluid.extent = {} (a grid that follows \
+             the camera): use Open or Closed, or extent 0",
+            fluid.extent
+        );
+        return Err(check.error(&name, message));
+    }
+    Ok(())
 }
 
 /// One AGC guide: a tree of points on the terrain, root first, parents before children
@@ -367,6 +383,18 @@ mod tests {
             }),
             "wind.fluid.resolution = 101 is odd: the Multigrid pressure solver with a Periodic \
              boundary needs an even resolution (or use pressure_solver: Jacobi)"
+        );
+        assert_eq!(
+            rejected(|s| s.wind.fluid.extent = -1.0),
+            "wind.fluid.extent = -1 is out of range: allowed 0 <= extent <= 100000 m"
+        );
+        assert_eq!(
+            rejected(|s| {
+                s.wind.fluid.boundary = crate::scene::Boundary::Periodic;
+                s.wind.fluid.extent = 64.0;
+            }),
+            "wind.fluid.boundary = Periodic does not go with wind.fluid.extent = 64 (a grid \
+             that follows the camera): use Open or Closed, or extent 0"
         );
         let m = rejected(|s| s.wind.fluid.vorticity = f32::NAN);
         assert!(

@@ -40,16 +40,23 @@ pub struct FluidConfig {
     pub diffusion_iterations: u32,
     pub boundary: Boundary,
     pub advection: Advection,
+    /// The grid follows the camera ([`super::FluidSolver::follow`]): `origin` is only
+    /// where it starts.
+    pub follow: bool,
 }
 
 impl FluidConfig {
-    /// The grid of a scene: it covers the square terrain centred on 0.
+    /// The grid of a scene: the square terrain centred on 0, or with `fluid.extent > 0` a
+    /// square of that side that follows the camera (centred on 0 until it first moves).
     pub fn from_scene(fluid: &Fluid, terrain_size: f32) -> Self {
         let resolution = fluid.resolution;
+        let follow = fluid.extent > 0.0;
+        let side = if follow { fluid.extent } else { terrain_size };
         Self {
             resolution,
-            cell_size: terrain_size / resolution.max(1) as f32,
-            origin: [-0.5 * terrain_size, -0.5 * terrain_size],
+            cell_size: side / resolution.max(1) as f32,
+            origin: [-0.5 * side, -0.5 * side],
+            follow,
             pressure_solver: fluid.pressure_solver,
             pressure_iterations: fluid.pressure_iterations,
             multigrid_cycles: fluid.multigrid_cycles,
@@ -61,6 +68,18 @@ impl FluidConfig {
             boundary: fluid.boundary,
             advection: fluid.advection,
         }
+    }
+
+    /// The corner (in whole cells from the world origin) of a following grid centred on the
+    /// cell under `eye` (x, z).
+    pub fn corner_for(&self, eye: [f32; 2]) -> [i64; 2] {
+        let h = f64::from(self.cell_size);
+        let half = i64::from(self.resolution / 2);
+        eye.map(|e| {
+            let c = (f64::from(e) / h).floor();
+            // A camera beyond any sane range (validated elsewhere) cannot overflow.
+            c.clamp(-1e15, 1e15) as i64 - half
+        })
     }
 
     /// Cells in the grid.

@@ -29,9 +29,11 @@
 mod config;
 mod kernels;
 mod multigrid;
+mod scroll;
 
 use kernels::{module, FluidTimer, Kernel, Slot};
 use multigrid::{Finest, Multigrid};
+use scroll::Scroller;
 
 use super::wind_layout::{
     ArrowGpu, FluidForces, FluidParams, ObstacleGpu, FLUID_WORKGROUP, MAX_ARROWS, MAX_OBSTACLES,
@@ -201,6 +203,11 @@ pub struct FluidSolver {
     /// Which pressure buffer holds the latest solve (the warm start of the next one).
     pressure_current: usize,
     timer: Option<FluidTimer>,
+    scroller: Scroller,
+    /// The grid's corner now: `config.origin`, or where [`Self::follow`] moved it.
+    origin: [f32; 2],
+    /// A following grid's corner in whole cells, once it has followed a camera.
+    corner: Option<[i64; 2]>,
 }
 
 /// Workgroups covering `cells` along one axis.
@@ -358,8 +365,12 @@ impl FluidSolver {
                 weights: &weights,
             },
         );
+        let scroller = Scroller::new(device, [&faces[0], &faces[1]], [&pressure[0], &pressure[1]]);
         Ok(Self {
             config: config.clone(),
+            origin: config.origin,
+            corner: None,
+            scroller,
             params,
             arrows,
             obstacles,
@@ -386,6 +397,49 @@ impl FluidSolver {
 
     pub fn config(&self) -> &FluidConfig {
         &self.config
+    }
+
+    /// The world x, z of the grid's corner now (it moves when the grid follows the camera).
+    pub fn origin(&self) -> [f32; 2] {
+        self.origin
+    }
+
+    /// For a grid that follows the camera (`config.follow`): centres it on the cell under
+    /// `eye` (x, z), recording a scroll by whole cells when that cell changed; returns the
+    /// shift in cells. The first call only places the grid (the air is still then). A jump
+    /// farther than the grid (a teleport) fills it from the old grid's edge, which is as
+    /// close as anything to the air that blows there. Call before [`Self::prepare`].
+    pub fn follow(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        eye: [f32; 2],
+    ) -> [i64; 2] {
+        if !(self.config.follow && eye[0].is_finite() && eye[1].is_finite()) {
+            return [0, 0];
+        }
+        let target = self.config.corner_for(eye);
+        let h = f64::from(self.config.cell_size);
+        self.origin = target.map(|c| (c as f64 * h) as f32);
+        let Some(corner) = self.corner.replace(target) else {
+            return [0, 0];
+        };
+        let shift = [target[0] - corner[0], target[1] - corner[1]];
+        if shift != [0, 0] {
+            let n = self.config.resolution;
+            let limit = i64::from(n) + 1;
+            let clamped = shift.map(|s| s.clamp(-limit, limit) as i32);
+            self.scroller.encode(
+                queue,
+                encoder,
+                clamped,
+                n,
+                [&self.faces[0], &self.faces[1]],
+                [&self.pressure[0], &self.pressure[1]],
+                self.pressure_current,
+            );
+        }
+        shift
     }
 
     /// The side of every multigrid level, finest first.
@@ -453,7 +507,9 @@ impl FluidSolver {
     /// `prepare` + `encode` per submitted command buffer. Two steps recorded into one
     /// command buffer would both run with the second step's uniforms.
     pub fn prepare(&mut self, queue: &wgpu::Queue, dt: f32, forces: &FluidForces) {
-        let params = self.config.params(dt, forces);
+        let mut params = self.config.params(dt, forces);
+        params.origin_cell[0] = self.origin[0];
+        params.origin_cell[1] = self.origin[1];
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         self.multigrid.prepare(queue, &self.config);
         let arrows = params.arrow_count as usize;
@@ -621,7 +677,7 @@ impl FluidSolver {
         Ok(FluidState {
             resolution: self.config.resolution,
             cell_size: self.config.cell_size,
-            origin: self.config.origin,
+            origin: self.origin,
             velocity: bytemuck::pod_collect_to_vec(&read(&self.velocity, 8)?),
             u: u.to_vec(),
             v: v.to_vec(),

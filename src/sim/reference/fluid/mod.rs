@@ -80,6 +80,42 @@ pub fn sample_velocity(state: &FluidState, x: f32, z: f32) -> [f32; 2] {
     (a + (b - a) * f.y).to_array()
 }
 
+/// An n² staggered grid's u faces, v faces and pressure moved by `shift` whole cells (the
+/// new cell (i, j) is the old cell (i + shift.x, j + shift.y)); what falls outside the old
+/// grid takes its nearest edge value. The twin of `scroll_grid` in `fluid_scroll.wgsl`.
+pub fn scroll_grids(
+    n: usize,
+    u: &[f32],
+    v: &[f32],
+    pressure: &[f32],
+    shift: [i32; 2],
+) -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+    let n = n as i64;
+    let (dx, dy) = (i64::from(shift[0]), i64::from(shift[1]));
+    let at = |i: i64, j: i64, w: i64, h: i64| {
+        ((j + dy).clamp(0, h - 1) * w + (i + dx).clamp(0, w - 1)) as usize
+    };
+    let mut su = vec![0.0; u.len()];
+    for j in 0..n {
+        for i in 0..=n {
+            su[(j * (n + 1) + i) as usize] = u[at(i, j, n + 1, n)];
+        }
+    }
+    let mut sv = vec![0.0; v.len()];
+    for j in 0..=n {
+        for i in 0..n {
+            sv[(j * n + i) as usize] = v[at(i, j, n, n + 1)];
+        }
+    }
+    let mut sp = vec![0.0; pressure.len()];
+    for j in 0..n {
+        for i in 0..n {
+            sp[(j * n + i) as usize] = pressure[at(i, j, n, n)];
+        }
+    }
+    (su, sv, sp)
+}
+
 /// Makes the last face of each axis equal to the first, as a periodic grid keeps them.
 pub fn periodic_faces(u: &mut [f32], v: &mut [f32], n: usize) {
     for j in 0..n {
@@ -159,6 +195,21 @@ impl FluidCpu {
             "(n + 1) · n faces per axis"
         );
         self.faces = u.iter().chain(v).copied().collect();
+    }
+
+    /// Moves a following grid by `shift` whole cells (the twin of `fluid_scroll.wgsl`, as
+    /// `FluidSolver::follow` records it): faces and
+    /// pressure that stay keep their values, entering ones take the old grid's edge values;
+    /// the corner moves by `shift` cells.
+    pub fn scroll(&mut self, shift: [i32; 2]) {
+        let n = self.config.resolution as usize;
+        let (u, v) = self.faces.split_at(n * (n + 1));
+        let (u, v, p) = scroll_grids(n, u, v, &self.levels[0].p, shift);
+        self.faces = u.into_iter().chain(v).collect();
+        self.levels[0].p = p;
+        let h = self.config.cell_size;
+        self.config.origin[0] += shift[0] as f32 * h;
+        self.config.origin[1] += shift[1] as f32 * h;
     }
 
     /// The grids as the GPU solver's `read_state` returns them.
@@ -591,6 +642,7 @@ mod tests {
             diffusion_iterations: 0,
             boundary: Boundary::Open,
             advection: Advection::SemiLagrangian,
+            follow: false,
         };
         let mut cpu = FluidCpu::new(&cfg);
         let u: Vec<f32> = (0..72).map(|k| k as f32).collect();
