@@ -126,13 +126,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let session = Session::new(scene, None, Some(&gpu))?;
     eprintln!("{}", session.describe_field());
     let camera = CameraView::from_scene(&session.scene.camera);
-    let mut renderer = Renderer::new(
-        &gpu,
-        session.scene,
-        session.terrain,
-        &session.field,
-        COLOR_FORMAT,
-    )?;
+    let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
     if o.wind_overlay {
         renderer.enable_overlay(&gpu, COLOR_FORMAT);
     }

@@ -28,6 +28,10 @@ pub enum Error {
     /// An image named by a scene could not be decoded.
     #[error("{path}: cannot decode image: {message}")]
     Image { path: PathBuf, message: String },
+    /// A mesh named by a scene could not be loaded (unreadable, malformed, no triangles,
+    /// non-finite vertices, too large).
+    #[error("{path}: cannot load mesh: {message}")]
+    Mesh { path: PathBuf, message: String },
     /// No adapter matched the request.
     #[error("{0}")]
     NoAdapter(String),

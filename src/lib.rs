@@ -10,6 +10,7 @@ pub mod error;
 pub mod field;
 pub mod gpu;
 pub mod input;
+pub mod mesh;
 pub mod output;
 pub mod render;
 pub mod runtime_env;

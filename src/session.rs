@@ -21,6 +21,37 @@ pub struct Session {
     pub field: GeneratedField,
     /// How a streamed scene is cut into tiles (`field.tile_size > 0`).
     pub tiles: Option<TileLayout>,
+    /// The meshes of `scene.objects`, in order, read and checked.
+    pub meshes: Vec<crate::mesh::Mesh>,
+}
+
+/// Reads every object's mesh (errors name the scene line of its `mesh`) and checks that
+/// each fits the adapter's vertex and index buffers, before anything is allocated.
+fn load_meshes(scene: &Scene, gpu: Option<&Gpu>) -> Result<Vec<crate::mesh::Mesh>> {
+    let mut meshes = Vec::with_capacity(scene.objects.len());
+    for (i, object) in scene.objects.iter().enumerate() {
+        let field = format!("objects[{i}].mesh");
+        let mesh = crate::mesh::load(std::path::Path::new(&object.mesh))
+            .map_err(|e| scene.image_error(&field, e))?;
+        if let Some(gpu) = gpu {
+            let limits = gpu.device.limits();
+            let vertex_bytes = mesh.positions.len() as u64 * 24;
+            let index_bytes = mesh.indices.len() as u64 * 4;
+            let max = limits.max_buffer_size;
+            if vertex_bytes.max(index_bytes) > max {
+                return Err(Error::Limits(format!(
+                    "{field} = {:?}: {} triangles need a {}-byte buffer, but {} holds at \
+                     most {max} bytes in one buffer; use a simpler mesh",
+                    object.mesh,
+                    mesh.triangles(),
+                    vertex_bytes.max(index_bytes),
+                    gpu.info.name
+                )));
+            }
+        }
+        meshes.push(mesh);
+    }
+    Ok(meshes)
 }
 
 /// The number of blades a scene asks for (before rounding to whole patches).
@@ -127,11 +158,13 @@ impl Session {
                 scene.terrain.height = crate::scene::HeightSource::Flat;
                 // `--blades N` is a whole field of N blades, never a streamed one.
                 scene.field.tile_size = 0.0;
+                let meshes = load_meshes(&scene, gpu)?;
                 Ok(Self {
                     scene,
                     terrain,
                     field,
                     tiles: None,
+                    meshes,
                 })
             }
             None => {
@@ -147,11 +180,13 @@ impl Session {
                     },
                     None => generate(&scene.field, &terrain, density.as_ref()),
                 };
+                let meshes = load_meshes(&scene, gpu)?;
                 Ok(Self {
                     scene,
                     terrain,
                     field,
                     tiles,
+                    meshes,
                 })
             }
         }

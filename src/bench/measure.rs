@@ -56,6 +56,7 @@ pub(super) fn measure(
         &session.field,
         COLOR_FORMAT,
     )?;
+    renderer.set_objects(gpu, &session.meshes);
     gpu.check_errors()?;
     let size = (target.width, target.height);
     let mut passes = [0.0f64; timing::PASSES.len()];

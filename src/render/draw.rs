@@ -45,6 +45,8 @@ pub struct DrawPass {
     /// sphere, in front of it, still passes the depth test).
     occluder_sphere: Mesh,
     blade_indices: wgpu::Buffer,
+    /// The scene's mesh objects (`objects`).
+    pub objects: Option<super::objects::ObjectsPass>,
 }
 
 /// Value of `draw_level.x` that makes the grass shader take the level from the instance.
@@ -66,19 +68,19 @@ pub(crate) fn read_storage(
     }
 }
 
-struct PipelineSpec<'a> {
-    label: &'a str,
-    shader: &'a str,
-    layout: &'a wgpu::BindGroupLayout,
-    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    depth_write: bool,
-    cull_back: bool,
-    lines: bool,
+pub(super) struct PipelineSpec<'a> {
+    pub label: &'a str,
+    pub shader: &'a str,
+    pub layout: &'a wgpu::BindGroupLayout,
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    pub depth_write: bool,
+    pub cull_back: bool,
+    pub lines: bool,
     /// Without colour output (the occluder depth pass).
-    depth_only: bool,
+    pub depth_only: bool,
 }
 
-fn pipeline(
+pub(super) fn pipeline(
     device: &wgpu::Device,
     format: wgpu::TextureFormat,
     samples: u32,
@@ -473,6 +475,7 @@ impl DrawPass {
             sphere_mesh,
             occluder_sphere,
             blade_indices,
+            objects: None,
         }
     }
 
@@ -500,6 +503,9 @@ impl DrawPass {
     /// Rebuilds the pipelines for targets of `samples` samples (the panel's MSAA setting);
     /// buffers and bind groups stay.
     pub fn set_samples(&mut self, device: &wgpu::Device, samples: u32) {
+        if let Some(o) = &mut self.objects {
+            o.set_samples(device, samples);
+        }
         if samples == self.pipelines.samples {
             return;
         }
@@ -584,6 +590,9 @@ impl DrawPass {
             pass.set_pipeline(&self.pipelines.spheres_depth);
             self.draw_spheres(&mut pass, &self.occluder_sphere, sphere_count);
         }
+        if let Some(o) = &self.objects {
+            o.draw(&mut pass, true);
+        }
         pass.set_pipeline(&self.pipelines.terrain_depth);
         self.draw_terrain(&mut pass);
     }
@@ -618,6 +627,9 @@ impl DrawPass {
         if sphere_count > 0 {
             pass.set_pipeline(&self.pipelines.spheres);
             self.draw_spheres(&mut pass, &self.sphere_mesh, sphere_count);
+        }
+        if let Some(o) = &self.objects {
+            o.draw(&mut pass, false);
         }
 
         self.draw_grass(&mut pass, indirect, 0, wireframe);

@@ -14,6 +14,7 @@ pub mod hiz;
 mod levels;
 pub mod mesh;
 pub mod msaa;
+pub mod objects;
 pub mod overlay;
 pub mod target;
 pub mod terrain;
@@ -153,13 +154,30 @@ impl Renderer {
         session: &crate::session::Session,
         format: wgpu::TextureFormat,
     ) -> Result<Self> {
-        Self::new(
+        let mut r = Self::new(
             gpu,
             session.scene.clone(),
             session.terrain.clone(),
             &session.field,
             format,
-        )
+        )?;
+        r.set_objects(gpu, &session.meshes);
+        Ok(r)
+    }
+
+    /// Uploads the meshes of the scene's `objects` (read and checked by the session, in
+    /// the same order) for the draw and the occluder pass.
+    pub fn set_objects(&mut self, gpu: &Gpu, meshes: &[crate::mesh::Mesh]) {
+        self.draw.objects = (!self.scene.objects.is_empty()).then(|| {
+            objects::ObjectsPass::new(
+                &gpu.device,
+                &self.scene.objects,
+                meshes,
+                self.draw.frame_buffer(),
+                self.format,
+                self.draw.samples(),
+            )
+        });
     }
 
     /// Uploads the field and builds every pass for colour targets of `format`.

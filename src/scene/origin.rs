@@ -53,6 +53,7 @@ impl Scene {
         let (image, problem) = match &error {
             Error::Image { path, message } => (path, format!("cannot decode {{}}: {message}")),
             Error::Read { path, source } => (path, format!("cannot read {{}}: {source}")),
+            Error::Mesh { path, message } => (path, format!("cannot load mesh {{}}: {message}")),
             _ => return error,
         };
         let absolute = std::path::absolute(image).unwrap_or_else(|_| image.clone());

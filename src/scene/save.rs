@@ -205,6 +205,10 @@ fn relativise_images(scene: &mut Scene, dir: &Path) {
     if let Some(map) = &mut scene.terrain.density_map {
         *map = relative_to(map, dir);
     }
+    // Mesh files are resolved like images and written back the same way.
+    for object in &mut scene.objects {
+        object.mesh = relative_to(&object.mesh, dir);
+    }
 }
 
 /// `image` as the loader should find it from a scene file in `dir`: the part after `dir` if
@@ -292,6 +296,7 @@ mod tests {
             "two_winds.ron",
             "around_a_boulder.ron",
             "prairie.ron",
+            "bunny_meadow.ron",
         ];
         for name in names {
             let scene = load_scene(&asset(name)).expect("load shipped scene");

@@ -11,6 +11,8 @@ pub struct Scene {
     pub terrain: Terrain,
     pub field: Field,
     pub colliders: Vec<Sphere>,
+    /// Meshes placed in the scene (OBJ or glTF), drawn lit and occluding the grass.
+    pub objects: Vec<MeshObject>,
     pub wind: Wind,
     pub physics: Physics,
     pub culling: Culling,
@@ -744,5 +746,52 @@ impl Default for Render {
             billboard_distance: 0.0,
             msaa: 4,
         }
+    }
+}
+
+/// A mesh placed in the scene (issue 14): an OBJ or glTF / GLB file, moved, turned and
+/// scaled, drawn lit in one colour and an occluder of the grass behind it.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct MeshObject {
+    /// The file (`.obj`, `.gltf`, `.glb`), relative to the scene file's directory.
+    pub mesh: String,
+    /// Where the mesh's origin goes, in metres.
+    pub translation: (f32, f32, f32),
+    /// Rotation in degrees about x, then y, then z (each applied in the world frame).
+    pub rotation: (f32, f32, f32),
+    /// Uniform scale from the file's units to metres.
+    pub scale: f32,
+    /// Linear RGB albedo.
+    pub color: (f32, f32, f32),
+}
+
+impl Default for MeshObject {
+    fn default() -> Self {
+        Self {
+            mesh: String::new(),
+            translation: (0.0, 0.0, 0.0),
+            rotation: (0.0, 0.0, 0.0),
+            scale: 1.0,
+            color: (0.6, 0.55, 0.5),
+        }
+    }
+}
+
+impl MeshObject {
+    /// The object-to-world transform.
+    pub fn transform(&self) -> glam::Mat4 {
+        let (rx, ry, rz) = self.rotation;
+        let rotation = glam::Quat::from_euler(
+            glam::EulerRot::ZYX,
+            rz.to_radians(),
+            ry.to_radians(),
+            rx.to_radians(),
+        );
+        glam::Mat4::from_scale_rotation_translation(
+            glam::Vec3::splat(self.scale),
+            rotation,
+            self.translation.into(),
+        )
     }
 }

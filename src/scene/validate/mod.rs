@@ -33,6 +33,7 @@
 //! | `field.tile_size` | 0 (whole field at start) or 0.5 ≤ tile_size ≤ 1000 m |
 //! | positions: `colliders[i].center`, `wind.point.position`, `wind.downwash.position`, `physics.gravity_center`, `camera.eye`, `camera.target`, path points | every component in −100000 ..= 100000 m |
 //! | `colliders[i]` | 0 < radius ≤ 1000 m |
+//! | `objects[i]` | mesh a .obj, .gltf or .glb file; translation in −100000 ..= 100000 m, rotation in −360 ..= 360 degrees, 0.001 ≤ scale ≤ 1000, colour components in 0 ..= 1 |
 //! | `colliders[i].motion: Velocity` | every component in −1000 ..= 1000 m/s |
 //! | `colliders[i].motion: Path` | ≥ 2 points, total length > 0, 0 ≤ speed ≤ 1000 m/s |
 //! | `wind.directional` | direction non-zero, 0 ≤ strength ≤ 1000 m/s², 0 ≤ gust ≤ 4, 0.1 ≤ wavelength ≤ 100000 m, 0 ≤ speed ≤ 1000 m/s |
@@ -80,6 +81,7 @@
 
 mod allowed;
 pub(crate) mod locate;
+mod meshes;
 mod objects;
 mod physics;
 mod terrain_field;
@@ -128,6 +130,9 @@ pub(crate) fn validate_with_sets(
     for (i, sphere) in scene.colliders.iter().enumerate() {
         objects::collider(&check, i, sphere)?;
     }
+    for (i, object) in scene.objects.iter_mut().enumerate() {
+        meshes::object(&check, i, object)?;
+    }
     // The guides must lie on the terrain, so the wind needs its (already checked) size.
     wind::wind(&check, &mut scene.wind, scene.terrain.size)?;
     physics::physics(&check, &mut scene.physics)?;
@@ -143,6 +148,7 @@ pub(crate) fn rule_for(path: &str) -> Option<Rule> {
     let tables = [
         terrain_field::RULES,
         objects::RULES,
+        meshes::RULES,
         wind::RULES,
         physics::RULES,
         view::RULES,
@@ -314,8 +320,14 @@ impl Checker<'_> {
 
     /// A non-empty image path, made relative to the scene file's directory in place.
     fn image_path(&self, field: &str, image: &mut String) -> Result<()> {
+        self.file_path(field, image, "a PNG file")
+    }
+
+    /// A non-empty path of `what` (e.g. "a PNG file"), made relative to the scene file's
+    /// directory in place.
+    fn file_path(&self, field: &str, image: &mut String, what: &str) -> Result<()> {
         if image.trim().is_empty() {
-            let message = format!("{field} is empty: name a PNG file");
+            let message = format!("{field} is empty: name {what}");
             return Err(self.error(field, message));
         }
         let relative = Path::new(image.as_str());
