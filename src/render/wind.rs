@@ -1,0 +1,82 @@
+//! The renderer's wind-side controls: the overlay of the air velocity and the guides
+//! (`--wind-overlay`, the panel), and the rebuild of the wind solver when the scene's wind
+//! changes in ways its settings cannot take live.
+
+use super::{overlay, Renderer};
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::sim::agc;
+use crate::sim::fluid::{FluidConfig, FluidSolver};
+use crate::sim::update::UpdatePass;
+
+impl Renderer {
+    /// Turns the wind overlay on (velocity colour + glyphs + AGC arrows) for later frames.
+    pub fn enable_overlay(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) {
+        let (velocity, resolution, origin, cell) = match &self.fluid {
+            Some(f) => {
+                let c = f.config();
+                (f.velocity(), c.resolution, c.origin, c.cell_size)
+            }
+            None => (&self._dummy_grid, 1, [0.0, 0.0], self.scene.terrain.size),
+        };
+        let mut o = overlay::OverlayPass::new(
+            gpu,
+            format,
+            self.samples,
+            self.draw.frame_buffer(),
+            velocity,
+            resolution,
+            origin,
+            cell,
+            &self.terrain,
+        );
+        o.prepare(
+            &gpu.queue,
+            &agc::arrows_at(&self.scene.wind.guides, f32::INFINITY),
+        );
+        self.overlay = Some(o);
+    }
+
+    /// Rebuilds the wind solver for the scene's current wind settings (source switched
+    /// between analytic and fluid, or a new grid resolution). The blades keep their state;
+    /// the air starts at rest. On error the old solver stays.
+    pub fn rebuild_wind(&mut self, gpu: &Gpu) -> Result<()> {
+        let fluid = if self.scene.wind.source != crate::scene::WindSource::Analytic {
+            let config = FluidConfig::from_scene(&self.scene.wind.fluid, self.scene.terrain.size);
+            Some(FluidSolver::new(gpu, &config)?)
+        } else {
+            None
+        };
+        let grid = fluid
+            .as_ref()
+            .map(|f| f.velocity())
+            .unwrap_or(&self._dummy_grid);
+        self.update = UpdatePass::new(gpu, &self.buffers, grid);
+        self.fluid = fluid;
+        if self.overlay.is_some() {
+            self.enable_overlay(gpu, self.format);
+        }
+        self.rebind_billboards(gpu);
+        Ok(())
+    }
+
+    /// Turns the wind overlay off.
+    pub fn disable_overlay(&mut self) {
+        self.overlay = None;
+    }
+
+    /// Whether the wind overlay is on.
+    pub fn overlay_enabled(&self) -> bool {
+        self.overlay.is_some()
+    }
+
+    /// Redraws the overlay's guide arrows from the scene (after the guides were edited).
+    pub fn refresh_overlay_guides(&mut self, gpu: &Gpu) {
+        if let Some(o) = &mut self.overlay {
+            o.prepare(
+                &gpu.queue,
+                &agc::overlay_arrows(&self.scene.wind.guides, self.time),
+            );
+        }
+    }
+}
