@@ -7,7 +7,7 @@
 // it and down (Qiu's billboard bending); at most 0.9 h.
 fn top_offset(root: vec3<f32>, h: f32) -> vec3<f32> {
     let top = root + vec3<f32>(0.0, h, 0.0);
-    let w = wind_at(top);
+    let w = wind_at(top, h);
     var off = vec3<f32>(w.x, 0.0, w.z) * bb.shape.x * h;
     for (var s = 0u; s < bb.info.w; s++) {
         let sphere = spheres[s];

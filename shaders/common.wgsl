@@ -41,7 +41,7 @@ struct SimParams {
     fluid_info: vec4<u32>,
     patch_size: u32,
     patch_count: u32,
-    pad_b: u32,
+    fluid_layer_height: f32,
     pad_c: u32,
 }
 

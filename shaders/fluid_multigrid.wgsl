@@ -1,20 +1,28 @@
 // Wind step, pass 6 with `pressure_solver: Multigrid`: V-cycles on the pressure equation
-// Σ w_k (p_k − p) / H² = f of every level (f = D on the finest, the restricted residual
-// below), with the face weights w_k of `fluid_splat.wgsl` on the finest level and their
-// averages below (`coarsen_weights`): a coarse face is as open as the two fine faces it
-// covers (open-border faces rescaled, see `coarsen_weights`), so solids are carried down by
-// their coefficients, and a coarse cell whose faces
-// are all closed (all four children solid, or walled in) drops out of its level.
+// Σ w_k (p_k − p) / H² + Σ w_v (p_v − p) / dy² = f of every level (f = D on the finest, the
+// restricted residual below), with the face weights of `fluid_splat.wgsl` on the finest
+// level and their averages below (`coarsen_weights`): a coarse face is as open as the fine
+// faces it covers (open-border faces rescaled, see `coarsen_weights`), so solids are
+// carried down by their coefficients, and a coarse cell whose faces are all closed drops out
+// of its level. The levels halve the grid in x and z only; every level keeps all the layers
+// (they are few, and the ground and the top bound them).
 // Entry points, in the order of a cycle on each level:
-// `smooth_colour` – red-black Gauss–Seidel over the cells of one colour (i + j parity);
-// `restrict_residual` – the residual of the four children of each coarse cell, averaged,
-//   is the coarse right-hand side; the coarse error starts at 0;
+// `smooth_colour` – red-black line Gauss–Seidel: each column of one colour (i + j parity)
+//   is solved exactly along its layers (a tridiagonal system, Thomas' algorithm) with its
+//   horizontal neighbours held. Coarse levels couple the layers ever more strongly than the
+//   columns (H²/dy² grows 4× a level); relaxing whole columns is what keeps the smoother
+//   good then. On a 2D grid a column is one cell and this is point Gauss–Seidel exactly;
+// `restrict_residual` – the residual of the four children of each coarse cell (same
+//   layer), averaged, is the coarse right-hand side; the coarse error starts at 0;
 // `prolong` – the coarse error, bilinear (9/16, 3/16, 3/16, 1/16) from the four nearest
-//   coarse cells, added to the fine pressure; beyond a border the coarse error is mirrored
-//   (closed, Neumann) or extrapolated linearly to the open border's 0 (`open_ghost`), a
-//   dropped-out coarse cell counts as the nearest one.
+//   coarse cells of the layer, added to the fine pressure; beyond a border the coarse error
+//   is mirrored (closed, Neumann) or extrapolated linearly to the open border's 0
+//   (`open_ghost`), a dropped-out coarse cell counts as the nearest one.
 // CPU twin: src/sim/reference/fluid/multigrid.rs.
 //!include fluid_common.wgsl
+
+// Most layers a column may have (`MAX_LAYERS` in src/sim/fluid/config.rs).
+const MG_MAX_LAYERS: u32 = 16u;
 
 struct MgParams {
     // Cells per side of this level.
@@ -22,42 +30,55 @@ struct MgParams {
     boundary: u32,
     // H² of this level (m²).
     h2: f32,
-    // Which colour `smooth_colour` updates: cells with (i + j) % 2 == colour.
+    // Which colour `smooth_colour` updates: columns with (i + j) % 2 == colour.
     colour: u32,
     // Factor on the open-border face weights of the next coarser level.
     border_scale: f32,
     // Factor on the coarse edge value for a coarse cell beyond an open border.
     open_ghost: f32,
-    pad: vec2<u32>,
+    layers: u32,
+    // H² / dy²: the weight of a vertical face relative to a horizontal one.
+    vertical: f32,
 }
 
 @group(0) @binding(0) var<uniform> level: MgParams;
 @group(0) @binding(1) var<storage, read> f: array<f32>;
+// Two vec4 per cell: (−x, +x, −z, +z) and (below, above, 0, 0).
 @group(0) @binding(2) var<storage, read> w: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read_write> p: array<f32>;
 @group(0) @binding(4) var<storage, read_write> coarse_f: array<f32>;
 @group(0) @binding(5) var<storage, read_write> coarse_p: array<f32>;
 @group(0) @binding(6) var<storage, read_write> coarse_w: array<vec4<f32>>;
 
-fn p_at(i: i32, j: i32) -> f32 {
-    let c = fluid_cell_ref(i, j, i32(level.size), level.boundary);
-    if c < 0 {
+fn p_at(c: vec3<i32>) -> f32 {
+    let r = fluid_cell_ref(c, i32(level.size), i32(level.layers), level.boundary);
+    if r < 0 {
         return 0.0;
     }
-    return p[c];
+    return p[r];
 }
 
-// Σ w_k p_k over the four neighbours of (i, j), whose weights are `wc`.
-fn neighbour_sum(i: i32, j: i32, wc: vec4<f32>) -> f32 {
-    return wc.x * p_at(i - 1, j) + wc.y * p_at(i + 1, j) + wc.z * p_at(i, j - 1)
-        + wc.w * p_at(i, j + 1);
+// Σ w_k p_k over the four horizontal neighbours of c, whose weights are `wc`.
+fn neighbour_sum(c: vec3<i32>, wc: vec4<f32>) -> f32 {
+    return wc.x * p_at(c - vec3<i32>(1, 0, 0)) + wc.y * p_at(c + vec3<i32>(1, 0, 0))
+        + wc.z * p_at(c - vec3<i32>(0, 1, 0)) + wc.w * p_at(c + vec3<i32>(0, 1, 0));
 }
 
-fn total(wc: vec4<f32>) -> f32 {
-    return wc.x + wc.y + wc.z + wc.w;
+// Σ w_v p_v over the cells below and above c.
+fn vertical_sum(c: vec3<i32>, wv: vec4<f32>) -> f32 {
+    return wv.x * p_at(c - vec3<i32>(0, 0, 1)) + wv.y * p_at(c + vec3<i32>(0, 0, 1));
 }
 
-// Dispatched over ⌈size / 2⌉ × size threads: thread x of row j is the x-th cell of that
+// The diagonal: Σ w_k + (H²/dy²) Σ w_v.
+fn total(wc: vec4<f32>, wv: vec4<f32>, vertical: f32) -> f32 {
+    return (wc.x + wc.y + wc.z + wc.w) + vertical * (wv.x + wv.y);
+}
+
+fn cell_index(i: u32, j: u32, k: u32, m: u32) -> u32 {
+    return (k * m + j) * m + i;
+}
+
+// Dispatched over ⌈size / 2⌉ × size threads: thread x of row j is the x-th column of that
 // row with the wanted colour.
 @compute @workgroup_size(8, 8)
 fn smooth_colour(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -67,38 +88,76 @@ fn smooth_colour(@builtin(global_invocation_id) gid: vec3<u32>) {
     if i >= m || j >= m {
         return;
     }
-    let idx = j * m + i;
-    let wc = w[idx];
-    let t = total(wc);
-    if t == 0.0 {
-        p[idx] = 0.0;
-        return;
+    let layers = level.layers;
+    let r = level.vertical;
+    // Thomas' algorithm on b_k p_k + a_k p_(k−1) + c_k p_(k+1) = d_k.
+    var cp: array<f32, MG_MAX_LAYERS>;
+    var dp: array<f32, MG_MAX_LAYERS>;
+    for (var k = 0u; k < layers; k++) {
+        let idx = cell_index(i, j, k, m);
+        let wc = w[2u * idx];
+        let wv = w[2u * idx + 1u];
+        let t = total(wc, wv, r);
+        var b = 1.0;
+        var a = 0.0;
+        var c = 0.0;
+        var d = 0.0;
+        if t != 0.0 {
+            b = t;
+            a = -(r * wv.x);
+            c = -(r * wv.y);
+            d = neighbour_sum(vec3<i32>(i32(i), i32(j), i32(k)), wc) - level.h2 * f[idx];
+        }
+        if k == 0u {
+            cp[0] = c / b;
+            dp[0] = d / b;
+        } else {
+            var den = b - a * cp[k - 1u];
+            // A column walled in on every side but along itself is singular (Neumann all
+            // round); keep its values finite.
+            if den <= 1e-6 * b {
+                den = b;
+            }
+            cp[k] = c / den;
+            dp[k] = (d - a * dp[k - 1u]) / den;
+        }
     }
-    p[idx] = (neighbour_sum(i32(i), i32(j), wc) - level.h2 * f[idx]) / t;
+    var above = 0.0;
+    for (var kk = 0u; kk < layers; kk++) {
+        let k = layers - 1u - kk;
+        var v = dp[k];
+        if kk > 0u {
+            v = dp[k] - cp[k] * above;
+        }
+        p[cell_index(i, j, k, m)] = v;
+        above = v;
+    }
 }
 
-// The residual f − A p of fine cell (i, j); 0 in a cell that dropped out.
-fn residual(i: i32, j: i32) -> f32 {
-    let idx = u32(j) * level.size + u32(i);
-    let wc = w[idx];
-    let t = total(wc);
+// The residual f − A p of fine cell c; 0 in a cell that dropped out.
+fn residual(c: vec3<i32>) -> f32 {
+    let idx = cell_index(u32(c.x), u32(c.y), u32(c.z), level.size);
+    let wc = w[2u * idx];
+    let wv = w[2u * idx + 1u];
+    let t = total(wc, wv, level.vertical);
     if t == 0.0 {
         return 0.0;
     }
-    return f[idx] - (neighbour_sum(i, j, wc) - t * p[idx]) / level.h2;
+    let sum = neighbour_sum(c, wc) + level.vertical * vertical_sum(c, wv);
+    return f[idx] - (sum - t * p[idx]) / level.h2;
 }
 
 // Dispatched over the coarse level's cells; `level` is the fine level.
 @compute @workgroup_size(8, 8)
 fn restrict_residual(@builtin(global_invocation_id) gid: vec3<u32>) {
     let mc = level.size / 2u;
-    if gid.x >= mc || gid.y >= mc {
+    if gid.x >= mc || gid.y >= mc || gid.z >= level.layers {
         return;
     }
-    let i = 2 * i32(gid.x);
-    let j = 2 * i32(gid.y);
-    let sum = residual(i, j) + residual(i + 1, j) + residual(i, j + 1) + residual(i + 1, j + 1);
-    let idx = gid.y * mc + gid.x;
+    let c = vec3<i32>(2 * i32(gid.x), 2 * i32(gid.y), i32(gid.z));
+    let sum = residual(c) + residual(c + vec3<i32>(1, 0, 0)) + residual(c + vec3<i32>(0, 1, 0))
+        + residual(c + vec3<i32>(1, 1, 0));
+    let idx = cell_index(gid.x, gid.y, gid.z, mc);
     coarse_f[idx] = sum * 0.25;
     coarse_p[idx] = 0.0;
 }
@@ -107,16 +166,21 @@ fn restrict_residual(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(8, 8)
 fn coarsen_weights(@builtin(global_invocation_id) gid: vec3<u32>) {
     let mc = level.size / 2u;
-    if gid.x >= mc || gid.y >= mc {
+    if gid.x >= mc || gid.y >= mc || gid.z >= level.layers {
         return;
     }
     let m = level.size;
     let i = 2u * gid.x;
     let j = 2u * gid.y;
-    let a = w[j * m + i];
-    let b = w[j * m + i + 1u];
-    let d = w[(j + 1u) * m + i];
-    let e = w[(j + 1u) * m + i + 1u];
+    let k = gid.z;
+    let ia = cell_index(i, j, k, m);
+    let ib = cell_index(i + 1u, j, k, m);
+    let id = cell_index(i, j + 1u, k, m);
+    let ie = cell_index(i + 1u, j + 1u, k, m);
+    let a = w[2u * ia];
+    let b = w[2u * ib];
+    let d = w[2u * id];
+    let e = w[2u * ie];
     var cw = vec4<f32>(
         (a.x + d.x) * 0.5,
         (b.y + e.y) * 0.5,
@@ -136,12 +200,20 @@ fn coarsen_weights(@builtin(global_invocation_id) gid: vec3<u32>) {
             select(1.0, s, gid.y == last),
         );
     }
-    coarse_w[gid.y * mc + gid.x] = cw;
+    // A coarse cell's floor and ceiling are the four children's, as open as they are.
+    let va = w[2u * ia + 1u];
+    let vb = w[2u * ib + 1u];
+    let vd = w[2u * id + 1u];
+    let ve = w[2u * ie + 1u];
+    let cv = ((va + vb) + (vd + ve)) * 0.25;
+    let out = cell_index(gid.x, gid.y, gid.z, mc);
+    coarse_w[2u * out] = cw;
+    coarse_w[2u * out + 1u] = vec4<f32>(cv.xy, 0.0, 0.0);
 }
 
-// The coarse error at (ci, cj), which may lie beyond the border; `centre` stands in for a
-// dropped-out cell.
-fn coarse_at(ci: i32, cj: i32, centre: f32) -> f32 {
+// The coarse error at (ci, cj) of layer k, which may lie beyond the border; `centre` stands
+// in for a dropped-out cell.
+fn coarse_at(ci: i32, cj: i32, k: u32, centre: f32) -> f32 {
     let mc = i32(level.size / 2u);
     var sign = 1.0;
     var i = ci;
@@ -161,8 +233,8 @@ fn coarse_at(ci: i32, cj: i32, centre: f32) -> f32 {
         i = clamp(ci, 0, mc - 1);
         j = clamp(cj, 0, mc - 1);
     }
-    let idx = j * mc + i;
-    if total(coarse_w[idx]) == 0.0 {
+    let idx = cell_index(u32(i), u32(j), k, u32(mc));
+    if total(coarse_w[2u * idx], coarse_w[2u * idx + 1u], 1.0) == 0.0 {
         return sign * centre;
     }
     return sign * coarse_p[idx];
@@ -172,11 +244,11 @@ fn coarse_at(ci: i32, cj: i32, centre: f32) -> f32 {
 @compute @workgroup_size(8, 8)
 fn prolong(@builtin(global_invocation_id) gid: vec3<u32>) {
     let m = level.size;
-    if gid.x >= m || gid.y >= m {
+    if gid.x >= m || gid.y >= m || gid.z >= level.layers {
         return;
     }
-    let idx = gid.y * m + gid.x;
-    if total(w[idx]) == 0.0 {
+    let idx = cell_index(gid.x, gid.y, gid.z, m);
+    if total(w[2u * idx], w[2u * idx + 1u], 1.0) == 0.0 {
         return;
     }
     let mc = m / 2u;
@@ -185,9 +257,9 @@ fn prolong(@builtin(global_invocation_id) gid: vec3<u32>) {
     // The nearer coarse neighbour: left/below for an even child, right/above for an odd.
     let di = select(-1, 1, (gid.x & 1u) == 1u);
     let dj = select(-1, 1, (gid.y & 1u) == 1u);
-    let centre = coarse_p[u32(cj) * mc + u32(ci)];
-    let x = coarse_at(ci + di, cj, centre);
-    let y = coarse_at(ci, cj + dj, centre);
-    let d = coarse_at(ci + di, cj + dj, centre);
+    let centre = coarse_p[cell_index(u32(ci), u32(cj), gid.z, mc)];
+    let x = coarse_at(ci + di, cj, gid.z, centre);
+    let y = coarse_at(ci, cj + dj, gid.z, centre);
+    let d = coarse_at(ci + di, cj + dj, gid.z, centre);
     p[idx] += ((0.5625 * centre + 0.1875 * x) + 0.1875 * y) + 0.0625 * d;
 }

@@ -2,15 +2,15 @@
 // by whole cells, so every face and cell that stays in it keeps its value exactly (a copy,
 // no resampling, so nothing smears and nothing seams), and the faces and cells that enter
 // take the old grid's nearest edge value: the air that blew at the edge goes on blowing
-// there. One invocation per face (u then v, the layout of fluid_common.wgsl) also moves the
-// cell at the same index (pressure, the warm start of the next solve). The twin is
+// there. One invocation per face (u, v, then w, the layout of fluid_common.wgsl; every layer
+// moves alike) also moves the cell at the same index (pressure, the warm start of the next solve). The twin is
 // `FluidCpu::scroll`.
 
 struct Scroll {
     // The grid corner's move in cells (new corner = old corner + shift).
     shift: vec2<i32>,
     resolution: u32,
-    pad: u32,
+    layers: u32,
 }
 
 @group(0) @binding(0) var<uniform> scroll: Scroll;
@@ -19,6 +19,15 @@ struct Scroll {
 @group(0) @binding(3) var<storage, read> pressure_in: array<f32>;
 @group(0) @binding(4) var<storage, read_write> pressure_out: array<f32>;
 
+// Moves entry `k` of a w × h lattice (x fastest) by the shift, clamping to the lattice.
+fn source(k: u32, w: i32, h: i32) -> u32 {
+    let i = i32(k % u32(w));
+    let j = i32(k / u32(w));
+    let si = clamp(i + scroll.shift.x, 0, w - 1);
+    let sj = clamp(j + scroll.shift.y, 0, h - 1);
+    return u32(sj * w + si);
+}
+
 @compute @workgroup_size(64)
 fn scroll_grid(
     @builtin(global_invocation_id) id: vec3<u32>,
@@ -26,29 +35,25 @@ fn scroll_grid(
 ) {
     let idx = id.x + id.y * groups.x * 64u;
     let n = i32(scroll.resolution);
-    let d = scroll.shift;
-    let u_faces = u32((n + 1) * n);
-    if idx < u_faces {
-        // u face (i, j), i in 0..=n, j in 0..n.
-        let i = i32(idx % u32(n + 1));
-        let j = i32(idx / u32(n + 1));
-        let si = clamp(i + d.x, 0, n);
-        let sj = clamp(j + d.y, 0, n - 1);
-        faces_out[idx] = faces_in[sj * (n + 1) + si];
-    } else if idx < 2u * u_faces {
-        // v face (i, j), i in 0..n, j in 0..=n.
-        let k = idx - u_faces;
-        let i = i32(k % u32(n));
-        let j = i32(k / u32(n));
-        let si = clamp(i + d.x, 0, n - 1);
-        let sj = clamp(j + d.y, 0, n);
-        faces_out[idx] = faces_in[u_faces + u32(sj * n + si)];
+    let layer_faces = u32((n + 1) * n);
+    let plane = u32(n * n);
+    let uv = scroll.layers * layer_faces;
+    let w_faces = (scroll.layers + 1u) * plane;
+    if idx < uv {
+        // u faces of layer idx / layer_faces: (n + 1) × n.
+        let base = idx - idx % layer_faces;
+        faces_out[idx] = faces_in[base + source(idx % layer_faces, n + 1, n)];
+    } else if idx < 2u * uv {
+        // v faces: n × (n + 1).
+        let base = idx - idx % layer_faces;
+        faces_out[idx] = faces_in[base + source((idx - uv) % layer_faces, n, n + 1)];
+    } else if idx < 2u * uv + w_faces {
+        // w faces: n × n per plane.
+        let base = idx - (idx - 2u * uv) % plane;
+        faces_out[idx] = faces_in[base + source((idx - 2u * uv) % plane, n, n)];
     }
-    if idx < u32(n * n) {
-        let i = i32(idx % u32(n));
-        let j = i32(idx / u32(n));
-        let si = clamp(i + d.x, 0, n - 1);
-        let sj = clamp(j + d.y, 0, n - 1);
-        pressure_out[idx] = pressure_in[sj * n + si];
+    if idx < scroll.layers * plane {
+        let base = idx - idx % plane;
+        pressure_out[idx] = pressure_in[base + source(idx % plane, n, n)];
     }
 }

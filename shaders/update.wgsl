@@ -142,7 +142,8 @@ fn main(
     // Eq. 5-6: front gravity.
     let gravity = g_env + 0.25 * length(g_env) * front;
     // Eq. 7-8: wind scaled by the alignment theta.
-    let wi = wind_at(v0);
+    // The fluid at the blade's own height: in a 3D grid tall grass reaches faster air.
+    let wi = wind_at(v0, height);
     var wind = vec3<f32>(0.0);
     let wl = length(wi);
     let tip = v2 - v0;

@@ -34,7 +34,7 @@ fn project_cpu(
     forces: &FluidForces,
 ) -> FluidState {
     let mut cpu = FluidCpu::new(cfg);
-    cpu.set_faces(&field.0, &field.1);
+    cpu.set_faces(&field.0, &field.1, &[]);
     cpu.step(0.0, forces);
     cpu.state()
 }
@@ -46,7 +46,7 @@ fn project_gpu(
     forces: &FluidForces,
 ) -> FluidState {
     let mut solver = FluidSolver::new(gpu, cfg).expect("solver");
-    solver.write_faces(&gpu.queue, &field.0, &field.1);
+    solver.write_faces(&gpu.queue, &field.0, &field.1, &[]);
     gpu_step(gpu, &mut solver, 0.0, forces);
     solver.read_state(gpu).expect("read-back")
 }
@@ -338,7 +338,7 @@ fn confinement_force(n: u32) -> f64 {
         .map(|k| at((k % n) as f32 + 0.5, (k / n) as f32)[1])
         .collect();
     let mut cpu = FluidCpu::new(&cfg);
-    cpu.set_faces(&u, &v);
+    cpu.set_faces(&u, &v, &[]);
     cpu.vorticity(1.0);
     let s = cpu.state();
     let before = u.iter().chain(&v);
@@ -371,12 +371,12 @@ fn uniform_flow_stays_uniform_under_periodic_advection() {
             pressure_solver: PressureSolver::Multigrid,
             ..config(32, 16.0, Boundary::Periodic)
         };
-        let half = cfg.faces() / 2;
+        let half = cfg.layer_faces();
         let (u, v) = (vec![1.3f32; half], vec![-0.7f32; half]);
         let mut solver = FluidSolver::new(&gpu, &cfg).expect("solver");
-        solver.write_faces(&gpu.queue, &u, &v);
+        solver.write_faces(&gpu.queue, &u, &v, &[]);
         let mut cpu = FluidCpu::new(&cfg);
-        cpu.set_faces(&u, &v);
+        cpu.set_faces(&u, &v, &[]);
         let dt = 1.0 / 30.0;
         for _ in 0..40 {
             gpu_step(&gpu, &mut solver, dt, &FluidForces::default());

@@ -49,12 +49,34 @@ fn u_at(s: &FluidState, x: f32, z: f32) -> f32 {
 
 #[test]
 fn the_scroll_matches_its_twin_exactly_and_keeps_the_air_in_place() {
+    scroll_matches_twin(1);
+}
+
+#[test]
+fn a_3d_grid_scrolls_every_layer_exactly_as_its_twin() {
+    scroll_matches_twin(3);
+}
+
+fn scroll_matches_twin(layers: u32) {
     let gpu = common::gpu();
     let n = 32u32;
-    let cfg = following(n, 32.0);
+    let cfg = FluidConfig {
+        layers,
+        ..following(n, 32.0)
+    };
     let mut solver = FluidSolver::new(&gpu, &cfg).expect("solver");
-    let (u, v) = random_faces(n as usize, Boundary::Open, 7, 2.0);
-    solver.write_faces(&gpu.queue, &u, &v);
+    let (mut u, mut v) = (Vec::new(), Vec::new());
+    for k in 0..layers {
+        let (lu, lv) = random_faces(n as usize, Boundary::Open, 7 + u64::from(k), 2.0);
+        u.extend(lu);
+        v.extend(lv);
+    }
+    let w: Vec<f32> = if layers > 1 {
+        fluid_common::random_values((n * n * (layers + 1)) as usize, 99)
+    } else {
+        Vec::new()
+    };
+    solver.write_faces(&gpu.queue, &u, &v, &w);
     // One step, so that the pressure is not zero either.
     gpu_step(&gpu, &mut solver, 1.0 / 30.0, &FluidForces::default());
     assert_eq!(
@@ -74,19 +96,19 @@ fn the_scroll_matches_its_twin_exactly_and_keeps_the_air_in_place() {
             "the grid moves by whole cells with the camera"
         );
         let after = solver.read_state(&gpu).expect("read-back");
-        let (eu, ev, ep) = scroll_grids(
+        let expected = scroll_grids(
             n as usize,
-            &before.u,
-            &before.v,
+            layers as usize,
+            (&before.u, &before.v, &before.w),
             &before.pressure,
             [dx.clamp(-33, 33) as i32, dz.clamp(-33, 33) as i32],
         );
         assert!(
-            eu == after.u && ev == after.v,
-            "faces differ from the twin ({dx}, {dz})"
+            expected.u == after.u && expected.v == after.v && expected.w == after.w,
+            "faces differ from the twin ({dx}, {dz}), {layers} layers"
         );
         assert!(
-            ep == after.pressure,
+            expected.pressure == after.pressure,
             "pressure differs from the twin ({dx}, {dz})"
         );
         let moved = [

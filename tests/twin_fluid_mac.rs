@@ -95,9 +95,9 @@ fn run(
 ) -> (Diff, Option<Vec<(&'static str, f64)>>) {
     let dt = 1.0 / 30.0;
     let mut solver = FluidSolver::new(gpu, cfg).expect("64² fits any adapter");
-    solver.write_faces(&gpu.queue, &start.0, &start.1);
+    solver.write_faces(&gpu.queue, &start.0, &start.1, &[]);
     let mut cpu = FluidCpu::new(cfg);
-    cpu.set_faces(&start.0, &start.1);
+    cpu.set_faces(&start.0, &start.1, &[]);
     for step in 0..steps {
         let f = forces_at(step as f32 * dt);
         gpu_step(gpu, &mut solver, dt, &f);
@@ -125,7 +125,7 @@ fn each_pass_matches_its_twin_after_one_step() {
         let base = config(n, 32.0, boundary);
         // 8 m/s on a 0.5 m grid: traces of half a cell per step, across cell borders.
         let random = random_faces(n as usize, boundary, 11, 8.0);
-        let still = (vec![0.0; base.faces() / 2], vec![0.0; base.faces() / 2]);
+        let still = (vec![0.0; base.layer_faces()], vec![0.0; base.layer_faces()]);
         type Case<'a> = (
             &'a str,
             FluidConfig,
@@ -264,7 +264,7 @@ fn fifty_steps_match_the_twin_for_every_boundary() {
             ),
         ];
         for (name, cfg) in variants {
-            let still = (vec![0.0; cfg.faces() / 2], vec![0.0; cfg.faces() / 2]);
+            let still = (vec![0.0; cfg.layer_faces()], vec![0.0; cfg.layer_faces()]);
             let (d, ms) = run(&gpu, &cfg, &still, 50, &forces);
             let tolerance = if cfg.vorticity == 0.0 {
                 RUN_TOLERANCE

@@ -358,6 +358,18 @@ pub struct Fluid {
     /// cells that enter take the old grid's edge values), or 0: the grid covers the terrain
     /// square. For unbounded terrains, where a terrain-sized grid would have huge cells.
     pub extent: f32,
+    /// Layers of air over the terrain (1 = the 2D solver). With more, the grid is 3D:
+    /// layers of `layer_height` that follow the terrain (layer k spans k·dy to (k+1)·dy above
+    /// the ground under it), the ground and the top of the last layer closed, a vertical
+    /// velocity w on the faces between layers; blades read the layer at their own height.
+    pub layers: u32,
+    /// Thickness dy of one layer in metres (3D grid only).
+    pub layer_height: f32,
+    /// Drag of the ground and the grass on the air in 1/s, felt by the horizontal wind of
+    /// layer k as c / (k + ½) (strongest at the ground, fading upwards like the log profile
+    /// of a boundary layer), so that the wind grows with the height and tall grass bends
+    /// more. 3D grid only (one layer has no height to grow over).
+    pub ground_drag: f32,
 }
 
 impl Default for Fluid {
@@ -380,6 +392,9 @@ impl Default for Fluid {
             per_cell: false,
             obstacles: true,
             extent: 0.0,
+            layers: 1,
+            layer_height: 0.5,
+            ground_drag: 2.0,
         }
     }
 }

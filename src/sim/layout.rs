@@ -86,13 +86,15 @@ pub struct SimParams {
     /// Wind grid: x, z of its corner, cell size, response (force per m/s of air speed).
     pub fluid_grid: [f32; 4],
     /// Wind grid: resolution, source mask (`WIND_ANALYTIC | WIND_FLUID`), 1 = per-cell
-    /// sampling (CWD-Sim grouping), unused.
+    /// sampling (CWD-Sim grouping), layers (1 = 2D).
     pub fluid_info: [u32; 4],
     /// Blades per patch (the update walks the patch list).
     pub patch_size: u32,
     /// Patches in the field (the update list starts at `patch_count + 1`).
     pub patch_count: u32,
-    pub _pad: [u32; 2],
+    /// Wind grid: thickness of a layer in metres (3D grids).
+    pub fluid_layer_height: f32,
+    pub _pad: u32,
 }
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.

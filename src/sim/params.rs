@@ -63,7 +63,13 @@ pub fn sim_params(
         terrain_size / resolution as f32,
         wind.fluid.response,
     ];
-    p.fluid_info = [resolution, mask, wind.fluid.per_cell as u32, 0];
+    let layers = if uses_fluid {
+        wind.fluid.layers.max(1)
+    } else {
+        1
+    };
+    p.fluid_info = [resolution, mask, wind.fluid.per_cell as u32, layers];
+    p.fluid_layer_height = wind.fluid.layer_height;
     if let Some(s) = &wind.point {
         p.point_wind = [s.position.0, s.position.1, s.position.2, s.strength];
         p.point_wind_shape = [s.radius, s.frequency, 0.0, 0.0];

@@ -60,42 +60,62 @@ pub fn analytic_wind(p: Vec3, time: f32, params: &SimParams) -> Vec3 {
 /// The fluid solver's velocity grid as the blade update reads it.
 #[derive(Clone, Copy, Debug)]
 pub struct WindGrid<'a> {
-    /// resolution² cells, row-major, x fastest; (u, v) along (x, z) in m/s.
+    /// resolution² cells per layer, layer 0 first, row-major, x fastest; (u, v) along
+    /// (x, z) in m/s.
     pub velocity: &'a [[f32; 2]],
 }
 
-fn grid_at(grid: &WindGrid, i: i32, j: i32, n: i32) -> Vec2 {
-    let c = grid.velocity[(j.clamp(0, n - 1) * n + i.clamp(0, n - 1)) as usize];
+fn grid_at(grid: &WindGrid, i: i32, j: i32, k: i32, n: i32) -> Vec2 {
+    let c = grid.velocity[((k * n + j.clamp(0, n - 1)) * n + i.clamp(0, n - 1)) as usize];
     Vec2::new(c[0], c[1])
 }
 
-/// Air velocity at a world position (bilinear, or per cell); the twin of `fluid_velocity`
-/// in `update.wgsl`.
-pub fn sample_grid(grid: &WindGrid, p: Vec3, params: &SimParams) -> Vec2 {
-    let n = params.fluid_info[0] as i32;
-    let fg = params.fluid_grid;
-    let g = (Vec2::new(p.x, p.z) - Vec2::new(fg[0], fg[1])) / fg[2];
-    if params.fluid_info[2] != 0 {
+/// `fluid_layer_velocity`: bilinear in layer k (or the cell's value, per cell).
+fn layer_velocity(grid: &WindGrid, g: Vec2, k: i32, n: i32, per_cell: bool) -> Vec2 {
+    if per_cell {
         let c = g.floor();
-        return grid_at(grid, c.x as i32, c.y as i32, n);
+        return grid_at(grid, c.x as i32, c.y as i32, k, n);
     }
     let q = (g - 0.5).clamp(Vec2::ZERO, Vec2::splat((n - 1) as f32));
     let c = q.floor();
     let f = q - c;
     let (ci, cj) = (c.x as i32, c.y as i32);
-    let a = grid_at(grid, ci, cj, n).lerp(grid_at(grid, ci + 1, cj, n), f.x);
-    let b = grid_at(grid, ci, cj + 1, n).lerp(grid_at(grid, ci + 1, cj + 1, n), f.x);
+    let a = grid_at(grid, ci, cj, k, n).lerp(grid_at(grid, ci + 1, cj, k, n), f.x);
+    let b = grid_at(grid, ci, cj + 1, k, n).lerp(grid_at(grid, ci + 1, cj + 1, k, n), f.x);
     a.lerp(b, f.y)
 }
 
-/// w_i(v0): the analytic functions and/or the fluid grid, as the scene chooses.
-pub fn wind_at(p: Vec3, params: &SimParams, grid: &WindGrid) -> Vec3 {
+/// Air velocity at a world position `height` metres above the ground (bilinear, or per
+/// cell; in a 3D grid linear between the two layers around that height); the twin of
+/// `fluid_velocity` in `wind_sample.wgsl`.
+pub fn sample_grid(grid: &WindGrid, p: Vec3, height: f32, params: &SimParams) -> Vec2 {
+    let n = params.fluid_info[0] as i32;
+    let layers = params.fluid_info[3].max(1) as i32;
+    let per_cell = params.fluid_info[2] != 0;
+    let fg = params.fluid_grid;
+    let g = (Vec2::new(p.x, p.z) - Vec2::new(fg[0], fg[1])) / fg[2];
+    if layers == 1 {
+        return layer_velocity(grid, g, 0, n, per_cell);
+    }
+    let y = height / params.fluid_layer_height;
+    if per_cell {
+        return layer_velocity(grid, g, (y.floor() as i32).clamp(0, layers - 1), n, true);
+    }
+    let q = (y - 0.5).clamp(0.0, (layers - 1) as f32);
+    let k = (q.floor() as i32).min(layers - 2);
+    let t = q - k as f32;
+    layer_velocity(grid, g, k, n, false).lerp(layer_velocity(grid, g, k + 1, n, false), t)
+}
+
+/// w_i: the analytic functions at p and/or the fluid grid at p, `height` above the ground,
+/// as the scene chooses.
+pub fn wind_at(p: Vec3, height: f32, params: &SimParams, grid: &WindGrid) -> Vec3 {
     let mut w = Vec3::ZERO;
     if params.fluid_info[1] & WIND_ANALYTIC != 0 {
         w += analytic_wind(p, params.time, params);
     }
     if params.fluid_info[1] & WIND_FLUID != 0 {
-        let v = sample_grid(grid, p, params) * params.fluid_grid[3];
+        let v = sample_grid(grid, p, height, params) * params.fluid_grid[3];
         w += Vec3::new(v.x, 0.0, v.y);
     }
     w
@@ -270,7 +290,7 @@ pub fn update_blade(
     // Eq. 5–6: front gravity.
     let gravity = g_env + 0.25 * g_env.length() * front;
     // Eq. 7–8: wind with the alignment θ.
-    let wi = wind_at(v0, params, grid);
+    let wi = wind_at(v0, height, params, grid);
     let mut wind = Vec3::ZERO;
     let wl = wi.length();
     let tip = v2 - v0;

@@ -30,9 +30,10 @@ pub struct ArrowGpu {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct ObstacleGpu {
-    /// x, z centre, radius, unused.
+    /// x, z centre, radius, the centre's height above the ground under it (read by a 3D
+    /// grid only, whose cells are solid inside the sphere; a 2D grid takes the circle).
     pub circle: [f32; 4],
-    /// x, z velocity in m/s, unused ×2.
+    /// x, z, y velocity in m/s, unused.
     pub velocity: [f32; 4],
 }
 
@@ -54,7 +55,10 @@ pub struct MgParams {
     /// What `prolong` multiplies the next coarser level's edge value by for a cell beyond
     /// an open border (`reference::fluid::multigrid::open_ghost`).
     pub open_ghost: f32,
-    pub _pad: [u32; 2],
+    /// Layers of the grid (every level has them all).
+    pub layers: u32,
+    /// H² / dy²: the weight of a vertical face relative to a horizontal one.
+    pub vertical: f32,
 }
 
 /// Uniforms of every fluid pass.
@@ -78,11 +82,16 @@ pub struct FluidParams {
     pub boundary: u32,
     pub arrow_count: u32,
     pub obstacle_count: u32,
+    /// dy (layer thickness, m), 1/dy, νΔt/dy² (0 on a 2D grid), ground drag (1/s, 0 on
+    /// a 2D grid).
+    pub layer: [f32; 4],
+    pub layers: u32,
+    pub _pad: [u32; 3],
 }
 
 const _: () = assert!(std::mem::size_of::<ArrowGpu>() == 32);
 const _: () = assert!(std::mem::size_of::<ObstacleGpu>() == 32);
-const _: () = assert!(std::mem::size_of::<FluidParams>() == 80);
+const _: () = assert!(std::mem::size_of::<FluidParams>() == 112);
 const _: () = assert!(std::mem::size_of::<MgParams>() == 32);
 
 /// Everything that pushes the air during one step, in world units.

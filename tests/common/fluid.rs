@@ -28,6 +28,9 @@ pub fn config(resolution: u32, size: f32, boundary: Boundary) -> FluidConfig {
         boundary,
         advection: Advection::SemiLagrangian,
         follow: false,
+        layers: 1,
+        layer_height: 1.0,
+        ground_drag: 0.0,
     }
 }
 

@@ -198,7 +198,7 @@ pub fn top_offset(
     h: f32,
 ) -> Vec3 {
     let top = root + Vec3::Y * h;
-    let w = wind_at(top, sim, grid);
+    let w = wind_at(top, h, sim, grid);
     let mut off = Vec3::new(w.x, 0.0, w.z) * p.shape[0] * h;
     for s in spheres.iter().take(p.info[3] as usize) {
         let reach = s[3] + h * p.shape[1];

@@ -30,6 +30,9 @@ const VISCOSITY: Allowed = Allowed::closed(0.0, 10.0, "m²/s");
 const DIFFUSION_ITERATIONS: Integers = Integers::new(1, 200, "");
 const RESPONSE: Allowed = Allowed::closed(0.0, 100.0, "1/s");
 /// 0 (the terrain square) or the side of a grid that follows the camera.
+const LAYERS: Integers = Integers::new(1, 16, "layers");
+const LAYER_HEIGHT: Allowed = Allowed::closed(0.05, 100.0, "m");
+const GROUND_DRAG: Allowed = Allowed::closed(0.0, 100.0, "1/s");
 const EXTENT: Allowed = Allowed::closed(0.0, 100000.0, "m");
 const GUIDE_RADIUS_TEXT: &str = "0 < radius <= terrain.size m";
 
@@ -90,6 +93,9 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         ("wind.fluid.per_cell", Rule::Bool),
         ("wind.fluid.obstacles", Rule::Bool),
         ("wind.fluid.extent", Rule::Real(EXTENT)),
+        ("wind.fluid.layers", Rule::Integer(LAYERS)),
+        ("wind.fluid.layer_height", Rule::Real(LAYER_HEIGHT)),
+        ("wind.fluid.ground_drag", Rule::Real(GROUND_DRAG)),
         (
             "wind.guides",
             Rule::Text("a list of guides (strength: .., radius: .., points: [..])"),
@@ -201,6 +207,9 @@ fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
     )?;
     check.real(&at("response"), fluid.response, RESPONSE)?;
     check.real(&at("extent"), fluid.extent, EXTENT)?;
+    check.integer(&at("layers"), fluid.layers, LAYERS)?;
+    check.real(&at("layer_height"), fluid.layer_height, LAYER_HEIGHT)?;
+    check.real(&at("ground_drag"), fluid.ground_drag, GROUND_DRAG)?;
     // A grid that follows the camera has edges where the air enters and leaves; wrapping
     // them around would join air from opposite sides of the camera.
     if fluid.extent > 0.0 && fluid.boundary == Boundary::Periodic {

@@ -13,6 +13,9 @@ pub const MAX_RESOLUTION: u32 = 2048;
 pub const MAX_MULTIGRID_CYCLES: u32 = 20;
 /// The coarsest multigrid level is at least this many cells per side.
 pub const MIN_LEVEL_SIZE: u32 = 4;
+/// Most layers of a 3D grid (each column is solved as one line by the multigrid smoother,
+/// in a private array of this size).
+pub const MAX_LAYERS: u32 = 16;
 
 /// How the solver is set up; fixed for the life of a [`super::FluidSolver`] except where
 /// [`super::FluidSolver::apply_settings`] says.
@@ -43,6 +46,12 @@ pub struct FluidConfig {
     /// The grid follows the camera ([`super::FluidSolver::follow`]): `origin` is only
     /// where it starts.
     pub follow: bool,
+    /// Layers of air (1 = 2D); see `scene::Fluid::layers`.
+    pub layers: u32,
+    /// Thickness dy of a layer in metres.
+    pub layer_height: f32,
+    /// Ground drag c in 1/s (layer k's horizontal wind feels c / (k + ½)); 3D only.
+    pub ground_drag: f32,
 }
 
 impl FluidConfig {
@@ -67,7 +76,34 @@ impl FluidConfig {
             diffusion_iterations: fluid.diffusion_iterations,
             boundary: fluid.boundary,
             advection: fluid.advection,
+            layers: fluid.layers,
+            layer_height: fluid.layer_height,
+            ground_drag: fluid.ground_drag,
         }
+    }
+
+    /// A 2D grid (one layer) with the given settings; tests and benches build configs
+    /// field by field and take the 2D defaults from here.
+    pub fn flat(self) -> Self {
+        Self {
+            layers: 1,
+            ..self
+        }
+    }
+
+    /// Cells of one layer (n²).
+    pub fn layer_cells(&self) -> usize {
+        self.resolution as usize * self.resolution as usize
+    }
+
+    /// u faces of one layer ((n + 1) · n; as many v faces).
+    pub fn layer_faces(&self) -> usize {
+        self.resolution as usize * (self.resolution as usize + 1)
+    }
+
+    /// Whether the grid has more than one layer.
+    pub fn is_3d(&self) -> bool {
+        self.layers > 1
     }
 
     /// The corner (in whole cells from the world origin) of a following grid centred on the
@@ -82,14 +118,17 @@ impl FluidConfig {
         })
     }
 
-    /// Cells in the grid.
+    /// Cells in the grid (n² per layer).
     pub fn cells(&self) -> usize {
-        self.resolution as usize * self.resolution as usize
+        self.layer_cells() * self.layers as usize
     }
 
-    /// Faces in the grid: (n + 1) · n carrying u, then n · (n + 1) carrying v.
+    /// Faces in the grid: per layer (n + 1) · n carrying u, then per layer n · (n + 1)
+    /// carrying v, then n² carrying w on each of the layers + 1 horizontal planes (the
+    /// ground, between layers, the top).
     pub fn faces(&self) -> usize {
-        2 * self.resolution as usize * (self.resolution as usize + 1)
+        let l = self.layers as usize;
+        2 * l * self.layer_faces() + (l + 1) * self.layer_cells()
     }
 
     /// Jacobi iterations a step runs: `pressure_iterations`, rounded up to even when
@@ -172,6 +211,18 @@ impl FluidConfig {
                 self.multigrid_cycles
             )));
         }
+        if !(1..=MAX_LAYERS).contains(&self.layers) {
+            return Err(Error::Invalid(format!(
+                "fluid.layers = {} is out of range: allowed 1 <= layers <= {MAX_LAYERS}",
+                self.layers
+            )));
+        }
+        if !(self.layer_height.is_finite() && self.layer_height > 0.0) {
+            return Err(Error::Invalid(format!(
+                "fluid.layer_height = {} m is out of range: allowed a positive number",
+                self.layer_height
+            )));
+        }
         if !(self.cell_size.is_finite() && self.cell_size > 0.0) {
             return Err(Error::Invalid(format!(
                 "fluid cell size {} m is not a positive number (terrain size / resolution)",
@@ -182,6 +233,7 @@ impl FluidConfig {
             ("fluid.vorticity", self.vorticity),
             ("fluid.dissipation", self.dissipation),
             ("fluid.viscosity", self.viscosity),
+            ("fluid.ground_drag", self.ground_drag),
         ];
         for (name, value) in nonneg {
             if !(value.is_finite() && value >= 0.0) {
@@ -214,7 +266,25 @@ impl FluidConfig {
             boundary: self.boundary_id(),
             arrow_count: forces.arrows.len().min(MAX_ARROWS) as u32,
             obstacle_count: forces.obstacles.len().min(MAX_OBSTACLES) as u32,
+            layer: self.layer_uniforms(dt),
+            layers: self.layers,
+            _pad: [0; 3],
         }
+    }
+
+    /// `FluidParams::layer`: dy, 1/dy, the vertical diffusion factor νΔt/dy² and the ground
+    /// drag, the last two 0 on a 2D grid so that its arithmetic is the 2D solver's exactly.
+    fn layer_uniforms(&self, dt: f32) -> [f32; 4] {
+        let dy = self.layer_height;
+        if !self.is_3d() {
+            return [dy, 1.0 / dy, 0.0, 0.0];
+        }
+        [
+            dy,
+            1.0 / dy,
+            self.viscosity * dt / (dy * dy),
+            self.ground_drag,
+        ]
     }
 }
 
@@ -228,17 +298,29 @@ pub fn boundary_id(boundary: Boundary) -> u32 {
 }
 
 /// A snapshot of the solver's grids on the host (read-back or the CPU twin), after a step.
+/// Every per-cell array holds n² cells per layer, layer 0 (at the ground) first, row-major,
+/// x fastest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FluidState {
     pub resolution: u32,
+    /// Layers of air (1 = a 2D grid).
+    pub layers: u32,
     pub cell_size: f32,
+    /// Thickness of a layer in metres.
+    pub layer_height: f32,
     pub origin: [f32; 2],
-    /// Cell-centred (u, v) in m/s, row-major, x fastest: what the blades read.
+    /// Cell-centred (u, v) in m/s: what the blades read.
     pub velocity: Vec<[f32; 2]>,
-    /// u (m/s) on the vertical faces, (n + 1) · n, face (i, j) at index j (n + 1) + i.
+    /// u (m/s) on the faces normal to x, (n + 1) · n per layer, face (i, j, k) at index
+    /// k (n + 1) n + j (n + 1) + i.
     pub u: Vec<f32>,
-    /// v (m/s) on the horizontal faces, n · (n + 1), face (i, j) at index j n + i.
+    /// v (m/s) on the faces normal to z, n · (n + 1) per layer, face (i, j, k) at index
+    /// k n (n + 1) + j n + i.
     pub v: Vec<f32>,
+    /// w (m/s, up) on the n² faces of each of the layers + 1 planes (the ground, between
+    /// layers, the top), face (i, j, k) at index k n² + j n + i; the ground and the top
+    /// hold 0.
+    pub w: Vec<f32>,
     /// 0 = fluid, k + 1 = inside obstacle k, per cell.
     pub solid: Vec<u32>,
     /// Pressure of the last solve (in m²/s: the Δt/ρ factor is folded in).
@@ -248,12 +330,26 @@ pub struct FluidState {
 }
 
 impl FluidState {
-    /// Cell-centred velocity of cell (i, j).
+    /// Cell-centred velocity of cell (i, j) of the lowest layer.
     pub fn at(&self, i: u32, j: u32) -> [f32; 2] {
-        self.velocity[(j * self.resolution + i) as usize]
+        self.at_layer(i, j, 0)
     }
 
-    /// Largest cell-centred speed in the grid, in m/s.
+    /// Cell-centred velocity of cell (i, j) of layer `k`.
+    pub fn at_layer(&self, i: u32, j: u32, k: u32) -> [f32; 2] {
+        let n = self.resolution;
+        self.velocity[((k * n + j) * n + i) as usize]
+    }
+
+    /// w at the centre of cell (i, j, k): the mean of its floor and ceiling.
+    pub fn w_at(&self, i: u32, j: u32, k: u32) -> f32 {
+        let n = self.resolution as usize;
+        let plane = n * n;
+        let c = j as usize * n + i as usize;
+        0.5 * (self.w[k as usize * plane + c] + self.w[(k as usize + 1) * plane + c])
+    }
+
+    /// Largest cell-centred horizontal speed in the grid, in m/s.
     pub fn max_speed(&self) -> f32 {
         self.velocity
             .iter()
@@ -261,19 +357,29 @@ impl FluidState {
             .fold(0.0, f32::max)
     }
 
-    /// The divergence (1/s) of the face velocities `u`, `v` per cell, on the solver's own
-    /// stencil: (u(i+1, j) − u(i, j) + v(i, j+1) − v(i, j)) / h. Computed in f64 so that
+    /// The divergence (1/s) of the face velocities per cell, on the solver's own stencil:
+    /// (u(i+1) − u(i) + v(j+1) − v(j)) / h + (w(k+1) − w(k)) / dy. Computed in f64 so that
     /// the measure adds no rounding of its own.
     pub fn face_divergence(&self) -> Vec<f64> {
         let n = self.resolution as usize;
+        let layers = self.layers.max(1) as usize;
         let h = f64::from(self.cell_size);
-        let mut out = Vec::with_capacity(n * n);
-        for j in 0..n {
-            for i in 0..n {
-                let du =
-                    f64::from(self.u[j * (n + 1) + i + 1]) - f64::from(self.u[j * (n + 1) + i]);
-                let dv = f64::from(self.v[(j + 1) * n + i]) - f64::from(self.v[j * n + i]);
-                out.push((du + dv) / h);
+        let dy = f64::from(self.layer_height);
+        let (lu, plane) = (n * (n + 1), n * n);
+        let mut out = Vec::with_capacity(plane * layers);
+        for k in 0..layers {
+            for j in 0..n {
+                for i in 0..n {
+                    let u = |i: usize| f64::from(self.u[k * lu + j * (n + 1) + i]);
+                    let v = |j: usize| f64::from(self.v[k * lu + j * n + i]);
+                    let w = |k: usize| {
+                        self.w
+                            .get(k * plane + j * n + i)
+                            .map_or(0.0, |w| f64::from(*w))
+                    };
+                    let dw = if layers > 1 { (w(k + 1) - w(k)) / dy } else { 0.0 };
+                    out.push((u(i + 1) - u(i) + v(j + 1) - v(j)) / h + dw);
+                }
             }
         }
         out

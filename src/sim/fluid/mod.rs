@@ -1,8 +1,10 @@
 //! The Stable-Fluids wind solver on the GPU (CWD-Sim Eq. 4–10 after Dobryakov's WebGL fluid,
-//! Stam's solver as the prairie thesis lays it out) on a 2D staggered (MAC) grid over the
-//! terrain: u on the vertical faces, v on the horizontal ones, pressure at the cell centres,
-//! so that divergence, pressure Laplacian and gradient share one compact stencil and a
-//! converged solve leaves no divergence but the solver's residual. One step per frame, each
+//! Stam's solver as the prairie thesis lays it out) on a staggered (MAC) grid over the
+//! terrain: u and v on the faces normal to x and z, pressure at the cell centres, so that
+//! divergence, pressure Laplacian and gradient share one compact stencil and a converged
+//! solve leaves no divergence but the solver's residual. With `wind.fluid.layers` > 1 the
+//! grid is 3D: layers of air that follow the terrain, w on the faces between them, the
+//! ground and the top closed (the layout is in `shaders/fluid_common.wgsl`). One step per frame, each
 //! stage its own timed compute pass:
 //!
 //! 1. `advect` – self-advection of every face from its own position, semi-Lagrangian or
@@ -22,8 +24,8 @@
 //! buffers rather than textures so that the blade update can read them with plain indexing
 //! and so that the solver works on adapters without filterable float textures. Every step
 //! ends with the cell-centred velocity (the mean of each cell's two faces per axis) in the
-//! same buffer ([`FluidSolver::velocity`], `array<vec2<f32>>`), so every consumer binds it
-//! once and needs to know nothing of the staggered grid. The CPU twin of every pass is
+//! same buffer ([`FluidSolver::velocity`], `array<vec2<f32>>`, n² per layer), so every
+//! consumer binds it once and needs to know nothing of the staggered grid. The CPU twin of every pass is
 //! [`crate::sim::reference::fluid::FluidCpu`].
 
 mod config;
@@ -44,8 +46,8 @@ use crate::scene::{Advection, Fluid, PressureSolver};
 
 pub use super::reference::fluid::sample_velocity;
 pub use config::{
-    boundary_id, FluidConfig, FluidState, MAX_MULTIGRID_CYCLES, MAX_RESOLUTION, MIN_LEVEL_SIZE,
-    MIN_RESOLUTION,
+    boundary_id, FluidConfig, FluidState, MAX_LAYERS, MAX_MULTIGRID_CYCLES, MAX_RESOLUTION,
+    MIN_LEVEL_SIZE, MIN_RESOLUTION,
 };
 
 /// The passes of one step, in the order of their timestamp pairs.
@@ -221,14 +223,17 @@ impl FluidSolver {
     pub fn new(gpu: &Gpu, config: &FluidConfig) -> Result<Self> {
         config.validate()?;
         let n = config.resolution;
-        let what = format!("a fluid grid of {n}x{n} cells");
+        let what = format!("a fluid grid of {n}x{n}x{} cells", config.layers);
         // check_storage's own hint is about blades; say what to change for the grid.
         gpu.check_storage(&what, config.faces() as u64 * 4)
-            .and_then(|()| gpu.check_storage(&what, config.cells() as u64 * 16))
+            .and_then(|()| gpu.check_storage(&what, config.cells() as u64 * 32))
             .map_err(|e| {
-                Error::Limits(format!("{e}; for the wind grid, lower fluid.resolution"))
+                Error::Limits(format!(
+                    "{e}; for the wind grid, lower fluid.resolution or fluid.layers"
+                ))
             })?;
         gpu.check_dispatch(&what, groups_of(n + 1))?;
+        gpu.check_dispatch(&what, 3 * (config.layers + 1))?;
 
         let device = &gpu.device;
         let buffer = |label: &str, size: u64| {
@@ -259,7 +264,7 @@ impl FluidSolver {
         let divergence = buffer("divergence", cells * 4);
         let curl = buffer("curl", cells * 4);
         let solid = buffer("solid", cells * 4);
-        let weights = buffer("weights", cells * 16);
+        let weights = buffer("weights", cells * 32);
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.fluid.params"),
             size: std::mem::size_of::<FluidParams>() as u64,
@@ -390,7 +395,8 @@ impl FluidSolver {
     }
 
     /// The cell-centred velocity after the last step: `array<vec2<f32>>`, resolution²
-    /// cells, STORAGE | COPY_SRC | COPY_DST. Always the same buffer object.
+    /// cells per layer, layer 0 (at the ground) first, STORAGE | COPY_SRC | COPY_DST. Always
+    /// the same buffer object.
     pub fn velocity(&self) -> &wgpu::Buffer {
         &self.velocity
     }
@@ -434,6 +440,7 @@ impl FluidSolver {
                 encoder,
                 clamped,
                 n,
+                self.config.layers,
                 [&self.faces[0], &self.faces[1]],
                 [&self.pressure[0], &self.pressure[1]],
                 self.pressure_current,
@@ -476,6 +483,7 @@ impl FluidSolver {
     pub fn apply_settings(&mut self, fluid: &Fluid, terrain_size: f32) -> bool {
         let next = FluidConfig::from_scene(fluid, terrain_size);
         if next.resolution != self.config.resolution
+            || next.layers != self.config.layers
             || next.cell_size != self.config.cell_size
             || next.diffuses() != self.config.diffuses()
             || next.multigrid_levels() != self.multigrid.sizes()
@@ -555,6 +563,7 @@ impl FluidSolver {
     /// queries, their resolve. Call `prepare` first.
     pub fn encode(&mut self, encoder: &mut wgpu::CommandEncoder) {
         let n = self.config.resolution;
+        let layers = self.config.layers;
         let (cells, faces) = (groups_of(n), groups_of(n + 1));
         let g = &self.groups;
         let k = &self.kernels;
@@ -563,10 +572,10 @@ impl FluidSolver {
             pass.set_pipeline(&kernel.pipeline);
             pass.set_bind_group(0, group, &[]);
             if face {
-                // z = 0: u faces, z = 1: v faces.
-                pass.dispatch_workgroups(faces, faces, 2);
+                // z = axis + 3 k: u, v, w faces of layer (plane) k.
+                pass.dispatch_workgroups(faces, faces, 3 * (layers + 1));
             } else {
-                pass.dispatch_workgroups(cells, cells, 1);
+                pass.dispatch_workgroups(cells, cells, layers);
             }
         };
         {
@@ -673,35 +682,63 @@ impl FluidSolver {
             self.config.faces() as u64 * 4,
         )?);
         let read = |b: &wgpu::Buffer, bytes: u64| read_buffer(gpu, b, cells * bytes);
-        let (u, v) = faces.split_at(n * (n + 1));
+        let uv = n * (n + 1) * self.config.layers as usize;
+        let (u, rest) = faces.split_at(uv);
+        let (v, w) = rest.split_at(uv);
         Ok(FluidState {
             resolution: self.config.resolution,
+            layers: self.config.layers,
             cell_size: self.config.cell_size,
+            layer_height: self.config.layer_height,
             origin: self.origin,
             velocity: bytemuck::pod_collect_to_vec(&read(&self.velocity, 8)?),
             u: u.to_vec(),
             v: v.to_vec(),
+            w: w.to_vec(),
             solid: bytemuck::pod_collect_to_vec(&read(&self.solid, 4)?),
             pressure: bytemuck::pod_collect_to_vec(&read(self.pressure(), 4)?),
             divergence: bytemuck::pod_collect_to_vec(&read(&self.divergence, 4)?),
         })
     }
 
-    /// Replaces the face velocities, u then v as in [`FluidState`] (tests, resets). On a
-    /// periodic grid the last face of each axis must equal the first (the kernels keep
-    /// them equal; [`crate::sim::reference::fluid::periodic_faces`] makes them so).
+    /// Replaces the face velocities, u, v and w as in [`FluidState`] (tests, resets); an
+    /// empty `w` means still vertical air. On a periodic grid the last face of each axis
+    /// must equal the first (the kernels keep them equal;
+    /// [`crate::sim::reference::fluid::periodic_faces`] makes them so).
     ///
     /// # Panics
-    /// If `u` or `v` does not hold (n + 1) · n faces.
-    pub fn write_faces(&self, queue: &wgpu::Queue, u: &[f32], v: &[f32]) {
-        let half = self.config.faces() / 2;
-        assert!(
-            u.len() == half && v.len() == half,
-            "write_faces needs (n + 1) · n values per axis"
-        );
-        queue.write_buffer(&self.faces[0], 0, bytemuck::cast_slice(u));
-        queue.write_buffer(&self.faces[0], half as u64 * 4, bytemuck::cast_slice(v));
+    /// If `u` or `v` does not hold (n + 1) · n faces per layer, or `w` is neither empty nor
+    /// n² per plane.
+    pub fn write_faces(&self, queue: &wgpu::Queue, u: &[f32], v: &[f32], w: &[f32]) {
+        let faces = face_vector(&self.config, u, v, w);
+        queue.write_buffer(&self.faces[0], 0, bytemuck::cast_slice(&faces));
     }
+}
+
+/// u, v and w (still when empty) as one face array, checked against the grid.
+///
+/// # Panics
+/// If a component has the wrong length.
+pub fn face_vector(config: &FluidConfig, u: &[f32], v: &[f32], w: &[f32]) -> Vec<f32> {
+    let uv = config.layer_faces() * config.layers as usize;
+    let planes = config.layer_cells() * (config.layers as usize + 1);
+    assert!(
+        u.len() == uv && v.len() == uv,
+        "the faces need (n + 1) · n values per axis and layer"
+    );
+    assert!(
+        w.is_empty() || w.len() == planes,
+        "w needs n² values per plane (layers + 1 planes)"
+    );
+    let mut faces = Vec::with_capacity(config.faces());
+    faces.extend_from_slice(u);
+    faces.extend_from_slice(v);
+    if w.is_empty() {
+        faces.resize(config.faces(), 0.0);
+    } else {
+        faces.extend_from_slice(w);
+    }
+    faces
 }
 
 /// Which face buffer holds the field after the diffusion pass: faces[1] when it does no

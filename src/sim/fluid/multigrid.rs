@@ -10,7 +10,7 @@
 use super::kernels::{module, Kernel, Slot};
 use super::FluidConfig;
 use crate::sim::reference::fluid::multigrid::{
-    border_scale, coarsest_sweeps, open_ghost, POST_SWEEPS, PRE_SWEEPS,
+    border_scale, coarsest_sweeps, level_scales, open_ghost, POST_SWEEPS, PRE_SWEEPS,
 };
 use crate::sim::wind_layout::{MgParams, FLUID_WORKGROUP};
 
@@ -35,6 +35,7 @@ struct LevelGroups {
 /// The hierarchy, its kernels and bind groups.
 pub(super) struct Multigrid {
     sizes: Vec<u32>,
+    layers: u32,
     /// Per level, the uniforms of colour 0 and colour 1.
     params: Vec<[wgpu::Buffer; 2]>,
     coarse: Vec<Coarse>,
@@ -112,7 +113,7 @@ impl Multigrid {
             .iter()
             .enumerate()
             .map(|(k, &s)| {
-                let cells = u64::from(s) * u64::from(s);
+                let cells = u64::from(s) * u64::from(s) * u64::from(config.layers);
                 let grid = |what: &str, bytes: u64| {
                     device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some(&format!("sward.fluid.mg.level{}.{what}", k + 1)),
@@ -125,7 +126,7 @@ impl Multigrid {
                 Coarse {
                     pressure: grid("pressure", 4),
                     rhs: grid("rhs", 4),
-                    weights: grid("weights", 16),
+                    weights: grid("weights", 32),
                 }
             })
             .collect();
@@ -189,6 +190,7 @@ impl Multigrid {
             .collect();
         Self {
             sizes,
+            layers: config.layers,
             params,
             coarse,
             groups,
@@ -216,18 +218,18 @@ impl Multigrid {
 
     /// Writes every level's uniforms (the boundary can change between steps).
     pub fn prepare(&self, queue: &wgpu::Queue, config: &FluidConfig) {
-        let h = config.cell_size;
         for (l, (&size, buffers)) in self.sizes.iter().zip(&self.params).enumerate() {
-            let cell = h * (1u32 << l) as f32;
+            let (h2, vertical) = level_scales(config, l);
             for (colour, buffer) in buffers.iter().enumerate() {
                 let p = MgParams {
                     size,
                     boundary: config.boundary_id(),
-                    h2: cell * cell,
+                    h2,
                     colour: colour as u32,
                     border_scale: border_scale(l),
                     open_ghost: open_ghost(l + 1),
-                    _pad: [0; 2],
+                    layers: config.layers,
+                    vertical,
                 };
                 queue.write_buffer(buffer, 0, bytemuck::bytes_of(&p));
             }
@@ -255,7 +257,7 @@ impl Multigrid {
             if let Some(g) = &self.groups[l].coarsen {
                 let mc = self.sizes[l + 1];
                 pass.set_bind_group(0, g, &[]);
-                pass.dispatch_workgroups(groups_of(mc), groups_of(mc), 1);
+                pass.dispatch_workgroups(groups_of(mc), groups_of(mc), self.layers);
             }
         }
         let var = |l: usize| if l == 0 { variant } else { 0 };
@@ -265,14 +267,14 @@ impl Multigrid {
                 let mc = self.sizes[l + 1];
                 pass.set_pipeline(&self.restrict.pipeline);
                 pass.set_bind_group(0, &self.groups[l].restrict[var(l)], &[]);
-                pass.dispatch_workgroups(groups_of(mc), groups_of(mc), 1);
+                pass.dispatch_workgroups(groups_of(mc), groups_of(mc), self.layers);
             }
             self.sweep(pass, last, var(last), coarsest_sweeps(self.sizes[last]));
             for l in (0..last).rev() {
                 let m = self.sizes[l];
                 pass.set_pipeline(&self.prolong.pipeline);
                 pass.set_bind_group(0, &self.groups[l].prolong[var(l)], &[]);
-                pass.dispatch_workgroups(groups_of(m), groups_of(m), 1);
+                pass.dispatch_workgroups(groups_of(m), groups_of(m), self.layers);
                 self.sweep(pass, l, var(l), POST_SWEEPS);
             }
         }

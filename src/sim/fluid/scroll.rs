@@ -17,7 +17,7 @@ pub struct ScrollParams {
     /// The grid corner's move in cells.
     pub shift: [i32; 2],
     pub resolution: u32,
-    pub _pad: u32,
+    pub layers: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<ScrollParams>() == 16);
@@ -77,8 +77,9 @@ impl Scroller {
         }
     }
 
-    /// Records a scroll by `shift` cells of an `n`² grid whose latest pressure is
-    /// `pressure[current]`, and the copies back into `faces[0]` and `pressure[current]`.
+    /// Records a scroll by `shift` cells of an `n`² grid of `layers` layers whose latest
+    /// pressure is `pressure[current]`, and the copies back into `faces[0]` and
+    /// `pressure[current]`.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
@@ -86,6 +87,7 @@ impl Scroller {
         encoder: &mut wgpu::CommandEncoder,
         shift: [i32; 2],
         n: u32,
+        layers: u32,
         faces: [&wgpu::Buffer; 2],
         pressure: [&wgpu::Buffer; 2],
         current: usize,
@@ -93,10 +95,11 @@ impl Scroller {
         let p = ScrollParams {
             shift,
             resolution: n,
-            _pad: 0,
+            layers,
         };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
-        let invocations = 2 * n * (n + 1);
+        // Every face (the cells are fewer).
+        let invocations = 2 * layers * n * (n + 1) + (layers + 1) * n * n;
         let groups = invocations.div_ceil(WORKGROUP);
         let x = groups.min(MAX_GROUPS);
         {
@@ -110,7 +113,7 @@ impl Scroller {
         }
         let face_bytes = u64::from(invocations) * 4;
         encoder.copy_buffer_to_buffer(faces[1], 0, faces[0], 0, face_bytes);
-        let cell_bytes = u64::from(n * n) * 4;
+        let cell_bytes = u64::from(layers * n * n) * 4;
         encoder.copy_buffer_to_buffer(pressure[1 - current], 0, pressure[current], 0, cell_bytes);
     }
 }

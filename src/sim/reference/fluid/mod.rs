@@ -9,13 +9,13 @@
 pub mod grid;
 pub mod multigrid;
 
-use glam::Vec2;
+use glam::{IVec3, Vec2, Vec3};
 
 use crate::scene::{Advection, Boundary, PressureSolver};
 use crate::sim::fluid::{FluidConfig, FluidState};
 use crate::sim::wind_layout::{ArrowGpu, FluidForces, MAX_ARROWS, MAX_OBSTACLES};
 use grid::{
-    blend, canonical, cell_ref, clamp_pos, face_cells, face_index, face_pos, face_ref, is_wall,
+    blend3, canonical, cell_ref, clamp_pos, face_cells, face_index, face_pos, face_ref, is_wall,
     scalar_index, stencil, velocity_ref,
 };
 use multigrid::Level;
@@ -63,9 +63,29 @@ pub fn downwash_force(downwash: [f32; 4], p: Vec2) -> Vec2 {
     off * (downwash[3] * profile / dist)
 }
 
-/// Air velocity at world (x, z): bilinear between cell centres of the cell-centred
-/// velocity, clamped to the outer cell centres. The same formula as `fluid_velocity` in
-/// wind_sample.wgsl and `sample_velocity` in overlay.wgsl.
+/// `downwash_column` in fluid_splat.wgsl: the 3D downwash's weight at p (1 inside half the
+/// radius, a smoothstep to 0 at the radius).
+pub fn downwash_column(downwash: [f32; 4], p: Vec2) -> f32 {
+    let r = downwash[2];
+    if r <= 0.0 {
+        return 0.0;
+    }
+    let off = p - Vec2::new(downwash[0], downwash[1]);
+    let dist = off.dot(off).sqrt();
+    if dist >= r {
+        return 0.0;
+    }
+    let half_r = 0.5 * r;
+    if dist <= half_r {
+        return 1.0;
+    }
+    let t = (dist - half_r) / half_r;
+    1.0 - t * t * (3.0 - 2.0 * t)
+}
+
+/// Air velocity at world (x, z) in the lowest layer: bilinear between cell centres of the
+/// cell-centred velocity, clamped to the outer cell centres. The same formula as
+/// `fluid_velocity` in wind_sample.wgsl and `sample_velocity` in overlay.wgsl.
 pub fn sample_velocity(state: &FluidState, x: f32, z: f32) -> [f32; 2] {
     let n = state.resolution as i32;
     let g = (Vec2::new(x, z) - v2(state.origin)) / state.cell_size;
@@ -80,65 +100,86 @@ pub fn sample_velocity(state: &FluidState, x: f32, z: f32) -> [f32; 2] {
     (a + (b - a) * f.y).to_array()
 }
 
-/// An n² staggered grid's u faces, v faces and pressure moved by `shift` whole cells (the
-/// new cell (i, j) is the old cell (i + shift.x, j + shift.y)); what falls outside the old
-/// grid takes its nearest edge value. The twin of `scroll_grid` in `fluid_scroll.wgsl`.
+/// The grids of an n² staggered grid of `layers` layers (u, v, w faces and pressure) moved
+/// by `shift` whole cells (the new cell (i, j) is the old cell (i + shift.x, j + shift.y),
+/// in every layer); what falls outside the old grid takes its nearest edge value. The twin
+/// of `scroll_grid` in `fluid_scroll.wgsl`.
+pub struct Scrolled {
+    pub u: Vec<f32>,
+    pub v: Vec<f32>,
+    pub w: Vec<f32>,
+    pub pressure: Vec<f32>,
+}
+
+/// See [`Scrolled`].
 pub fn scroll_grids(
     n: usize,
-    u: &[f32],
-    v: &[f32],
+    layers: usize,
+    faces: (&[f32], &[f32], &[f32]),
     pressure: &[f32],
     shift: [i32; 2],
-) -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+) -> Scrolled {
     let n = n as i64;
     let (dx, dy) = (i64::from(shift[0]), i64::from(shift[1]));
-    let at = |i: i64, j: i64, w: i64, h: i64| {
-        ((j + dy).clamp(0, h - 1) * w + (i + dx).clamp(0, w - 1)) as usize
+    // Moves every w × h slab of `field` (x fastest).
+    let moved = |field: &[f32], w: i64, h: i64| -> Vec<f32> {
+        let slab = (w * h) as usize;
+        let mut out = vec![0.0; field.len()];
+        for (k, chunk) in out.chunks_mut(slab).enumerate() {
+            for j in 0..h {
+                for i in 0..w {
+                    let src = (j + dy).clamp(0, h - 1) * w + (i + dx).clamp(0, w - 1);
+                    chunk[(j * w + i) as usize] = field[k * slab + src as usize];
+                }
+            }
+        }
+        out
     };
-    let mut su = vec![0.0; u.len()];
-    for j in 0..n {
-        for i in 0..=n {
-            su[(j * (n + 1) + i) as usize] = u[at(i, j, n + 1, n)];
-        }
+    let _ = layers;
+    Scrolled {
+        u: moved(faces.0, n + 1, n),
+        v: moved(faces.1, n, n + 1),
+        w: moved(faces.2, n, n),
+        pressure: moved(pressure, n, n),
     }
-    let mut sv = vec![0.0; v.len()];
-    for j in 0..=n {
-        for i in 0..n {
-            sv[(j * n + i) as usize] = v[at(i, j, n, n + 1)];
-        }
-    }
-    let mut sp = vec![0.0; pressure.len()];
-    for j in 0..n {
-        for i in 0..n {
-            sp[(j * n + i) as usize] = pressure[at(i, j, n, n)];
-        }
-    }
-    (su, sv, sp)
 }
 
-/// Makes the last face of each axis equal to the first, as a periodic grid keeps them.
+/// Makes the last face of each horizontal axis equal to the first in every layer, as a
+/// periodic grid keeps them (`u`, `v` of n (n + 1) faces per layer).
 pub fn periodic_faces(u: &mut [f32], v: &mut [f32], n: usize) {
-    for j in 0..n {
-        u[j * (n + 1) + n] = u[j * (n + 1)];
-    }
-    for i in 0..n {
-        v[n * n + i] = v[i];
+    let per_layer = n * (n + 1);
+    for (u, v) in u.chunks_mut(per_layer).zip(v.chunks_mut(per_layer)) {
+        for j in 0..n {
+            u[j * (n + 1) + n] = u[j * (n + 1)];
+        }
+        for i in 0..n {
+            v[n * n + i] = v[i];
+        }
     }
 }
 
-/// Every face (axis, i, j) of an n² grid, u faces first, x fastest.
-fn faces_of(n: i32) -> impl Iterator<Item = (u32, i32, i32)> {
-    (0..2u32).flat_map(move |axis| {
-        let (ni, nj) = if axis == 0 { (n + 1, n) } else { (n, n + 1) };
-        (0..nj).flat_map(move |j| (0..ni).map(move |i| (axis, i, j)))
+/// Every face (axis, i, j, k) of an n² grid of `layers` layers, in buffer order.
+fn faces_of(n: i32, layers: i32) -> impl Iterator<Item = (u32, i32, i32, i32)> {
+    (0..3u32).flat_map(move |axis| {
+        let (ni, nj, nk) = match axis {
+            0 => (n + 1, n, layers),
+            1 => (n, n + 1, layers),
+            _ => (n, n, layers + 1),
+        };
+        (0..nk).flat_map(move |k| (0..nj).flat_map(move |j| (0..ni).map(move |i| (axis, i, j, k))))
     })
+}
+
+/// Every cell (i, j, k), in buffer order.
+fn cells_of(n: i32, layers: i32) -> impl Iterator<Item = IVec3> {
+    (0..layers).flat_map(move |k| (0..n).flat_map(move |j| (0..n).map(move |i| IVec3::new(i, j, k))))
 }
 
 /// The solver on the CPU: the same grids and passes as the GPU solver.
 #[derive(Clone, Debug)]
 pub struct FluidCpu {
     config: FluidConfig,
-    /// u then v, as `FluidSolver`'s face buffers.
+    /// u, v then w, as `FluidSolver`'s face buffers.
     faces: Vec<f32>,
     velocity: Vec<Vec2>,
     divergence: Vec<f32>,
@@ -158,7 +199,7 @@ impl FluidCpu {
             .multigrid_levels()
             .iter()
             .enumerate()
-            .map(|(l, &size)| Level::new(size, config.cell_size * (1u32 << l) as f32))
+            .map(|(l, &size)| Level::new(config, l, size))
             .collect();
         Self {
             config: config.clone(),
@@ -179,34 +220,50 @@ impl FluidCpu {
         self.config.resolution as i32
     }
 
-    /// 1 / h exactly as the GPU gets it (`FluidParams::origin_cell.w`).
-    fn inv_h(&self) -> f32 {
-        self.config.params(0.0, &FluidForces::default()).origin_cell[3]
+    fn layers(&self) -> i32 {
+        self.config.layers as i32
     }
 
-    /// Replaces the face velocities (u then v, as [`FluidState`] holds them).
+    /// The uniforms exactly as the GPU gets them.
+    fn uniforms(&self, dt: f32) -> crate::sim::wind_layout::FluidParams {
+        self.config.params(dt, &FluidForces::default())
+    }
+
+    /// 1 / h exactly as the GPU gets it (`FluidParams::origin_cell.w`).
+    fn inv_h(&self) -> f32 {
+        self.uniforms(0.0).origin_cell[3]
+    }
+
+    /// 1 / dy exactly as the GPU gets it (`FluidParams::layer.y`).
+    fn inv_dy(&self) -> f32 {
+        self.uniforms(0.0).layer[1]
+    }
+
+    /// Replaces the face velocities (u, v and w as [`FluidState`] holds them; an empty `w`
+    /// is still vertical air).
     ///
     /// # Panics
-    /// If `u` or `v` does not hold (n + 1) · n faces.
-    pub fn set_faces(&mut self, u: &[f32], v: &[f32]) {
-        let half = self.config.faces() / 2;
-        assert!(
-            u.len() == half && v.len() == half,
-            "(n + 1) · n faces per axis"
-        );
-        self.faces = u.iter().chain(v).copied().collect();
+    /// If a component has the wrong length.
+    pub fn set_faces(&mut self, u: &[f32], v: &[f32], w: &[f32]) {
+        self.faces = crate::sim::fluid::face_vector(&self.config, u, v, w);
+    }
+
+    fn split_faces(&self) -> (&[f32], &[f32], &[f32]) {
+        let uv = self.config.layer_faces() * self.config.layers as usize;
+        let (u, rest) = self.faces.split_at(uv);
+        let (v, w) = rest.split_at(uv);
+        (u, v, w)
     }
 
     /// Moves a following grid by `shift` whole cells (the twin of `fluid_scroll.wgsl`, as
-    /// `FluidSolver::follow` records it): faces and
-    /// pressure that stay keep their values, entering ones take the old grid's edge values;
-    /// the corner moves by `shift` cells.
+    /// `FluidSolver::follow` records it): faces and pressure that stay keep their values,
+    /// entering ones take the old grid's edge values; the corner moves by `shift` cells.
     pub fn scroll(&mut self, shift: [i32; 2]) {
         let n = self.config.resolution as usize;
-        let (u, v) = self.faces.split_at(n * (n + 1));
-        let (u, v, p) = scroll_grids(n, u, v, &self.levels[0].p, shift);
-        self.faces = u.into_iter().chain(v).collect();
-        self.levels[0].p = p;
+        let layers = self.config.layers as usize;
+        let s = scroll_grids(n, layers, self.split_faces(), &self.levels[0].p, shift);
+        self.faces = s.u.into_iter().chain(s.v).chain(s.w).collect();
+        self.levels[0].p = s.pressure;
         let h = self.config.cell_size;
         self.config.origin[0] += shift[0] as f32 * h;
         self.config.origin[1] += shift[1] as f32 * h;
@@ -214,15 +271,17 @@ impl FluidCpu {
 
     /// The grids as the GPU solver's `read_state` returns them.
     pub fn state(&self) -> FluidState {
-        let n = self.config.resolution as usize;
-        let (u, v) = self.faces.split_at(n * (n + 1));
+        let (u, v, w) = self.split_faces();
         FluidState {
             resolution: self.config.resolution,
+            layers: self.config.layers,
             cell_size: self.config.cell_size,
+            layer_height: self.config.layer_height,
             origin: self.config.origin,
             velocity: self.velocity.iter().map(|v| v.to_array()).collect(),
             u: u.to_vec(),
             v: v.to_vec(),
+            w: w.to_vec(),
             solid: self.solid.clone(),
             pressure: self.levels[0].p.clone(),
             divergence: self.divergence.clone(),
@@ -248,54 +307,58 @@ impl FluidCpu {
 
     /// Pass 1 (`fluid_advect.wgsl`): semi-Lagrangian or MacCormack, as configured.
     pub fn advect(&mut self, dt: f32) {
-        let cells = -dt * self.inv_h();
         let damping = 1.0 + self.config.dissipation * dt;
         let q = &self.faces;
         let out = match self.config.advection {
-            Advection::SemiLagrangian => self.carry(q, q, cells, |s, _| s / damping),
+            Advection::SemiLagrangian => self.carry(q, q, -1.0, dt, |s, _| s / damping),
             Advection::MacCormack => {
-                let hat = self.carry(q, q, cells, |s, _| s);
-                let tilde = self.carry(q, &hat, -cells, |s, _| s);
-                self.carry(q, q, cells, |_, (idx, st)| {
-                    let [a, b, d, e] = st.map(|k| q[k]);
-                    let lo = a.min(b).min(d.min(e));
-                    let hi = a.max(b).max(d.max(e));
-                    let v = hat[idx] + 0.5 * (q[idx] - tilde[idx]);
-                    v.max(lo).min(hi) / damping
+                let hat = self.carry(q, q, -1.0, dt, |s, _| s);
+                let tilde = self.carry(q, &hat, 1.0, dt, |s, _| s);
+                self.carry(q, q, -1.0, dt, |_, (idx, st)| {
+                    let v = st.map(|k| q[k]);
+                    let lo = v[0].min(v[1]).min(v[2].min(v[3])).min(v[4].min(v[5]).min(v[6].min(v[7])));
+                    let hi = v[0].max(v[1]).max(v[2].max(v[3])).max(v[4].max(v[5]).max(v[6].max(v[7])));
+                    let x = hat[idx] + 0.5 * (q[idx] - tilde[idx]);
+                    x.max(lo).min(hi) / damping
                 })
             }
         };
         self.faces = out;
     }
 
-    /// The trace of every face through `vel` over `cells` (= ±Δt / h), then `finish` of the
-    /// value of `q` sampled there and of (the face's index, the stencil's indices); closed
-    /// walls get 0. `advect`, `forward`, `backward` and `correct` in the shader.
+    /// The trace of every face through `vel` over `sign` · Δt, then `finish` of the value
+    /// of `q` sampled there and of (the face's index, the stencil's indices); walls get 0.
+    /// `advect`, `forward`, `backward` and `correct` in the shader.
     fn carry(
         &self,
         vel: &[f32],
         q: &[f32],
-        cells: f32,
-        finish: impl Fn(f32, (usize, [usize; 4])) -> f32,
+        sign: f32,
+        dt: f32,
+        finish: impl Fn(f32, (usize, [usize; 8])) -> f32,
     ) -> Vec<f32> {
-        let (n, boundary) = (self.n(), self.config.boundary);
-        let sample = |field: &[f32], axis: u32, pos: Vec2| {
-            let (s, f) = stencil(axis, pos, n, boundary);
-            blend(field[s[0]], field[s[1]], field[s[2]], field[s[3]], f)
+        let (n, layers, boundary) = (self.n(), self.layers(), self.config.boundary);
+        let (inv_h, inv_dy) = (self.inv_h(), self.inv_dy());
+        let cells = Vec3::new(inv_h, inv_h, inv_dy) * (sign * dt);
+        let sample = |field: &[f32], axis: u32, pos: Vec3| {
+            let (s, f) = stencil(axis, pos, n, layers, boundary);
+            blend3(s.map(|k| field[k]), f)
         };
-        let velocity_at = |pos: Vec2| Vec2::new(sample(vel, 0, pos), sample(vel, 1, pos));
+        let velocity_at = |pos: Vec3| {
+            Vec3::new(sample(vel, 0, pos), sample(vel, 1, pos), sample(vel, 2, pos))
+        };
         let mut out = vec![0.0; q.len()];
-        for (axis, i, j) in faces_of(n) {
-            let idx = face_index(axis, i, j, n);
-            if is_wall(axis, i, j, n, boundary) {
+        for (axis, i, j, k) in faces_of(n, layers) {
+            let idx = face_index(axis, i, j, k, n, layers);
+            if is_wall(axis, i, j, k, n, layers, boundary) {
                 continue;
             }
             let (ci, cj) = canonical(axis, i, j, n, boundary);
-            let start = face_pos(axis, ci, cj);
-            let mid = clamp_pos(start + velocity_at(start) * (0.5 * cells), n, boundary);
-            let pos = clamp_pos(start + velocity_at(mid) * cells, n, boundary);
-            let (s, f) = stencil(axis, pos, n, boundary);
-            let value = blend(q[s[0]], q[s[1]], q[s[2]], q[s[3]], f);
+            let start = face_pos(axis, ci, cj, k);
+            let mid = clamp_pos(start + velocity_at(start) * (0.5 * cells), n, layers, boundary);
+            let pos = clamp_pos(start + velocity_at(mid) * cells, n, layers, boundary);
+            let (s, f) = stencil(axis, pos, n, layers, boundary);
+            let value = blend3(s.map(|k| q[k]), f);
             out[idx] = finish(value, (idx, s));
         }
         out
@@ -314,125 +377,143 @@ impl FluidCpu {
             params.global_downwash[2],
             params.global_downwash[3],
         ];
-        let (n, boundary) = (self.n(), self.config.boundary);
-        for j in 0..n {
-            for i in 0..n {
-                let p = origin + (Vec2::new(i as f32, j as f32) + 0.5) * h;
-                let inside = obstacles.iter().position(|ob| {
-                    let off = p - Vec2::new(ob.circle[0], ob.circle[1]);
-                    off.dot(off) < ob.circle[2] * ob.circle[2]
-                });
-                self.solid[(j * n + i) as usize] = inside.map_or(0, |o| o as u32 + 1);
-            }
+        let (n, layers, boundary) = (self.n(), self.layers(), self.config.boundary);
+        let three_d = layers > 1;
+        for c in cells_of(n, layers) {
+            let p = origin + (Vec2::new(c.x as f32, c.y as f32) + 0.5) * h;
+            let y = (c.z as f32 + 0.5) * params.layer[0];
+            let inside = obstacles.iter().position(|ob| {
+                let off = p - Vec2::new(ob.circle[0], ob.circle[1]);
+                let mut d2 = off.dot(off);
+                if three_d {
+                    let dy = y - ob.circle[3];
+                    d2 += dy * dy;
+                }
+                d2 < ob.circle[2] * ob.circle[2]
+            });
+            self.solid[((c.z * n + c.y) * n + c.x) as usize] = inside.map_or(0, |o| o as u32 + 1);
         }
         let solid = &self.solid;
-        let solid_at = |i: i32, j: i32| cell_ref(i, j, n, boundary).map_or(0, |c| solid[c]);
-        let weight = |i: i32, j: i32| match cell_ref(i, j, n, boundary) {
-            None if boundary == Boundary::Open => 1.0,
+        let solid_at = |c: IVec3| cell_ref(c, n, layers, boundary).map_or(0, |r| solid[r]);
+        let weight = |c: IVec3| match cell_ref(c, n, layers, boundary) {
+            None if boundary == Boundary::Open && c.z >= 0 && c.z < layers => 1.0,
             None => 0.0,
-            Some(c) if solid[c] == 0 => 1.0,
+            Some(r) if solid[r] == 0 => 1.0,
             Some(_) => 0.0,
         };
-        for j in 0..n {
-            for i in 0..n {
-                let idx = (j * n + i) as usize;
-                self.levels[0].w[idx] = if solid[idx] != 0 {
-                    [0.0; 4]
-                } else {
-                    [
-                        weight(i - 1, j),
-                        weight(i + 1, j),
-                        weight(i, j - 1),
-                        weight(i, j + 1),
-                    ]
-                };
+        let level = &mut self.levels[0];
+        for c in cells_of(n, layers) {
+            let idx = ((c.z * n + c.y) * n + c.x) as usize;
+            if solid[idx] != 0 {
+                level.w[idx] = [0.0; 4];
+                level.wv[idx] = [0.0; 2];
+                continue;
             }
+            level.w[idx] = [
+                weight(c - IVec3::X),
+                weight(c + IVec3::X),
+                weight(c - IVec3::Y),
+                weight(c + IVec3::Y),
+            ];
+            level.wv[idx] = [weight(c - IVec3::Z), weight(c + IVec3::Z)];
         }
         let mut out = vec![0.0; self.faces.len()];
-        for (axis, i, j) in faces_of(n) {
-            let idx = face_index(axis, i, j, n);
-            if is_wall(axis, i, j, n, boundary) {
+        for (axis, i, j, k) in faces_of(n, layers) {
+            let idx = face_index(axis, i, j, k, n, layers);
+            if is_wall(axis, i, j, k, n, layers, boundary) {
                 continue;
             }
             let (ci, cj) = canonical(axis, i, j, n, boundary);
-            let [lo, hi] = face_cells(axis, ci, cj);
-            let mut s = solid_at(lo.0, lo.1);
+            let [lo, hi] = face_cells(axis, ci, cj, k);
+            let mut s = solid_at(lo);
             if s == 0 {
-                s = solid_at(hi.0, hi.1);
+                s = solid_at(hi);
             }
             if s != 0 {
                 out[idx] = obstacles[s as usize - 1].velocity[axis as usize];
                 continue;
             }
-            let p = origin + face_pos(axis, ci, cj) * h;
+            let pos = face_pos(axis, ci, cj, k);
+            let p = origin + Vec2::new(pos.x, pos.y) * h;
+            let at = face_index(axis, ci, cj, k, n, layers);
+            if axis == 2 {
+                out[idx] = self.faces[at] - downwash[3] * downwash_column(downwash, p) * dt;
+                continue;
+            }
             let mut force = Vec2::new(params.global_downwash[0], params.global_downwash[1]);
             for a in arrows {
                 force += arrow_force(a, p);
             }
-            force += downwash_force(downwash, p);
-            let at = face_index(axis, ci, cj, n);
-            out[idx] = self.faces[at] + force[axis as usize] * dt;
+            if !three_d {
+                force += downwash_force(downwash, p);
+            }
+            let pushed = self.faces[at] + force[axis as usize] * dt;
+            if !three_d {
+                out[idx] = pushed;
+                continue;
+            }
+            let drag = params.layer[3] / (k as f32 + 0.5);
+            out[idx] = pushed / (1.0 + drag * dt);
         }
         self.faces = out;
     }
 
-    /// Pass 3 (`fluid_vorticity.wgsl`): curl, then confinement (a copy when ε = 0).
+    /// Pass 3 (`fluid_vorticity.wgsl`): curl, then confinement (a copy when ε = 0), each
+    /// layer on its own.
     pub fn vorticity(&mut self, dt: f32) {
-        let (n, boundary) = (self.n(), self.config.boundary);
+        let (n, layers, boundary) = (self.n(), self.layers(), self.config.boundary);
         let inv_h = self.inv_h();
-        let h = self.config.params(dt, &FluidForces::default()).origin_cell[2];
+        let h = self.uniforms(dt).origin_cell[2];
         let fin = &self.faces;
-        let centre = |i: i32, j: i32| {
+        let centre = |i: i32, j: i32, k: i32| {
             let (ri, rj, sign) = velocity_ref(i, j, n, boundary);
-            let u = (fin[face_index(0, ri, rj, n)] + fin[face_index(0, ri + 1, rj, n)]) * 0.5;
-            let v = (fin[face_index(1, ri, rj, n)] + fin[face_index(1, ri, rj + 1, n)]) * 0.5;
+            let f = |axis, i, j| fin[face_index(axis, i, j, k, n, layers)];
+            let u = (f(0, ri, rj) + f(0, ri + 1, rj)) * 0.5;
+            let v = (f(1, ri, rj) + f(1, ri, rj + 1)) * 0.5;
             Vec2::new(u, v) * sign
         };
-        for j in 0..n {
-            for i in 0..n {
-                let dv_dx = centre(i + 1, j).y - centre(i - 1, j).y;
-                let du_dz = centre(i, j + 1).x - centre(i, j - 1).x;
-                self.curl[(j * n + i) as usize] = (dv_dx - du_dz) * (0.5 * inv_h);
-            }
+        for c in cells_of(n, layers) {
+            let (i, j, k) = (c.x, c.y, c.z);
+            let dv_dx = centre(i + 1, j, k).y - centre(i - 1, j, k).y;
+            let du_dz = centre(i, j + 1, k).x - centre(i, j - 1, k).x;
+            self.curl[((k * n + j) * n + i) as usize] = (dv_dx - du_dz) * (0.5 * inv_h);
         }
         let epsilon = self.config.vorticity;
         let (curl, solid) = (&self.curl, &self.solid);
-        let abs_curl = |i: i32, j: i32| curl[scalar_index(i, j, n, boundary)].abs();
-        let cell_force = |i: i32, j: i32| {
-            let idx = scalar_index(i, j, n, boundary);
+        let abs_curl = |i: i32, j: i32, k: i32| curl[scalar_index(i, j, k, n, boundary)].abs();
+        let cell_force = |c: IVec3| {
+            let (i, j, k) = (c.x, c.y, c.z);
+            let idx = scalar_index(i, j, k, n, boundary);
             if solid[idx] != 0 {
                 return Vec2::ZERO;
             }
             let g = Vec2::new(
-                abs_curl(i + 1, j) - abs_curl(i - 1, j),
-                abs_curl(i, j + 1) - abs_curl(i, j - 1),
+                abs_curl(i + 1, j, k) - abs_curl(i - 1, j, k),
+                abs_curl(i, j + 1, k) - abs_curl(i, j - 1, k),
             ) * (0.5 * inv_h);
             let nrm = g / (g.dot(g).sqrt() + 1e-5);
             Vec2::new(nrm.y, -nrm.x) * (epsilon * h * curl[idx])
         };
         let mut out = vec![0.0; fin.len()];
-        for (axis, i, j) in faces_of(n) {
-            let idx = face_index(axis, i, j, n);
-            if is_wall(axis, i, j, n, boundary) {
+        for (axis, i, j, k) in faces_of(n, layers) {
+            let idx = face_index(axis, i, j, k, n, layers);
+            if is_wall(axis, i, j, k, n, layers, boundary) {
                 continue;
             }
             let (ci, cj) = canonical(axis, i, j, n, boundary);
-            let v = fin[face_index(axis, ci, cj, n)];
-            let [a, b] = face_cells(axis, ci, cj);
-            let (lo, hi) = (
-                cell_ref(a.0, a.1, n, boundary),
-                cell_ref(b.0, b.1, n, boundary),
-            );
+            let v = fin[face_index(axis, ci, cj, k, n, layers)];
+            let [a, b] = face_cells(axis, ci, cj, k);
+            let (lo, hi) = (cell_ref(a, n, layers, boundary), cell_ref(b, n, layers, boundary));
             let is_solid = |c: Option<usize>| c.is_some_and(|c| solid[c] != 0);
-            if epsilon == 0.0 || is_solid(lo) || is_solid(hi) {
+            if epsilon == 0.0 || axis == 2 || is_solid(lo) || is_solid(hi) {
                 out[idx] = v;
                 continue;
             }
-            let k = axis as usize;
+            let ax = axis as usize;
             let force = match (lo, hi) {
-                (None, _) => cell_force(b.0, b.1)[k],
-                (_, None) => cell_force(a.0, a.1)[k],
-                _ => (cell_force(a.0, a.1)[k] + cell_force(b.0, b.1)[k]) * 0.5,
+                (None, _) => cell_force(b)[ax],
+                (_, None) => cell_force(a)[ax],
+                _ => (cell_force(a)[ax] + cell_force(b)[ax]) * 0.5,
             };
             out[idx] = v + force * dt;
         }
@@ -445,32 +526,31 @@ impl FluidCpu {
         if !self.config.diffuses() {
             return;
         }
-        let (n, boundary) = (self.n(), self.config.boundary);
-        let a = self
-            .config
-            .params(dt, &FluidForces::default())
-            .diffusion_alpha;
+        let (n, layers, boundary) = (self.n(), self.layers(), self.config.boundary);
+        let params = self.uniforms(dt);
+        let (a, av) = (params.diffusion_alpha, params.layer[2]);
         let start = self.faces.clone();
         let solid = &self.solid;
-        let is_solid = |i: i32, j: i32| cell_ref(i, j, n, boundary).is_some_and(|c| solid[c] != 0);
+        let is_solid = |c: IVec3| cell_ref(c, n, layers, boundary).is_some_and(|r| solid[r] != 0);
         let mut x = start.clone();
         for _ in 0..self.config.diffusion_iterations {
             let mut out = vec![0.0; x.len()];
-            for (axis, i, j) in faces_of(n) {
-                let idx = face_index(axis, i, j, n);
-                if is_wall(axis, i, j, n, boundary) {
+            for (axis, i, j, k) in faces_of(n, layers) {
+                let idx = face_index(axis, i, j, k, n, layers);
+                if is_wall(axis, i, j, k, n, layers, boundary) {
                     continue;
                 }
                 let (ci, cj) = canonical(axis, i, j, n, boundary);
-                let at = face_index(axis, ci, cj, n);
-                let [lo, hi] = face_cells(axis, ci, cj);
-                if is_solid(lo.0, lo.1) || is_solid(hi.0, hi.1) {
+                let at = face_index(axis, ci, cj, k, n, layers);
+                let [lo, hi] = face_cells(axis, ci, cj, k);
+                if is_solid(lo) || is_solid(hi) {
                     out[idx] = start[at];
                     continue;
                 }
-                let xr = |i: i32, j: i32| x[face_ref(axis, i, j, n, boundary)];
-                let sum = xr(ci - 1, cj) + xr(ci + 1, cj) + xr(ci, cj - 1) + xr(ci, cj + 1);
-                out[idx] = (start[at] + sum * a) / (1.0 + 4.0 * a);
+                let xr = |i: i32, j: i32, k: i32| x[face_ref(axis, i, j, k, n, layers, boundary)];
+                let sum = xr(ci - 1, cj, k) + xr(ci + 1, cj, k) + xr(ci, cj - 1, k) + xr(ci, cj + 1, k);
+                let vertical = xr(ci, cj, k - 1) + xr(ci, cj, k + 1);
+                out[idx] = (start[at] + sum * a + vertical * av) / (1.0 + 4.0 * a + 2.0 * av);
             }
             x = out;
         }
@@ -479,20 +559,21 @@ impl FluidCpu {
 
     /// Pass 5 (`fluid_divergence.wgsl`); solid cells get 0.
     pub fn divergence(&mut self) {
-        let n = self.n();
-        let inv_h = self.inv_h();
+        let (n, layers) = (self.n(), self.layers());
+        let (inv_h, inv_dy) = (self.inv_h(), self.inv_dy());
         let f = &self.faces;
-        for j in 0..n {
-            for i in 0..n {
-                let idx = (j * n + i) as usize;
-                if self.solid[idx] != 0 {
-                    self.divergence[idx] = 0.0;
-                    continue;
-                }
-                let du = f[face_index(0, i + 1, j, n)] - f[face_index(0, i, j, n)];
-                let dv = f[face_index(1, i, j + 1, n)] - f[face_index(1, i, j, n)];
-                self.divergence[idx] = (du + dv) * inv_h;
+        for c in cells_of(n, layers) {
+            let (i, j, k) = (c.x, c.y, c.z);
+            let idx = ((k * n + j) * n + i) as usize;
+            if self.solid[idx] != 0 {
+                self.divergence[idx] = 0.0;
+                continue;
             }
+            let fi = |axis, i, j, k| f[face_index(axis, i, j, k, n, layers)];
+            let du = fi(0, i + 1, j, k) - fi(0, i, j, k);
+            let dv = fi(1, i, j + 1, k) - fi(1, i, j, k);
+            let dw = fi(2, i, j, k + 1) - fi(2, i, j, k);
+            self.divergence[idx] = (du + dv) * inv_h + dw * inv_dy;
         }
     }
 
@@ -510,17 +591,12 @@ impl FluidCpu {
 
     /// `iterations` Jacobi iterations (`fluid_pressure.wgsl`) from the current pressure.
     pub fn pressure_jacobi(&mut self, iterations: u32) {
-        let h = self.config.params(0.0, &FluidForces::default()).origin_cell[2];
+        let h = self.uniforms(0.0).origin_cell[2];
+        let inv_dy = self.inv_dy();
         let level = &mut self.levels[0];
+        level.f.clone_from(&self.divergence);
         for _ in 0..iterations {
-            level.p = multigrid::jacobi(
-                &level.p,
-                &self.divergence,
-                &level.w,
-                self.config.resolution,
-                h,
-                self.config.boundary,
-            );
+            level.p = multigrid::jacobi(level, h, inv_dy, self.config.boundary);
         }
     }
 
@@ -532,43 +608,41 @@ impl FluidCpu {
 
     /// Pass 7 (`fluid_gradient.wgsl`).
     pub fn subtract_gradient(&mut self) {
-        let (n, boundary) = (self.n(), self.config.boundary);
-        let inv_h = self.inv_h();
+        let (n, layers, boundary) = (self.n(), self.layers(), self.config.boundary);
+        let (inv_h, inv_dy) = (self.inv_h(), self.inv_dy());
         let (fin, p, solid) = (&self.faces, &self.levels[0].p, &self.solid);
         let mut out = vec![0.0; fin.len()];
-        for (axis, i, j) in faces_of(n) {
-            let idx = face_index(axis, i, j, n);
-            if is_wall(axis, i, j, n, boundary) {
+        for (axis, i, j, k) in faces_of(n, layers) {
+            let idx = face_index(axis, i, j, k, n, layers);
+            if is_wall(axis, i, j, k, n, layers, boundary) {
                 continue;
             }
             let (ci, cj) = canonical(axis, i, j, n, boundary);
-            let v = fin[face_index(axis, ci, cj, n)];
-            let [a, b] = face_cells(axis, ci, cj);
-            let (lo, hi) = (
-                cell_ref(a.0, a.1, n, boundary),
-                cell_ref(b.0, b.1, n, boundary),
-            );
+            let v = fin[face_index(axis, ci, cj, k, n, layers)];
+            let [a, b] = face_cells(axis, ci, cj, k);
+            let (lo, hi) = (cell_ref(a, n, layers, boundary), cell_ref(b, n, layers, boundary));
             if lo.is_some_and(|c| solid[c] != 0) || hi.is_some_and(|c| solid[c] != 0) {
                 out[idx] = v;
                 continue;
             }
             let p_lo = lo.map_or(0.0, |c| p[c]);
             let p_hi = hi.map_or(0.0, |c| p[c]);
-            out[idx] = v - (p_hi - p_lo) * inv_h;
+            let inv = if axis == 2 { inv_dy } else { inv_h };
+            out[idx] = v - (p_hi - p_lo) * inv;
         }
         self.faces = out;
     }
 
-    /// End of pass 7 (`fluid_centre.wgsl`): the cell-centred velocity.
+    /// End of pass 7 (`fluid_centre.wgsl`): the cell-centred velocity of every layer.
     pub fn centre(&mut self) {
-        let n = self.n();
+        let (n, layers) = (self.n(), self.layers());
         let f = &self.faces;
-        for j in 0..n {
-            for i in 0..n {
-                let u = (f[face_index(0, i, j, n)] + f[face_index(0, i + 1, j, n)]) * 0.5;
-                let v = (f[face_index(1, i, j, n)] + f[face_index(1, i, j + 1, n)]) * 0.5;
-                self.velocity[(j * n + i) as usize] = Vec2::new(u, v);
-            }
+        for c in cells_of(n, layers) {
+            let (i, j, k) = (c.x, c.y, c.z);
+            let fi = |axis, i, j| f[face_index(axis, i, j, k, n, layers)];
+            let u = (fi(0, i, j) + fi(0, i + 1, j)) * 0.5;
+            let v = (fi(1, i, j) + fi(1, i, j + 1)) * 0.5;
+            self.velocity[((k * n + j) * n + i) as usize] = Vec2::new(u, v);
         }
     }
 }
@@ -611,11 +685,14 @@ mod tests {
         velocity[8 * 2 + 3] = [1.0, -2.0];
         let state = FluidState {
             resolution: 8,
+            layers: 1,
             cell_size: 0.5,
+            layer_height: 1.0,
             origin: [-2.0, -2.0],
             velocity,
             u: vec![0.0; 72],
             v: vec![0.0; 72],
+            w: vec![0.0; 128],
             solid: vec![0; 64],
             pressure: vec![0.0; 64],
             divergence: vec![0.0; 64],
@@ -643,11 +720,14 @@ mod tests {
             boundary: Boundary::Open,
             advection: Advection::SemiLagrangian,
             follow: false,
+            layers: 1,
+            layer_height: 1.0,
+            ground_drag: 0.0,
         };
         let mut cpu = FluidCpu::new(&cfg);
         let u: Vec<f32> = (0..72).map(|k| k as f32).collect();
         let v: Vec<f32> = (0..72).map(|k| -(k as f32)).collect();
-        cpu.set_faces(&u, &v);
+        cpu.set_faces(&u, &v, &[]);
         cpu.centre();
         let s = cpu.state();
         // Cell (2, 3): u faces 3·9+2, 3·9+3; v faces 3·8+2, 4·8+2.
