@@ -378,6 +378,10 @@ pub struct CpuRun {
 /// step (u on the (W + 1) · H vertical faces, v on the W · (H + 1) horizontal ones), the
 /// solid mask and the pressure per cell, all row-major with x fastest, so that anyone can
 /// compute the divergence (u[j(W+1)+i+1] − u[j(W+1)+i] + v[(j+1)W+i] − v[jW+i]) / h.
+/// A 3D grid (`layers` > 1) stacks those arrays layer by layer (layer 0 at the ground first)
+/// and adds `w` on the W · H faces of each of the layers + 1 horizontal planes (k W H + j W
+/// + i; the ground and the top are 0) and `layer_height` dy, the divergence gaining
+/// (w[(k+1)WH + jW + i] − w[kWH + jW + i]) / dy.
 #[derive(Serialize)]
 struct WindJson<'a> {
     grid: &'static str,
@@ -389,6 +393,12 @@ struct WindJson<'a> {
     v: &'a [f32],
     solid: Vec<u8>,
     pressure: &'a [f32],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    layers: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    layer_height: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    w: Option<&'a [f32]>,
 }
 
 fn wind_json(path: &Path, state: &FluidState) -> Result<Vec<u8>> {
@@ -402,6 +412,9 @@ fn wind_json(path: &Path, state: &FluidState) -> Result<Vec<u8>> {
         v: &state.v,
         solid: state.solid.iter().map(|&s| u8::from(s != 0)).collect(),
         pressure: &state.pressure,
+        layers: (state.layers > 1).then_some(state.layers),
+        layer_height: (state.layers > 1).then_some(state.layer_height),
+        w: (state.layers > 1).then_some(state.w.as_slice()),
     };
     serde_json::to_vec(&json).map_err(|e| Error::Write {
         path: path.to_path_buf(),

@@ -2,14 +2,16 @@
 //! (`sim::reference::fluid`): one step with each pass's work switched on in turn, for every
 //! boundary mode, then fifty steps with everything on. Each comparison covers the grids the
 //! solver exposes: the faces (u, v), the cell-centred velocity, the solid mask, the
-//! divergence that entered the pressure solve and the pressure. Every measured figure is
-//! printed (`cargo test --release --test twin_fluid_mac -- --nocapture`).
+//! divergence that entered the pressure solve and the pressure. The same on a 3D grid
+//! (`wind.fluid.layers`), with w. Every measured figure is printed (`cargo test --release --test twin_fluid_mac -- --nocapture`).
 
 mod common;
 #[path = "common/fluid.rs"]
 mod fluid_common;
 
-use fluid_common::{arrow, config, flat, gpu_step, max_abs, max_diff, random_faces, BOUNDARIES};
+use fluid_common::{
+    arrow, config, flat, gpu_step, max_abs, max_diff, random_faces, random_faces_3d, BOUNDARIES,
+};
 use sward::gpu::Gpu;
 use sward::scene::{Advection, PressureSolver};
 use sward::sim::fluid::{FluidConfig, FluidSolver, FluidState, FLUID_PASSES};
@@ -55,8 +57,8 @@ fn relative(a: &[f32], b: &[f32]) -> f32 {
 }
 
 fn compare(g: &FluidState, c: &FluidState) -> Diff {
-    let gf: Vec<f32> = g.u.iter().chain(&g.v).copied().collect();
-    let cf: Vec<f32> = c.u.iter().chain(&c.v).copied().collect();
+    let gf: Vec<f32> = g.u.iter().chain(&g.v).chain(&g.w).copied().collect();
+    let cf: Vec<f32> = c.u.iter().chain(&c.v).chain(&c.w).copied().collect();
     Diff {
         faces: relative(&gf, &cf),
         velocity: relative(&flat(&g.velocity), &flat(&c.velocity)),
@@ -93,11 +95,22 @@ fn run(
     steps: u32,
     forces_at: &dyn Fn(f32) -> FluidForces,
 ) -> (Diff, Option<Vec<(&'static str, f64)>>) {
+    run3(gpu, cfg, (&start.0, &start.1, &[]), steps, forces_at)
+}
+
+/// [`run`] with w faces (empty: still).
+fn run3(
+    gpu: &Gpu,
+    cfg: &FluidConfig,
+    start: (&[f32], &[f32], &[f32]),
+    steps: u32,
+    forces_at: &dyn Fn(f32) -> FluidForces,
+) -> (Diff, Option<Vec<(&'static str, f64)>>) {
     let dt = 1.0 / 30.0;
     let mut solver = FluidSolver::new(gpu, cfg).expect("64² fits any adapter");
-    solver.write_faces(&gpu.queue, &start.0, &start.1, &[]);
+    solver.write_faces(&gpu.queue, start.0, start.1, start.2);
     let mut cpu = FluidCpu::new(cfg);
-    cpu.set_faces(&start.0, &start.1, &[]);
+    cpu.set_faces(start.0, start.1, start.2);
     for step in 0..steps {
         let f = forces_at(step as f32 * dt);
         gpu_step(gpu, &mut solver, dt, &f);
@@ -293,5 +306,148 @@ fn fifty_steps_match_the_twin_for_every_boundary() {
                 d.faces_abs
             );
         }
+    }
+}
+
+/// 3D forces: the same arrows and global push, a ball 1.2 m above the ground rising and
+/// rolling through the layers, and the downwash pushing down.
+fn forces_3d(t: f32) -> FluidForces {
+    FluidForces {
+        obstacles: vec![ObstacleGpu {
+            circle: [-10.0 + 4.0 * t, 5.0, 2.0, 1.2 + 0.5 * t],
+            velocity: [4.0, 0.0, 0.5, 0.0],
+        }],
+        ..forces(t)
+    }
+}
+
+fn config_3d(boundary: sward::scene::Boundary) -> FluidConfig {
+    FluidConfig {
+        layers: 4,
+        layer_height: 0.75,
+        ground_drag: 2.0,
+        ..config(32, 32.0, boundary)
+    }
+}
+
+#[test]
+fn each_pass_matches_its_twin_on_a_3d_grid() {
+    let gpu = common::gpu();
+    let none = |_: f32| FluidForces::default();
+    let with_forces = |t: f32| forces_3d(t);
+    for boundary in BOUNDARIES {
+        let base = config_3d(boundary);
+        let (u, v, w) = random_faces_3d(32, 4, boundary, 5, 6.0);
+        let still_u = vec![0.0; u.len()];
+        let cases: Vec<(&str, FluidConfig, bool, &dyn Fn(f32) -> FluidForces)> = vec![
+            ("advect: semi-Lagrangian", base.clone(), true, &none),
+            (
+                "advect: MacCormack",
+                FluidConfig {
+                    advection: Advection::MacCormack,
+                    ..base.clone()
+                },
+                true,
+                &none,
+            ),
+            ("splat: forces, drag, a rising ball", base.clone(), false, &with_forces),
+            (
+                "vorticity: ε = 10",
+                FluidConfig {
+                    vorticity: 10.0,
+                    ..base.clone()
+                },
+                true,
+                &none,
+            ),
+            (
+                "diffuse: 5 iterations",
+                FluidConfig {
+                    viscosity: 0.05,
+                    diffusion_iterations: 5,
+                    ..base.clone()
+                },
+                true,
+                &none,
+            ),
+            (
+                "divergence, Jacobi ×21, gradient",
+                FluidConfig {
+                    pressure_iterations: 21,
+                    ..base.clone()
+                },
+                true,
+                &none,
+            ),
+            (
+                "multigrid ×2 around the ball, gradient",
+                FluidConfig {
+                    pressure_solver: PressureSolver::Multigrid,
+                    ..base.clone()
+                },
+                true,
+                &with_forces,
+            ),
+        ];
+        for (name, cfg, moving, f) in cases {
+            let start = if moving {
+                (&u[..], &v[..], &w[..])
+            } else {
+                (&still_u[..], &still_u[..], &[][..])
+            };
+            let (d, _) = run3(&gpu, &cfg, start, 1, f);
+            println!(
+                "3D one step {boundary:?}, {name}: max relative |gpu - cpu| faces {:.2e}, \
+                 velocity {:.2e}, divergence {:.2e}, pressure {:.2e}; solid equal {}",
+                d.faces, d.velocity, d.divergence, d.pressure, d.solid_equal
+            );
+            assert!(d.peak > 0.1, "{name}: nothing moved ({})", d.peak);
+            assert!(d.solid_equal, "{boundary:?}, {name}: solid masks differ");
+            for (what, e) in [
+                ("faces", d.faces),
+                ("velocity", d.velocity),
+                ("divergence", d.divergence),
+                ("pressure", d.pressure),
+            ] {
+                assert!(
+                    e <= STEP_TOLERANCE,
+                    "3D {boundary:?}, {name}: {what} differ by {e:e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn thirty_steps_match_the_twin_on_a_3d_grid() {
+    let gpu = common::gpu();
+    for boundary in BOUNDARIES {
+        let cfg = FluidConfig {
+            pressure_solver: PressureSolver::Multigrid,
+            warm_start: true,
+            dissipation: 0.15,
+            viscosity: 0.05,
+            diffusion_iterations: 4,
+            advection: Advection::MacCormack,
+            ..config_3d(boundary)
+        };
+        let still = vec![0.0; cfg.layer_faces() * 4];
+        let (d, ms) = run3(&gpu, &cfg, (&still, &still, &[]), 30, &forces_3d);
+        println!(
+            "3D 30 steps {boundary:?}: peak {:.2} m/s, max |gpu - cpu| faces {:.3e} m/s \
+             (tolerance {RUN_TOLERANCE:.0e}), relative pressure {:.2e}",
+            d.peak, d.faces_abs, d.pressure
+        );
+        if let Some(ms) = ms {
+            let line: Vec<String> = ms.iter().map(|(n, t)| format!("{n} {t:.3}")).collect();
+            println!("  GPU ms of the last 32²×4 step: {}", line.join(", "));
+        }
+        assert!(d.peak > 2.0, "the forces must have moved the air ({})", d.peak);
+        assert!(d.solid_equal, "{boundary:?}: solid masks differ");
+        assert!(
+            d.faces_abs < RUN_TOLERANCE,
+            "3D {boundary:?}: GPU and CPU differ by {} m/s",
+            d.faces_abs
+        );
     }
 }

@@ -328,8 +328,13 @@ impl Renderer {
                 forces
                     .obstacles
                     .extend(self.dynamic_spheres.iter().map(|s| ObstacleGpu {
-                        circle: [s.center.x, s.center.z, s.radius, 0.0],
-                        velocity: [s.velocity.x, s.velocity.z, 0.0, 0.0],
+                        circle: [
+                            s.center.x,
+                            s.center.z,
+                            s.radius,
+                            s.center.y - self.terrain.height(s.center.x, s.center.z),
+                        ],
+                        velocity: [s.velocity.x, s.velocity.z, s.velocity.y, 0.0],
                     }));
                 forces.obstacles.truncate(MAX_OBSTACLES);
             }

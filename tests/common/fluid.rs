@@ -124,3 +124,28 @@ pub fn max_abs(a: &[f32]) -> f32 {
 pub fn flat(v: &[[f32; 2]]) -> Vec<f32> {
     v.iter().flat_map(|x| *x).collect()
 }
+
+/// Seeded faces of a grid of `layers` layers: each layer's u, v as [`random_faces`], and w
+/// on the planes between layers (the ground and the top 0, as the solver keeps them).
+pub fn random_faces_3d(
+    n: usize,
+    layers: usize,
+    boundary: Boundary,
+    seed: u64,
+    amplitude: f32,
+) -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+    let (mut u, mut v) = (Vec::new(), Vec::new());
+    for k in 0..layers {
+        let (lu, lv) = random_faces(n, boundary, seed + 31 * k as u64, amplitude);
+        u.extend(lu);
+        v.extend(lv);
+    }
+    let plane = n * n;
+    let mut w: Vec<f32> = random_values(plane * (layers + 1), seed ^ 0x5EED)
+        .iter()
+        .map(|x| x * amplitude * 0.5)
+        .collect();
+    w[..plane].fill(0.0);
+    w[plane * layers..].fill(0.0);
+    (u, v, w)
+}

@@ -636,8 +636,9 @@ pub fn overlay_arrows(guides: &[Guide], time: f32) -> Vec<ArrowGpu> {
 /// * Global: the normalised direction × strength (zero for a zero direction).
 /// * Downwash: centre (x, z) at `time` (along its path at `speed · time`, or moved by its
 ///   velocity, or fixed), radius, strength; radius 0 when there is none.
-/// * Obstacles: each collider's footprint, the circle of its radius under its centre, with
-///   the (x, z) velocity from a central difference of its position over ±1/120 s. At most
+/// * Obstacles: each collider's footprint, the circle of its radius under its centre (a 2D
+///   grid), or its sphere, its centre's height above the ground under it (a 3D grid), with
+///   the velocity from a central difference of its position over ±1/120 s. At most
 ///   [`MAX_OBSTACLES`]; the rest are dropped with a warning.
 pub fn fluid_forces(scene: &Scene, terrain: &HeightField, time: f32) -> FluidForces {
     let wind = &scene.wind;
@@ -663,8 +664,8 @@ pub fn fluid_forces(scene: &Scene, terrain: &HeightField, time: f32) -> FluidFor
                 let c = position(s, terrain, time);
                 let v = (position(s, terrain, t1) - position(s, terrain, t0)) / (t1 - t0);
                 ObstacleGpu {
-                    circle: [c.x, c.z, s.radius, 0.0],
-                    velocity: [v.x, v.z, 0.0, 0.0],
+                    circle: [c.x, c.z, s.radius, c.y - terrain.height(c.x, c.z)],
+                    velocity: [v.x, v.z, v.y, 0.0],
                 }
             })
             .collect();
