@@ -13,7 +13,7 @@ use crate::render::timing::PASSES;
 use crate::scene::{
     Advection, Boundary, ColorMode, PressureSolver, Range, SelfShadow, Shape, WindSource,
 };
-use crate::sim::fluid::MAX_MULTIGRID_CYCLES;
+use crate::sim::fluid::{MAX_LAYERS, MAX_MULTIGRID_CYCLES};
 
 /// Keyboard and mouse shortcuts, shown in the Help window (and listed in the README).
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -332,6 +332,19 @@ fn wind_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
         if resolution != f.resolution {
             f.resolution = resolution;
             rebuild = true;
+        }
+        // Layers change every grid's size: a new solver. Their height and the ground drag
+        // are uniforms, taken live.
+        let layers = f.layers;
+        ui.add(egui::Slider::new(&mut f.layers, 1..=MAX_LAYERS).text("layers (1 = 2D)"));
+        rebuild |= f.layers != layers;
+        if f.layers > 1 {
+            ui.add(
+                egui::Slider::new(&mut f.layer_height, 0.05..=5.0)
+                    .logarithmic(true)
+                    .text("layer height m"),
+            );
+            ui.add(egui::Slider::new(&mut f.ground_drag, 0.0..=20.0).text("ground drag 1/s"));
         }
         ui.horizontal(|ui| {
             ui.label("pressure");
