@@ -379,8 +379,8 @@ pub struct CpuRun {
 /// solid mask and the pressure per cell, all row-major with x fastest, so that anyone can
 /// compute the divergence (u[j(W+1)+i+1] − u[j(W+1)+i] + v[(j+1)W+i] − v[jW+i]) / h.
 /// A 3D grid (`layers` > 1) stacks those arrays layer by layer (layer 0 at the ground first)
-/// and adds `w` on the W · H faces of each of the layers + 1 horizontal planes (k W H + j W
-/// + i; the ground and the top are 0) and `layer_height` dy, the divergence gaining
+/// and adds `w` on the W · H faces of each of the layers + 1 horizontal planes (index
+/// kWH + jW + i; the ground and the top are 0) and `layer_height` dy, the divergence gaining
 /// (w[(k+1)WH + jW + i] − w[kWH + jW + i]) / dy.
 #[derive(Serialize)]
 struct WindJson<'a> {

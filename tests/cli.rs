@@ -324,6 +324,87 @@ fn dump_wind_writes_the_documented_grid() {
     assert!(err.contains("out of range"), "{err}");
 }
 
+#[test]
+fn dump_wind_of_a_3d_grid_writes_layers_and_w() {
+    let t = Tmp::new("wind3d");
+    let dump = t.path("dump.json");
+    let wind = t.path("wind.json");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/two_winds.ron");
+    let out = sward(&[
+        "simulate",
+        "--scene",
+        scene,
+        "--steps",
+        "5",
+        "--wind-resolution",
+        "16",
+        "--set",
+        "wind.fluid.layers=3",
+        "--set",
+        "wind.fluid.layer_height=0.5",
+        "--set",
+        "wind.fluid.pressure_solver=Multigrid",
+        "--set",
+        "wind.fluid.multigrid_cycles=4",
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-wind",
+        wind.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&wind).expect("wind dump")).expect("json");
+    assert_eq!(v["layers"], 3);
+    assert_eq!(v["layer_height"], 0.5);
+    let list = |key: &str| -> Vec<f64> {
+        v[key]
+            .as_array()
+            .unwrap_or_else(|| panic!("{key} is a list"))
+            .iter()
+            .map(|x| x.as_f64().expect("a number"))
+            .collect()
+    };
+    let (u, vv, w, solid) = (list("u"), list("v"), list("w"), list("solid"));
+    let (n, layers) = (16usize, 3usize);
+    assert_eq!(u.len(), 17 * 16 * layers);
+    assert_eq!(vv.len(), 16 * 17 * layers);
+    assert_eq!(w.len(), 16 * 16 * (layers + 1));
+    assert_eq!(solid.len(), 16 * 16 * layers);
+    assert_eq!(list("pressure").len(), 16 * 16 * layers);
+    // The ground and the top are closed.
+    assert!(w[..n * n]
+        .iter()
+        .chain(&w[n * n * layers..])
+        .all(|&x| x == 0.0));
+    // The documented layout gives the 3D divergence.
+    let (h, dy) = (v["cell_size"].as_f64().expect("h"), 0.5);
+    let (lu, plane) = (n * (n + 1), n * n);
+    let mut sum = 0.0;
+    for k in 0..layers {
+        for j in 0..n {
+            for i in 0..n {
+                let du = u[k * lu + j * (n + 1) + i + 1] - u[k * lu + j * (n + 1) + i];
+                let dv = vv[k * lu + (j + 1) * n + i] - vv[k * lu + j * n + i];
+                let dw = w[(k + 1) * plane + j * n + i] - w[k * plane + j * n + i];
+                let d = (du + dv) / h + dw / dy;
+                sum += d * d;
+            }
+        }
+    }
+    let rms = (sum / (plane * layers) as f64).sqrt();
+    let peak = u.iter().chain(&vv).fold(0.0f64, |m, x| m.max(x.abs()));
+    println!("dumped 3D wind: rms divergence {rms:.2e} 1/s, peak {peak:.2} m/s");
+    assert!(peak > 1e-3, "the guides must move the air ({peak})");
+    assert!(
+        rms < 1e-3 * peak / h,
+        "rms divergence {rms} for a peak of {peak} m/s"
+    );
+}
+
 /// The events of a Chrome trace file that `--trace` wrote: (name, duration in µs) of every
 /// complete event, after checking the JSON is a trace.
 fn trace_events(path: &Path) -> Vec<(String, f64)> {

@@ -339,7 +339,9 @@ fn each_pass_matches_its_twin_on_a_3d_grid() {
         let base = config_3d(boundary);
         let (u, v, w) = random_faces_3d(32, 4, boundary, 5, 6.0);
         let still_u = vec![0.0; u.len()];
-        let cases: Vec<(&str, FluidConfig, bool, &dyn Fn(f32) -> FluidForces)> = vec![
+        // (name, configuration, starts from the random field (else still air), forces)
+        type Case<'a> = (&'a str, FluidConfig, bool, &'a dyn Fn(f32) -> FluidForces);
+        let cases: Vec<Case> = vec![
             ("advect: semi-Lagrangian", base.clone(), true, &none),
             (
                 "advect: MacCormack",
@@ -350,7 +352,12 @@ fn each_pass_matches_its_twin_on_a_3d_grid() {
                 true,
                 &none,
             ),
-            ("splat: forces, drag, a rising ball", base.clone(), false, &with_forces),
+            (
+                "splat: forces, drag, a rising ball",
+                base.clone(),
+                false,
+                &with_forces,
+            ),
             (
                 "vorticity: ε = 10",
                 FluidConfig {
@@ -442,7 +449,11 @@ fn thirty_steps_match_the_twin_on_a_3d_grid() {
             let line: Vec<String> = ms.iter().map(|(n, t)| format!("{n} {t:.3}")).collect();
             println!("  GPU ms of the last 32²×4 step: {}", line.join(", "));
         }
-        assert!(d.peak > 2.0, "the forces must have moved the air ({})", d.peak);
+        assert!(
+            d.peak > 2.0,
+            "the forces must have moved the air ({})",
+            d.peak
+        );
         assert!(d.solid_equal, "{boundary:?}: solid masks differ");
         assert!(
             d.faces_abs < RUN_TOLERANCE,

@@ -101,5 +101,8 @@ fn gpu_update_matches_cpu_twin_on_a_3d_wind_grid() {
         cpu.len()
     );
     assert!(moved > 0.05, "the wind must bend the blades ({moved})");
-    assert!(max_err < TOLERANCE, "max error {max_err} exceeds {TOLERANCE}");
+    assert!(
+        max_err < TOLERANCE,
+        "max error {max_err} exceeds {TOLERANCE}"
+    );
 }

@@ -35,7 +35,12 @@ fn layered(n: u32, side: f32, layers: u32, dy: f32, boundary: Boundary) -> Fluid
     }
 }
 
-fn run(gpu: &Gpu, cfg: &FluidConfig, steps: u32, forces: &dyn Fn(f32) -> FluidForces) -> FluidState {
+fn run(
+    gpu: &Gpu,
+    cfg: &FluidConfig,
+    steps: u32,
+    forces: &dyn Fn(f32) -> FluidForces,
+) -> FluidState {
     let mut solver = FluidSolver::new(gpu, cfg).expect("solver");
     let dt = 1.0 / 30.0;
     for s in 0..steps {
@@ -44,11 +49,10 @@ fn run(gpu: &Gpu, cfg: &FluidConfig, steps: u32, forces: &dyn Fn(f32) -> FluidFo
     solver.read_state(gpu).expect("read-back")
 }
 
-/// Mean over the cells of layer `k` whose centre lies within (r0, r1) of (cx, cz) of
-/// `f(state, i, j, k, offset from the centre)`.
+/// Mean over the columns whose centre lies within (r0, r1) of (cx, cz) of
+/// `f(i, j, direction from the centre)`.
 fn ring_mean(
     s: &FluidState,
-    k: u32,
     (cx, cz): (f32, f32),
     (r0, r1): (f32, f32),
     f: &dyn Fn(u32, u32, [f32; 2]) -> f32,
@@ -121,9 +125,9 @@ fn the_downwash_pushes_down_then_out_along_the_ground() {
         ..Default::default()
     };
     let s = run(&gpu, &cfg, 60, &forces);
-    let centre = |k| ring_mean(&s, k, (0.0, 0.0), (0.0, 1.5), &|i, j, _| s.w_at(i, j, k));
+    let centre = |k| ring_mean(&s, (0.0, 0.0), (0.0, 1.5), &|i, j, _| s.w_at(i, j, k));
     let radial = |k| {
-        ring_mean(&s, k, (0.0, 0.0), (3.0, 6.0), &|i, j, d| {
+        ring_mean(&s, (0.0, 0.0), (3.0, 6.0), &|i, j, d| {
             let v = s.at_layer(i, j, k);
             v[0] * d[0] + v[1] * d[1]
         })
@@ -134,7 +138,10 @@ fn the_downwash_pushes_down_then_out_along_the_ground() {
          ground layer {out_low:.2} m/s, top layer {out_high:.2} m/s"
     );
     assert!(w_mid < -0.5, "the air under the rotor must sink ({w_mid})");
-    assert!(out_low > 0.5, "near the ground the air must flow outwards ({out_low})");
+    assert!(
+        out_low > 0.5,
+        "near the ground the air must flow outwards ({out_low})"
+    );
     assert!(
         out_high < out_low * 0.5,
         "the outflow must hug the ground: top {out_high}, ground {out_low}"
@@ -153,7 +160,11 @@ fn over_rough_ground_the_wind_grows_with_the_height() {
         ..Default::default()
     };
     let s = run(&gpu, &cfg, 90, &forces);
-    let mean_u = |k| ring_mean(&s, k, (0.0, 0.0), (0.0, 100.0), &|i, j, _| s.at_layer(i, j, k)[0]);
+    let mean_u = |k| {
+        ring_mean(&s, (0.0, 0.0), (0.0, 100.0), &|i, j, _| {
+            s.at_layer(i, j, k)[0]
+        })
+    };
     let profile: Vec<f32> = (0..6).map(mean_u).collect();
     println!("3D wind profile over rough ground, layers 0–5 (0.5 m each): {profile:.2?} m/s");
     for k in 1..6 {
@@ -215,12 +226,22 @@ fn a_ball_makes_the_air_rise_in_front_and_pushes_it_up_as_it_rises() {
     };
     let s = run(&gpu, &cfg, 10, &rising);
     // The ball's top is at 1.9 m; the air of layer 5 (2.5–3 m), clear of it, is pushed up.
-    let above = ring_mean(&s, 5, (0.0, 0.0), (0.0, 0.5), &|i, j, _| s.w_at(i, j, 5));
-    let aside = ring_mean(&s, 5, (0.0, 0.0), (4.0, 6.0), &|i, j, _| s.w_at(i, j, 5));
-    assert_eq!(s.solid[(5 * 48 + 24) * 48 + 24], 0, "layer 5 above the ball is air");
+    let above = ring_mean(&s, (0.0, 0.0), (0.0, 0.5), &|i, j, _| s.w_at(i, j, 5));
+    let aside = ring_mean(&s, (0.0, 0.0), (4.0, 6.0), &|i, j, _| s.w_at(i, j, 5));
+    assert_eq!(
+        s.solid[(5 * 48 + 24) * 48 + 24],
+        0,
+        "layer 5 above the ball is air"
+    );
     println!("3D rising ball: w above it {above:.3} m/s, 4–6 m aside {aside:.3} m/s");
-    assert!(above > 0.15, "the air above a rising ball must go up ({above})");
-    assert!(aside.abs() < above * 0.2, "far away the air barely moves ({aside})");
+    assert!(
+        above > 0.15,
+        "the air above a rising ball must go up ({above})"
+    );
+    assert!(
+        aside.abs() < above * 0.2,
+        "far away the air barely moves ({aside})"
+    );
 }
 
 /// Mean horizontal tip displacement from the rest pose of blades taller / shorter than the
@@ -230,7 +251,12 @@ fn tall_and_short_bend(scene: Scene, steps: u32) -> (f32, f32) {
     let session = Session::new(scene, Some(4096), Some(&gpu)).expect("field");
     let r = common::stepped(&gpu, &session, steps, 1.0 / 30.0);
     let (blades, _) = r.buffers.read(&gpu).expect("read-back");
-    let heights: Vec<f32> = session.field.blades.iter().map(|b| b.v1_height[3]).collect();
+    let heights: Vec<f32> = session
+        .field
+        .blades
+        .iter()
+        .map(|b| b.v1_height[3])
+        .collect();
     let mid = {
         let mut h = heights.clone();
         h.sort_by(f32::total_cmp);
@@ -241,7 +267,11 @@ fn tall_and_short_bend(scene: Scene, steps: u32) -> (f32, f32) {
         let d = ((now.v2_width[0] - rest.v2_width[0]).powi(2)
             + (now.v2_width[2] - rest.v2_width[2]).powi(2))
         .sqrt();
-        let slot = if rest.v1_height[3] > mid { &mut tall } else { &mut short };
+        let slot = if rest.v1_height[3] > mid {
+            &mut tall
+        } else {
+            &mut short
+        };
         slot.0 += d;
         slot.1 += 1;
     }
@@ -272,7 +302,10 @@ fn tall_grass_reaches_faster_air_on_a_3d_grid() {
         "tip shift tall / short blades: 3D {tall_3d:.3} / {short_3d:.3} m = {ratio_3d:.2}, \
          2D {tall_2d:.3} / {short_2d:.3} m = {ratio_2d:.2}"
     );
-    assert!(short_3d > 1e-3 && short_2d > 1e-3, "the wind must bend the grass");
+    assert!(
+        short_3d > 1e-3 && short_2d > 1e-3,
+        "the wind must bend the grass"
+    );
     assert!(
         ratio_3d > ratio_2d * 1.15,
         "tall grass must bend more, relative to short, in 3D ({ratio_3d}) than in 2D ({ratio_2d})"

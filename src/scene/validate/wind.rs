@@ -394,6 +394,22 @@ mod tests {
              boundary needs an even resolution (or use pressure_solver: Jacobi)"
         );
         assert_eq!(
+            rejected(|s| s.wind.fluid.layers = 0),
+            "wind.fluid.layers = 0 is out of range: allowed 1 <= layers <= 16 layers"
+        );
+        assert_eq!(
+            rejected(|s| s.wind.fluid.layers = 17),
+            "wind.fluid.layers = 17 is out of range: allowed 1 <= layers <= 16 layers"
+        );
+        assert_eq!(
+            rejected(|s| s.wind.fluid.layer_height = 0.0),
+            "wind.fluid.layer_height = 0 is out of range: allowed 0.05 <= layer_height <= 100 m"
+        );
+        assert_eq!(
+            rejected(|s| s.wind.fluid.ground_drag = -1.0),
+            "wind.fluid.ground_drag = -1 is out of range: allowed 0 <= ground_drag <= 100 1/s"
+        );
+        assert_eq!(
             rejected(|s| s.wind.fluid.extent = -1.0),
             "wind.fluid.extent = -1 is out of range: allowed 0 <= extent <= 100000 m"
         );

@@ -85,10 +85,7 @@ impl FluidConfig {
     /// A 2D grid (one layer) with the given settings; tests and benches build configs
     /// field by field and take the 2D defaults from here.
     pub fn flat(self) -> Self {
-        Self {
-            layers: 1,
-            ..self
-        }
+        Self { layers: 1, ..self }
     }
 
     /// Cells of one layer (n²).
@@ -377,7 +374,11 @@ impl FluidState {
                             .get(k * plane + j * n + i)
                             .map_or(0.0, |w| f64::from(*w))
                     };
-                    let dw = if layers > 1 { (w(k + 1) - w(k)) / dy } else { 0.0 };
+                    let dw = if layers > 1 {
+                        (w(k + 1) - w(k)) / dy
+                    } else {
+                        0.0
+                    };
                     out.push((u(i + 1) - u(i) + v(j + 1) - v(j)) / h + dw);
                 }
             }

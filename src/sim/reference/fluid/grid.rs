@@ -47,7 +47,15 @@ pub fn is_wall(axis: u32, i: i32, j: i32, k: i32, n: i32, layers: i32, boundary:
 }
 
 /// `fluid_face_ref`: wrapped in x, z when periodic, else the nearest stored face of the axis.
-pub fn face_ref(axis: u32, i: i32, j: i32, k: i32, n: i32, layers: i32, boundary: Boundary) -> usize {
+pub fn face_ref(
+    axis: u32,
+    i: i32,
+    j: i32,
+    k: i32,
+    n: i32,
+    layers: i32,
+    boundary: Boundary,
+) -> usize {
     let nk = if axis == 2 { layers } else { layers - 1 };
     let kk = k.clamp(0, nk);
     if boundary == Boundary::Periodic {
@@ -94,7 +102,13 @@ pub fn face_pos(axis: u32, i: i32, j: i32, k: i32) -> Vec3 {
 
 /// `fluid_stencil`: the eight faces of `axis` around `pos` (a, b, d, e in layer k, then in
 /// k + 1) and the weights.
-pub fn stencil(axis: u32, pos: Vec3, n: i32, layers: i32, boundary: Boundary) -> ([usize; 8], Vec3) {
+pub fn stencil(
+    axis: u32,
+    pos: Vec3,
+    n: i32,
+    layers: i32,
+    boundary: Boundary,
+) -> ([usize; 8], Vec3) {
     let g = match axis {
         0 => pos - Vec3::new(0.0, 0.5, 0.5),
         1 => pos - Vec3::new(0.5, 0.0, 0.5),
@@ -225,7 +239,10 @@ mod tests {
             cell_ref(IVec3::new(-1, 0, 0), n, 1, Boundary::Periodic),
             Some(3)
         );
-        assert_eq!(cell_ref(IVec3::new(0, 0, 2), n, 2, Boundary::Periodic), None);
+        assert_eq!(
+            cell_ref(IVec3::new(0, 0, 2), n, 2, Boundary::Periodic),
+            None
+        );
     }
 
     #[test]
@@ -254,7 +271,13 @@ mod tests {
         assert_eq!(idx[..4], idx[4..]);
         assert_eq!(f, Vec3::new(0.25, 0.5, 0.0));
         // A w face between layers 1 and 2 of a 3-layer grid, a quarter layer up.
-        let (idx, f) = stencil(2, face_pos(2, 1, 1, 1) + Vec3::new(0.0, 0.0, 0.25), n, 3, Boundary::Open);
+        let (idx, f) = stencil(
+            2,
+            face_pos(2, 1, 1, 1) + Vec3::new(0.0, 0.0, 0.25),
+            n,
+            3,
+            Boundary::Open,
+        );
         assert_eq!(idx[0], face_index(2, 1, 1, 1, n, 3));
         assert_eq!(idx[4], face_index(2, 1, 1, 2, n, 3));
         assert_eq!(f, Vec3::new(0.0, 0.0, 0.25));

@@ -172,7 +172,8 @@ fn faces_of(n: i32, layers: i32) -> impl Iterator<Item = (u32, i32, i32, i32)> {
 
 /// Every cell (i, j, k), in buffer order.
 fn cells_of(n: i32, layers: i32) -> impl Iterator<Item = IVec3> {
-    (0..layers).flat_map(move |k| (0..n).flat_map(move |j| (0..n).map(move |i| IVec3::new(i, j, k))))
+    (0..layers)
+        .flat_map(move |k| (0..n).flat_map(move |j| (0..n).map(move |i| IVec3::new(i, j, k))))
 }
 
 /// The solver on the CPU: the same grids and passes as the GPU solver.
@@ -316,8 +317,14 @@ impl FluidCpu {
                 let tilde = self.carry(q, &hat, 1.0, dt, |s, _| s);
                 self.carry(q, q, -1.0, dt, |_, (idx, st)| {
                     let v = st.map(|k| q[k]);
-                    let lo = v[0].min(v[1]).min(v[2].min(v[3])).min(v[4].min(v[5]).min(v[6].min(v[7])));
-                    let hi = v[0].max(v[1]).max(v[2].max(v[3])).max(v[4].max(v[5]).max(v[6].max(v[7])));
+                    let lo = v[0]
+                        .min(v[1])
+                        .min(v[2].min(v[3]))
+                        .min(v[4].min(v[5]).min(v[6].min(v[7])));
+                    let hi = v[0]
+                        .max(v[1])
+                        .max(v[2].max(v[3]))
+                        .max(v[4].max(v[5]).max(v[6].max(v[7])));
                     let x = hat[idx] + 0.5 * (q[idx] - tilde[idx]);
                     x.max(lo).min(hi) / damping
                 })
@@ -345,7 +352,11 @@ impl FluidCpu {
             blend3(s.map(|k| field[k]), f)
         };
         let velocity_at = |pos: Vec3| {
-            Vec3::new(sample(vel, 0, pos), sample(vel, 1, pos), sample(vel, 2, pos))
+            Vec3::new(
+                sample(vel, 0, pos),
+                sample(vel, 1, pos),
+                sample(vel, 2, pos),
+            )
         };
         let mut out = vec![0.0; q.len()];
         for (axis, i, j, k) in faces_of(n, layers) {
@@ -355,7 +366,12 @@ impl FluidCpu {
             }
             let (ci, cj) = canonical(axis, i, j, n, boundary);
             let start = face_pos(axis, ci, cj, k);
-            let mid = clamp_pos(start + velocity_at(start) * (0.5 * cells), n, layers, boundary);
+            let mid = clamp_pos(
+                start + velocity_at(start) * (0.5 * cells),
+                n,
+                layers,
+                boundary,
+            );
             let pos = clamp_pos(start + velocity_at(mid) * cells, n, layers, boundary);
             let (s, f) = stencil(axis, pos, n, layers, boundary);
             let value = blend3(s.map(|k| q[k]), f);
@@ -503,7 +519,10 @@ impl FluidCpu {
             let (ci, cj) = canonical(axis, i, j, n, boundary);
             let v = fin[face_index(axis, ci, cj, k, n, layers)];
             let [a, b] = face_cells(axis, ci, cj, k);
-            let (lo, hi) = (cell_ref(a, n, layers, boundary), cell_ref(b, n, layers, boundary));
+            let (lo, hi) = (
+                cell_ref(a, n, layers, boundary),
+                cell_ref(b, n, layers, boundary),
+            );
             let is_solid = |c: Option<usize>| c.is_some_and(|c| solid[c] != 0);
             if epsilon == 0.0 || axis == 2 || is_solid(lo) || is_solid(hi) {
                 out[idx] = v;
@@ -548,7 +567,8 @@ impl FluidCpu {
                     continue;
                 }
                 let xr = |i: i32, j: i32, k: i32| x[face_ref(axis, i, j, k, n, layers, boundary)];
-                let sum = xr(ci - 1, cj, k) + xr(ci + 1, cj, k) + xr(ci, cj - 1, k) + xr(ci, cj + 1, k);
+                let sum =
+                    xr(ci - 1, cj, k) + xr(ci + 1, cj, k) + xr(ci, cj - 1, k) + xr(ci, cj + 1, k);
                 let vertical = xr(ci, cj, k - 1) + xr(ci, cj, k + 1);
                 out[idx] = (start[at] + sum * a + vertical * av) / (1.0 + 4.0 * a + 2.0 * av);
             }
@@ -620,7 +640,10 @@ impl FluidCpu {
             let (ci, cj) = canonical(axis, i, j, n, boundary);
             let v = fin[face_index(axis, ci, cj, k, n, layers)];
             let [a, b] = face_cells(axis, ci, cj, k);
-            let (lo, hi) = (cell_ref(a, n, layers, boundary), cell_ref(b, n, layers, boundary));
+            let (lo, hi) = (
+                cell_ref(a, n, layers, boundary),
+                cell_ref(b, n, layers, boundary),
+            );
             if lo.is_some_and(|c| solid[c] != 0) || hi.is_some_and(|c| solid[c] != 0) {
                 out[idx] = v;
                 continue;
