@@ -325,10 +325,27 @@ pub fn simulate_cpu_from(
     let mut wind = None;
     for _ in 0..steps {
         time += dt;
-        let spheres = spheres_at(&scene.colliders, &session.terrain, time);
+        let mut spheres = spheres_at(&scene.colliders, &session.terrain, time);
+        spheres.extend(crate::sim::colliders::object_spheres_at(
+            &scene.objects,
+            &session.packings,
+            &session.terrain,
+            time,
+        ));
         // Same order as the GPU frame: the wind moves, then the blades read it.
         if let Some(f) = &mut fluid {
-            f.step(dt, &agc::fluid_forces(scene, &session.terrain, time));
+            let mut forces = agc::fluid_forces(scene, &session.terrain, time);
+            if scene.wind.fluid.obstacles {
+                forces
+                    .obstacles
+                    .extend(crate::sim::colliders::object_obstacles(
+                        &scene.objects,
+                        &session.packings,
+                        &session.terrain,
+                        time,
+                    ));
+            }
+            f.step(dt, &forces);
             wind = Some(f.state());
         }
         let params = sim_params(

@@ -6,7 +6,8 @@ use crate::error::{Error, Result};
 use crate::field::tiles::{TileLayout, MAX_POOL_BLADES};
 use crate::field::{flat_field, generate, DensityMap, GeneratedField, HeightField};
 use crate::gpu::Gpu;
-use crate::scene::Scene;
+use crate::mesh::pack::Packing;
+use crate::scene::{MeshCollider, Scene};
 use crate::sim::layout::Blade;
 
 /// Largest `--blades` value accepted on the command line.
@@ -23,6 +24,34 @@ pub struct Session {
     pub tiles: Option<TileLayout>,
     /// The meshes of `scene.objects`, in order, read and checked.
     pub meshes: Vec<crate::mesh::Mesh>,
+    /// The sphere packing of each object whose `collider` asks for one (in its mesh's
+    /// units; `None` for the others), computed once at load.
+    pub packings: Vec<Option<Packing>>,
+}
+
+/// Packs every object whose collider asks for spheres, and logs how well they cover it.
+fn pack_objects(scene: &Scene, meshes: &[crate::mesh::Mesh]) -> Vec<Option<Packing>> {
+    scene
+        .objects
+        .iter()
+        .zip(meshes)
+        .enumerate()
+        .map(|(i, (object, mesh))| match &object.collider {
+            MeshCollider::None => None,
+            MeshCollider::Spheres(p) => {
+                let packing = crate::mesh::pack::pack(mesh, p.count as usize, p.resolution);
+                log::info!(
+                    "objects[{i}] ({}): {} spheres cover {:.1} % of the mesh's {} inside \
+                     voxels",
+                    object.mesh,
+                    packing.spheres.len(),
+                    packing.coverage * 100.0,
+                    packing.inside_voxels
+                );
+                Some(packing)
+            }
+        })
+        .collect()
 }
 
 /// Reads every object's mesh (errors name the scene line of its `mesh`) and checks that
@@ -159,12 +188,14 @@ impl Session {
                 // `--blades N` is a whole field of N blades, never a streamed one.
                 scene.field.tile_size = 0.0;
                 let meshes = load_meshes(&scene, gpu)?;
+                let packings = pack_objects(&scene, &meshes);
                 Ok(Self {
                     scene,
                     terrain,
                     field,
                     tiles: None,
                     meshes,
+                    packings,
                 })
             }
             None => {
@@ -181,12 +212,14 @@ impl Session {
                     None => generate(&scene.field, &terrain, density.as_ref()),
                 };
                 let meshes = load_meshes(&scene, gpu)?;
+                let packings = pack_objects(&scene, &meshes);
                 Ok(Self {
                     scene,
                     terrain,
                     field,
                     tiles,
                     meshes,
+                    packings,
                 })
             }
         }

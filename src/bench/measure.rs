@@ -56,7 +56,7 @@ pub(super) fn measure(
         &session.field,
         COLOR_FORMAT,
     )?;
-    renderer.set_objects(gpu, &session.meshes);
+    renderer.set_objects(gpu, &session.meshes, &session.packings);
     gpu.check_errors()?;
     let size = (target.width, target.height);
     let mut passes = [0.0f64; timing::PASSES.len()];

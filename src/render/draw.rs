@@ -24,6 +24,27 @@ struct Mesh {
 }
 
 /// Pipelines and buffers of the draw pass.
+/// Which of the uploaded collider spheres are drawn: all `count` but the `hidden` range
+/// (the spheres packed into mesh objects, which the mesh itself shows).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SphereDraw {
+    pub count: u32,
+    pub hidden: std::ops::Range<u32>,
+}
+
+impl SphereDraw {
+    /// The instance ranges to draw.
+    pub fn drawn(&self) -> [std::ops::Range<u32>; 2] {
+        let start = self.hidden.start.min(self.count);
+        let end = self.hidden.end.clamp(start, self.count);
+        [0..start, end..self.count]
+    }
+
+    pub fn any_drawn(&self) -> bool {
+        self.drawn().iter().any(|r| !r.is_empty())
+    }
+}
+
 pub struct DrawPass {
     frame: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
@@ -555,11 +576,20 @@ impl DrawPass {
         self.terrain_pass.draw(pass);
     }
 
-    fn draw_spheres<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, mesh: &'a Mesh, count: u32) {
+    fn draw_spheres<'a>(
+        &'a self,
+        pass: &mut wgpu::RenderPass<'a>,
+        mesh: &'a Mesh,
+        spheres: &SphereDraw,
+    ) {
         pass.set_bind_group(0, &self.spheres_group, &[]);
         pass.set_vertex_buffer(0, mesh.vertices.slice(..));
         pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..mesh.count, 0, 0..count);
+        for range in spheres.drawn() {
+            if !range.is_empty() {
+                pass.draw_indexed(0..mesh.count, 0, range);
+            }
+        }
     }
 
     /// Records the occluder pass: the opaque objects' depth only, into `depth` (cleared),
@@ -568,7 +598,7 @@ impl DrawPass {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
-        sphere_count: u32,
+        spheres: &SphereDraw,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -586,9 +616,9 @@ impl DrawPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if sphere_count > 0 {
+        if spheres.any_drawn() {
             pass.set_pipeline(&self.pipelines.spheres_depth);
-            self.draw_spheres(&mut pass, &self.occluder_sphere, sphere_count);
+            self.draw_spheres(&mut pass, &self.occluder_sphere, spheres);
         }
         if let Some(o) = &self.objects {
             o.draw(&mut pass, true);
@@ -607,7 +637,7 @@ impl DrawPass {
         depth: &wgpu::TextureView,
         depth_loaded: bool,
         indirect: &wgpu::Buffer,
-        sphere_count: u32,
+        spheres: &SphereDraw,
         wireframe: bool,
         billboards: Option<&super::billboard::BillboardPass>,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
@@ -624,9 +654,9 @@ impl DrawPass {
             (depth, depth_load),
             timestamps,
         );
-        if sphere_count > 0 {
+        if spheres.any_drawn() {
             pass.set_pipeline(&self.pipelines.spheres);
-            self.draw_spheres(&mut pass, &self.sphere_mesh, sphere_count);
+            self.draw_spheres(&mut pass, &self.sphere_mesh, spheres);
         }
         if let Some(o) = &self.objects {
             o.draw(&mut pass, false);

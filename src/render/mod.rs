@@ -119,6 +119,9 @@ pub struct Renderer {
     last_cull: CullParams,
     /// Spheres added to the scene's colliders each step (see [`DynamicSphere`]).
     pub dynamic_spheres: Vec<DynamicSphere>,
+    /// The sphere packing of each mesh object (`None`: no collider), in its mesh's units;
+    /// the spheres move with their object.
+    packings: Vec<Option<crate::mesh::pack::Packing>>,
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
     /// culling camera" in the panel: fly out and look at what the frozen view keeps).
     pub cull_camera: Option<CameraView>,
@@ -162,13 +165,20 @@ impl Renderer {
             &session.field,
             format,
         )?;
-        r.set_objects(gpu, &session.meshes);
+        r.set_objects(gpu, &session.meshes, &session.packings);
         Ok(r)
     }
 
     /// Uploads the meshes of the scene's `objects` (read and checked by the session, in
-    /// the same order) for the draw and the occluder pass.
-    pub fn set_objects(&mut self, gpu: &Gpu, meshes: &[crate::mesh::Mesh]) {
+    /// the same order) for the draw and the occluder pass, and takes their sphere
+    /// packings as colliders.
+    pub fn set_objects(
+        &mut self,
+        gpu: &Gpu,
+        meshes: &[crate::mesh::Mesh],
+        packings: &[Option<crate::mesh::pack::Packing>],
+    ) {
+        self.packings = packings.to_vec();
         self.draw.objects = (!self.scene.objects.is_empty()).then(|| {
             objects::ObjectsPass::new(
                 &gpu.device,
@@ -263,6 +273,7 @@ impl Renderer {
             frame_count: 0,
             last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),
+            packings: Vec::new(),
             display_aspect: None,
             cull_camera: None,
             format,
@@ -285,10 +296,16 @@ impl Renderer {
         Ok(r)
     }
 
-    /// The spheres of the current step: the scene's colliders at this time, then the
-    /// dynamic ones (what `upload_colliders` sends).
+    /// The spheres of the current step: the scene's colliders at this time, the mesh
+    /// objects' packed spheres, then the dynamic ones (what `upload_colliders` sends).
     pub fn frame_spheres(&self) -> Vec<[f32; 4]> {
         let mut spheres = spheres_at(&self.scene.colliders, &self.terrain, self.time);
+        spheres.extend(crate::sim::colliders::object_spheres_at(
+            &self.scene.objects,
+            &self.packings,
+            &self.terrain,
+            self.time,
+        ));
         spheres.extend(
             self.dynamic_spheres
                 .iter()
@@ -302,13 +319,51 @@ impl Renderer {
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
     }
 
+    /// The spheres drawn: all but the objects' packed ones (which follow the colliders
+    /// in `frame_spheres`).
+    fn sphere_draw(&self) -> draw::SphereDraw {
+        let first = self.scene.colliders.len() as u32;
+        let packed: usize = self
+            .packings
+            .iter()
+            .flatten()
+            .map(|p| p.spheres.len())
+            .sum();
+        draw::SphereDraw {
+            count: self.sphere_count,
+            hidden: first..first + packed as u32,
+        }
+    }
+
     /// Advances the clock by `dt` (clamped to the scene's Δt limit) and moves the colliders;
     /// returns the clamped Δt.
     fn advance(&mut self, gpu: &Gpu, dt: f32) -> f32 {
         let dt = dt.clamp(0.0, self.scene.physics.max_dt);
         self.time += dt;
         self.upload_colliders(gpu);
+        self.place_objects(gpu);
         dt
+    }
+
+    /// Moves the mesh objects that have a motion to where they are now.
+    fn place_objects(&self, gpu: &Gpu) {
+        let objects = &self.scene.objects;
+        if objects
+            .iter()
+            .all(|o| o.motion == crate::scene::Motion::Static)
+        {
+            return;
+        }
+        if let Some(pass) = &self.draw.objects {
+            let models: Vec<glam::Mat4> = objects
+                .iter()
+                .map(|o| {
+                    let origin = crate::sim::colliders::object_origin(o, &self.terrain, self.time);
+                    o.transform_at(origin)
+                })
+                .collect();
+            pass.set_transforms(&gpu.queue, &models);
+        }
     }
 
     /// Records the wind step and the blade update over the patches the patch pass picked;
@@ -325,6 +380,14 @@ impl Renderer {
             fluid.follow(&gpu.queue, encoder, [eye.x, eye.z]);
             let mut forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
             if self.scene.wind.fluid.obstacles {
+                forces
+                    .obstacles
+                    .extend(crate::sim::colliders::object_obstacles(
+                        &self.scene.objects,
+                        &self.packings,
+                        &self.terrain,
+                        self.time,
+                    ));
                 forces
                     .obstacles
                     .extend(self.dynamic_spheres.iter().map(|s| ObstacleGpu {
@@ -643,7 +706,7 @@ impl Renderer {
         if occlusion {
             timed(timer, encoder, timing::OCCLUDERS, |e, q| {
                 self.draw
-                    .encode_occluders(e, depth, self.sphere_count, rs(q))
+                    .encode_occluders(e, depth, &self.sphere_draw(), rs(q))
             });
             if let Some(p) = &self.pyramid {
                 timed(timer, encoder, timing::PYRAMID, |e, q| {
@@ -672,7 +735,7 @@ impl Renderer {
                 depth,
                 occlusion,
                 &self.cull.args,
-                self.sphere_count,
+                &self.sphere_draw(),
                 wireframe,
                 self.billboards.as_ref(),
                 rs(q),

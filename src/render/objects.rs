@@ -24,6 +24,8 @@ const _: () = assert!(std::mem::size_of::<ObjectUniforms>() == 144);
 
 /// One object on the GPU.
 struct GpuObject {
+    uniform: wgpu::Buffer,
+    color: [f32; 4],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -42,6 +44,16 @@ pub struct ObjectsPass {
 
 const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+
+/// The uniforms of an object placed by `model`.
+fn uniforms_of(model: glam::Mat4, color: [f32; 4]) -> ObjectUniforms {
+    let normal = glam::Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
+    ObjectUniforms {
+        model: model.to_cols_array_2d(),
+        normal: normal.to_cols_array_2d(),
+        color,
+    }
+}
 
 fn vertex_layout() -> [Option<wgpu::VertexBufferLayout<'static>>; 1] {
     [Some(wgpu::VertexBufferLayout {
@@ -78,21 +90,17 @@ impl ObjectsPass {
                     .zip(&mesh.normals)
                     .map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]])
                     .collect();
-                let model = object.transform();
-                let normal =
-                    glam::Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
                 let c = object.color;
-                let uniforms = ObjectUniforms {
-                    model: model.to_cols_array_2d(),
-                    normal: normal.to_cols_array_2d(),
-                    color: [c.0, c.1, c.2, 1.0],
-                };
+                let color = [c.0, c.1, c.2, 1.0];
+                let uniforms = uniforms_of(object.transform(), color);
+                // COPY_DST: a moving object's transform is rewritten every frame.
                 let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(&format!("sward.objects.{i}.uniforms")),
                     contents: bytemuck::bytes_of(&uniforms),
-                    usage: wgpu::BufferUsages::UNIFORM,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 });
                 GpuObject {
+                    color,
                     vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some(&format!("sward.objects.{i}.vertices")),
                         contents: bytemuck::cast_slice(&vertices),
@@ -104,6 +112,7 @@ impl ObjectsPass {
                         usage: wgpu::BufferUsages::INDEX,
                     }),
                     index_count: mesh.indices.len() as u32,
+                    uniform: uniform.clone(),
                     group: device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some(&format!("sward.objects.{i}.group")),
                         layout: &layout,
@@ -157,6 +166,14 @@ impl ObjectsPass {
     }
 
     /// Rebuilds the pipelines for another sample count.
+    /// Places object i by `models[i]` from the next frame on (moving objects).
+    pub fn set_transforms(&self, queue: &wgpu::Queue, models: &[glam::Mat4]) {
+        for (object, model) in self.objects.iter().zip(models) {
+            let uniforms = uniforms_of(*model, object.color);
+            queue.write_buffer(&object.uniform, 0, bytemuck::bytes_of(&uniforms));
+        }
+    }
+
     pub fn set_samples(&mut self, device: &wgpu::Device, samples: u32) {
         if samples != self.samples {
             self.samples = samples;

@@ -28,7 +28,6 @@
 //! )
 //! ```
 
-pub mod bunny;
 mod load;
 mod origin;
 pub mod save;

@@ -497,6 +497,42 @@ pub struct MeshObject {
     pub scale: f32,
     /// Linear RGB albedo.
     pub color: (f32, f32, f32),
+    /// The collision shape sward builds from the mesh, which pushes the grass and (with
+    /// `wind.fluid.obstacles`) blocks the air.
+    pub collider: MeshCollider,
+    /// How the object moves: `Static` at `translation`; `Velocity((x, y, z))` from it;
+    /// `Path(..)`: its origin follows the (x, z) points at `speed`, `translation.y` above
+    /// the ground under it. The mesh and its collider move together.
+    pub motion: Motion,
+}
+
+/// A mesh object's collision shape.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub enum MeshCollider {
+    /// The object does not touch the grass.
+    #[default]
+    None,
+    /// Jahrmann & Wimmer's sphere packing, computed from the mesh (`crate::mesh::pack`).
+    Spheres(SpherePacking),
+}
+
+/// How a mesh is packed with spheres.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct SpherePacking {
+    /// Spheres to pack (largest first; fewer when they cover the mesh already).
+    pub count: u32,
+    /// Voxels along the longest side of the mesh's box for the inside test and distances.
+    pub resolution: u32,
+}
+
+impl Default for SpherePacking {
+    fn default() -> Self {
+        Self {
+            count: 100,
+            resolution: crate::mesh::pack::DEFAULT_RESOLUTION,
+        }
+    }
 }
 
 impl Default for MeshObject {
@@ -507,13 +543,20 @@ impl Default for MeshObject {
             rotation: (0.0, 0.0, 0.0),
             scale: 1.0,
             color: (0.6, 0.55, 0.5),
+            collider: MeshCollider::None,
+            motion: Motion::Static,
         }
     }
 }
 
 impl MeshObject {
-    /// The object-to-world transform.
+    /// The object-to-world transform at rest (at `translation`).
     pub fn transform(&self) -> glam::Mat4 {
+        self.transform_at(self.translation.into())
+    }
+
+    /// The object-to-world transform with its origin at `origin`.
+    pub fn transform_at(&self, origin: glam::Vec3) -> glam::Mat4 {
         let (rx, ry, rz) = self.rotation;
         let rotation = glam::Quat::from_euler(
             glam::EulerRot::ZYX,
@@ -521,10 +564,6 @@ impl MeshObject {
             ry.to_radians(),
             rx.to_radians(),
         );
-        glam::Mat4::from_scale_rotation_translation(
-            glam::Vec3::splat(self.scale),
-            rotation,
-            self.translation.into(),
-        )
+        glam::Mat4::from_scale_rotation_translation(glam::Vec3::splat(self.scale), rotation, origin)
     }
 }

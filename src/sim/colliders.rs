@@ -1,10 +1,13 @@
-//! Collider motion: where each sphere is at time t. Evaluated on the CPU once per frame
-//! (a handful of spheres, not per-blade data) and uploaded as `vec4(centre, radius)`.
+//! Collider motion: where each sphere is at time t, the scene's own and those packed into
+//! mesh objects (which move with their object). Evaluated on the CPU once per frame (at
+//! most `MAX_SPHERES` spheres, not per-blade data) and uploaded as `vec4(centre, radius)`.
 
 use glam::{Vec2, Vec3};
 
 use crate::field::HeightField;
-use crate::scene::{Motion, Sphere};
+use crate::mesh::pack::Packing;
+use crate::scene::{MeshObject, Motion, Sphere};
+use crate::sim::wind_layout::ObstacleGpu;
 
 /// Centre and radius of every collider at time `time`, as the shaders read them.
 pub fn spheres_at(colliders: &[Sphere], terrain: &HeightField, time: f32) -> Vec<[f32; 4]> {
@@ -63,4 +66,70 @@ pub fn along_path(points: &[(f32, f32)], looped: bool, s: f32) -> Vec2 {
         s -= len;
     }
     segments.last().map(|(_, b)| *b).unwrap_or(pts[0])
+}
+
+/// Where a mesh object's origin is at `time`: at its translation, moved by its velocity,
+/// or along its path with `translation.y` above the ground under it.
+pub fn object_origin(object: &MeshObject, terrain: &HeightField, time: f32) -> Vec3 {
+    let t = Vec3::from(object.translation);
+    match &object.motion {
+        Motion::Static => t,
+        Motion::Velocity(v) => t + Vec3::from(*v) * time,
+        Motion::Path {
+            points,
+            speed,
+            looped,
+        } => {
+            let p = along_path(points, *looped, speed * time);
+            Vec3::new(p.x, terrain.height(p.x, p.y) + t.y, p.y)
+        }
+    }
+}
+
+/// The spheres of every packed object at `time` (`packings[i]` is object i's packing in
+/// its mesh's units, `None` without a collider), as `vec4(centre, radius)` in the world.
+pub fn object_spheres_at(
+    objects: &[MeshObject],
+    packings: &[Option<Packing>],
+    terrain: &HeightField,
+    time: f32,
+) -> Vec<[f32; 4]> {
+    let mut out = Vec::new();
+    for (object, packing) in objects.iter().zip(packings) {
+        let Some(packing) = packing else { continue };
+        let m = object.transform_at(object_origin(object, terrain, time));
+        for s in &packing.spheres {
+            let c = m.transform_point3(Vec3::new(s[0], s[1], s[2]));
+            out.push([c.x, c.y, c.z, s[3] * object.scale]);
+        }
+    }
+    out
+}
+
+/// The packed objects' spheres as obstacles of the wind at `time`, each with the velocity
+/// of a central difference over ±1/120 s (as the colliders' in `agc::fluid_forces`).
+pub fn object_obstacles(
+    objects: &[MeshObject],
+    packings: &[Option<Packing>],
+    terrain: &HeightField,
+    time: f32,
+) -> Vec<ObstacleGpu> {
+    const H: f32 = 1.0 / 120.0;
+    let t0 = (time - H).max(0.0).min(time);
+    let t1 = t0 + 2.0 * H;
+    let (a, b, now) = (
+        object_spheres_at(objects, packings, terrain, t0),
+        object_spheres_at(objects, packings, terrain, t1),
+        object_spheres_at(objects, packings, terrain, time),
+    );
+    now.iter()
+        .zip(a.iter().zip(&b))
+        .map(|(s, (a, b))| {
+            let v = (Vec3::new(b[0], b[1], b[2]) - Vec3::new(a[0], a[1], a[2])) / (t1 - t0);
+            ObstacleGpu {
+                circle: [s[0], s[2], s[3], s[1] - terrain.height(s[0], s[2])],
+                velocity: [v.x, v.z, v.y, 0.0],
+            }
+        })
+        .collect()
 }

@@ -3,20 +3,27 @@
 //! the mesh within the world's coordinates and a colour in 0..=1. The file itself is read
 //! and checked when the session loads it (`crate::mesh`).
 
-use super::allowed::{Allowed, Rule};
-use super::objects::POSITION;
+use super::allowed::{Allowed, Integers, Rule};
+use super::objects::{motion, motion_rules, POSITION};
 use super::{tuple3, Checker};
 use crate::error::Result;
-use crate::scene::types::MeshObject;
+use crate::scene::types::{MeshCollider, MeshObject};
+use crate::sim::layout::MAX_SPHERES;
 
 /// Turns of at most a full circle either way (more says the same with a larger number).
 const ANGLE: Allowed = Allowed::closed(-360.0, 360.0, "degrees");
 /// From millimetre models to kilometre ones.
 const SCALE: Allowed = Allowed::closed(0.001, 1000.0, "");
 const COLOR: Allowed = Allowed::closed(0.0, 1.0, "");
+/// Spheres of one packing: all the update pass takes.
+const PACKED: Integers = Integers::new(1, MAX_SPHERES as u64, "spheres");
+/// Voxels along the box: 8 resolve a blob, 256 (16 M voxels) any prop.
+const VOXELS: Integers = Integers::new(8, 256, "voxels");
 
 /// The rules of every object value.
-pub(super) const RULES: &[(&str, Rule)] = &[
+pub(super) const RULES: &[(&str, Rule)] = &{
+    let m = motion_rules!("objects[].motion");
+    [
     (
         "objects",
         Rule::Text("a list of meshes (mesh: \"file.obj\", translation: .., rotation: .., scale: .., color: ..)"),
@@ -30,7 +37,19 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("objects[].rotation", Rule::Vector(ANGLE)),
     ("objects[].scale", Rule::Real(SCALE)),
     ("objects[].color", Rule::Vector(COLOR)),
-];
+    (
+        "objects[].collider",
+        Rule::Choice("None or Spheres((count: .., resolution: ..))"),
+    ),
+    ("objects[].collider.count", Rule::Integer(PACKED)),
+    ("objects[].collider.resolution", Rule::Integer(VOXELS)),
+    m[0],
+    m[1],
+    m[2],
+    m[3],
+    m[4],
+]
+};
 
 pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Result<()> {
     let at = |name: &str| format!("objects[{i}].{name}");
@@ -47,5 +66,21 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
     check.vector(&at("translation"), &tuple3(object.translation), POSITION)?;
     check.vector(&at("rotation"), &tuple3(object.rotation), ANGLE)?;
     check.real(&at("scale"), object.scale, SCALE)?;
-    check.vector(&at("color"), &tuple3(object.color), COLOR)
+    check.vector(&at("color"), &tuple3(object.color), COLOR)?;
+    if let MeshCollider::Spheres(p) = &object.collider {
+        check.integer(&at("collider.count"), p.count, PACKED)?;
+        check.integer(&at("collider.resolution"), p.resolution, VOXELS)?;
+    }
+    motion(check, &at("motion"), &object.motion)
+}
+
+/// Spheres the objects' packings add to the colliders.
+pub(super) fn packed_spheres(objects: &[MeshObject]) -> usize {
+    objects
+        .iter()
+        .map(|o| match &o.collider {
+            MeshCollider::Spheres(p) => p.count as usize,
+            MeshCollider::None => 0,
+        })
+        .sum()
 }

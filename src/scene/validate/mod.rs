@@ -133,6 +133,24 @@ pub(crate) fn validate_with_sets(
     for (i, object) in scene.objects.iter_mut().enumerate() {
         meshes::object(&check, i, object)?;
     }
+    // The packed spheres join the colliders in the update pass's fixed list.
+    let packed = meshes::packed_spheres(&scene.objects);
+    let total = scene.colliders.len() + packed;
+    if packed > 0 && total > crate::sim::layout::MAX_SPHERES {
+        let last = scene
+            .objects
+            .iter()
+            .rposition(|o| matches!(o.collider, crate::scene::MeshCollider::Spheres(_)))
+            .unwrap_or(0);
+        let name = format!("objects[{last}].collider.count");
+        let message = format!(
+            "{name}: the objects' sphere packings ({packed} spheres) and the {} colliders \
+             make {total} spheres, more than the {} the update pass takes; lower the counts",
+            scene.colliders.len(),
+            crate::sim::layout::MAX_SPHERES
+        );
+        return Err(check.error(&name, message));
+    }
     // The guides must lie on the terrain, so the wind needs its (already checked) size.
     wind::wind(&check, &mut scene.wind, scene.terrain.size)?;
     physics::physics(&check, &mut scene.physics)?;

@@ -11,6 +11,8 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 
+pub mod pack;
+
 /// Most triangles a mesh may hold (10 M: 120 MB of indices, far past any grass prop).
 pub const MAX_TRIANGLES: usize = 10_000_000;
 
