@@ -29,6 +29,45 @@ pub struct Session {
     pub packings: Vec<Option<Packing>>,
 }
 
+/// Grows the grass of every object that has some (`objects[i].grass`) on its surface at
+/// rest and appends its patches to `field`.
+fn grow_on_objects(
+    scene: &Scene,
+    meshes: &[crate::mesh::Mesh],
+    field: &mut GeneratedField,
+) -> Result<()> {
+    let patch_size = field.patch_size as usize;
+    for (i, (object, mesh)) in scene.objects.iter().zip(meshes).enumerate() {
+        let Some(grass) = &object.grass else { continue };
+        // Checked before a single blade is made: the area times the density.
+        let area = crate::field::surface::surface_area(mesh, object.transform());
+        let wanted = f64::from(grass.density) * area;
+        if wanted + field.blades.len() as f64 > MAX_BLADES as f64 {
+            return Err(Error::Invalid(format!(
+                "objects[{i}].grass.density = {}: {wanted:.0} blades on the {area:.1} m² of \
+                 {:?} (with the field's {}) are more than {MAX_BLADES}; lower the density",
+                grass.density,
+                object.mesh,
+                field.blades.len()
+            )));
+        }
+        let (blades, patches) =
+            crate::field::surface::surface_field(mesh, object.transform(), grass, patch_size);
+        log::info!(
+            "objects[{i}] ({}): {} blades of grass in {} patches on its surface",
+            object.mesh,
+            blades.len(),
+            patches.len()
+        );
+        field
+            .states
+            .extend(blades.iter().map(crate::field::rest_state));
+        field.blades.extend(blades);
+        field.patches.extend(patches);
+    }
+    Ok(())
+}
+
 /// Packs every object whose collider asks for spheres, and logs how well they cover it.
 fn pack_objects(scene: &Scene, meshes: &[crate::mesh::Mesh]) -> Vec<Option<Packing>> {
     scene
@@ -189,6 +228,11 @@ impl Session {
                 scene.field.tile_size = 0.0;
                 let meshes = load_meshes(&scene, gpu)?;
                 let packings = pack_objects(&scene, &meshes);
+                let mut field = field;
+                grow_on_objects(&scene, &meshes, &mut field)?;
+                if let Some(gpu) = gpu {
+                    check_blade_count(gpu, field.blades.len() as f64)?;
+                }
                 Ok(Self {
                     scene,
                     terrain,
@@ -213,6 +257,11 @@ impl Session {
                 };
                 let meshes = load_meshes(&scene, gpu)?;
                 let packings = pack_objects(&scene, &meshes);
+                let mut field = field;
+                grow_on_objects(&scene, &meshes, &mut field)?;
+                if let Some(gpu) = gpu {
+                    check_blade_count(gpu, field.blades.len() as f64)?;
+                }
                 Ok(Self {
                     scene,
                     terrain,

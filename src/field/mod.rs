@@ -10,6 +10,7 @@ mod patches;
 mod placement;
 mod poisson;
 mod rng;
+pub mod surface;
 mod terrain;
 #[cfg(test)]
 mod tests;
@@ -18,6 +19,7 @@ pub mod tiles;
 pub use density::DensityMap;
 pub use noise::{fbm, fbm_grad, hash32, octave_offset, octave_seeds, value_noise};
 pub use patches::morton;
+pub use placement::rest_state;
 pub use terrain::{HeightField, NoiseSurface, Surface, MAX_RESOLUTION};
 
 use crate::scene::types::Field;

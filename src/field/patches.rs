@@ -106,7 +106,7 @@ fn morton_sort(patch: &mut [Blade]) {
 /// further from its root than the blade's height (the curve length is the height), so the
 /// box holds every pose the simulation can produce. `max[3]` is the smallest up.y of its
 /// blades (how far they lean at most), which bounds their distance test from below.
-fn patch_box(patch: &[Blade]) -> PatchBox {
+pub(super) fn patch_box(patch: &[Blade]) -> PatchBox {
     let mut min = [f32::INFINITY; 3];
     let mut max = [f32::NEG_INFINITY; 3];
     let mut tallest = 0.0f32;

@@ -504,6 +504,11 @@ pub struct MeshObject {
     /// `Path(..)`: its origin follows the (x, z) points at `speed`, `translation.y` above
     /// the ground under it. The mesh and its collider move together.
     pub motion: Motion,
+    /// Grass grown on the object's surface (`crate::field::surface`), with the fields of
+    /// the scene's `field` (density in blades per m² of surface; the shape, tip threshold,
+    /// patch size, segments and tile size are the scene field's, one draw for all blades).
+    /// Grown where the object stands at rest; it does not move with a moving object.
+    pub grass: Option<Field>,
 }
 
 /// A mesh object's collision shape.
@@ -545,6 +550,7 @@ impl Default for MeshObject {
             color: (0.6, 0.55, 0.5),
             collider: MeshCollider::None,
             motion: Motion::Static,
+            grass: None,
         }
     }
 }

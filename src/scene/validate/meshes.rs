@@ -42,6 +42,10 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         Rule::Choice("None or Spheres((count: .., resolution: ..))"),
     ),
     ("objects[].collider.count", Rule::Integer(PACKED)),
+    (
+        "objects[].grass",
+        Rule::Text("None or Some((density: .., height: (min: .., max: ..), ..)), as field"),
+    ),
     ("objects[].collider.resolution", Rule::Integer(VOXELS)),
     m[0],
     m[1],

@@ -126,12 +126,26 @@ pub(crate) fn validate_with_sets(
 ) -> Result<()> {
     let check = Checker { text, path, sets };
     terrain_field::terrain(&check, &mut scene.terrain)?;
-    terrain_field::field(&check, &scene.field)?;
+    terrain_field::field(&check, "field", &scene.field)?;
     for (i, sphere) in scene.colliders.iter().enumerate() {
         objects::collider(&check, i, sphere)?;
     }
     for (i, object) in scene.objects.iter_mut().enumerate() {
         meshes::object(&check, i, object)?;
+        if let Some(grass) = &object.grass {
+            let name = format!("objects[{i}].grass");
+            terrain_field::field(&check, &name, grass)?;
+            // A streamed field is generated tile by tile on the GPU; surface blades are
+            // generated once with the whole field.
+            if scene.field.tile_size > 0.0 {
+                let message = format!(
+                    "{name}: grass on an object needs a field generated whole \
+                     (field.tile_size: 0), but field.tile_size = {}",
+                    scene.field.tile_size
+                );
+                return Err(check.error(&name, message));
+            }
+        }
     }
     // The packed spheres join the colliders in the update pass's fixed list.
     let packed = meshes::packed_spheres(&scene.objects);
@@ -162,7 +176,11 @@ pub(crate) fn validate_with_sets(
 /// The rule of the field at `path` (`colliders[2].radius`, `field.height.min`), if the
 /// scene has such a field.
 pub(crate) fn rule_for(path: &str) -> Option<Rule> {
-    let generic = generic_path(path);
+    let mut generic = generic_path(path);
+    // An object's grass has the scene field's fields and rules.
+    if let Some(rest) = generic.strip_prefix("objects[].grass.") {
+        generic = format!("field.{rest}");
+    }
     let tables = [
         terrain_field::RULES,
         objects::RULES,

@@ -97,30 +97,34 @@ pub(super) fn terrain(check: &Checker, terrain: &mut Terrain) -> Result<()> {
     Ok(())
 }
 
-pub(super) fn field(check: &Checker, field: &Field) -> Result<()> {
-    check.real("field.density", field.density, DENSITY)?;
-    check.range("field.height", field.height, HEIGHT)?;
-    check.range("field.width", field.width, WIDTH)?;
-    check.range("field.stiffness", field.stiffness, STIFFNESS)?;
-    check.range("field.bend", field.bend, BEND)?;
-    check.real("field.tuft_fraction", field.tuft_fraction, FRACTION)?;
-    check.real("field.tuft_radius", field.tuft_radius, TUFT_RADIUS)?;
-    check.real("field.tip_threshold", field.tip_threshold, TIP_THRESHOLD)?;
+/// Checks a field's values; `prefix` names it in errors (`field`, `objects[2].grass`).
+pub(super) fn field(check: &Checker, prefix: &str, field: &Field) -> Result<()> {
+    let at = |name: &str| format!("{prefix}.{name}");
+    check.real(&at("density"), field.density, DENSITY)?;
+    check.range(&at("height"), field.height, HEIGHT)?;
+    check.range(&at("width"), field.width, WIDTH)?;
+    check.range(&at("stiffness"), field.stiffness, STIFFNESS)?;
+    check.range(&at("bend"), field.bend, BEND)?;
+    check.real(&at("tuft_fraction"), field.tuft_fraction, FRACTION)?;
+    check.real(&at("tuft_radius"), field.tuft_radius, TUFT_RADIUS)?;
+    check.real(&at("tip_threshold"), field.tip_threshold, TIP_THRESHOLD)?;
     // Patches are dispatched as whole workgroups of 64 blades, so a patch must fill them.
     let patch = u64::from(field.patch_size);
     if !(PATCH_SIZE.low..=PATCH_SIZE.high).contains(&patch) || !patch.is_multiple_of(64) {
+        let name = at("patch_size");
         return Err(check.error(
-            "field.patch_size",
-            format!("field.patch_size = {patch} is out of range: allowed {PATCH_SIZE_TEXT}"),
+            &name,
+            format!("{name} = {patch} is out of range: allowed {PATCH_SIZE_TEXT}"),
         ));
     }
-    check.integer("field.segments", field.segments, SEGMENTS)?;
+    check.integer(&at("segments"), field.segments, SEGMENTS)?;
     // Tiles streamed around the camera, or 0 for the whole field at once.
     let tile = field.tile_size;
     if tile != 0.0 && !(tile.is_finite() && TILE_SIZE.contains(tile)) {
+        let name = at("tile_size");
         return Err(check.error(
-            "field.tile_size",
-            format!("field.tile_size = {tile} is out of range: allowed {TILE_SIZE_TEXT}"),
+            &name,
+            format!("{name} = {tile} is out of range: allowed {TILE_SIZE_TEXT}"),
         ));
     }
     Ok(())

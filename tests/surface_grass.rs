@@ -1,0 +1,172 @@
+//! Grass grown on a mesh's surface (issue 14, point 2) on the test adapter:
+//! - on a box standing above the ground, blades on the top stand up, blades on the sides
+//!   hang down under world-down gravity, blades under the box hang below their roots;
+//! - the GPU update of surface blades (their up is the surface normal, not the terrain's)
+//!   matches the CPU twin;
+//! - a grassy object on a streamed field, and a density that would make too many blades,
+//!   are refused naming the field, before anything is generated.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use sward::commands::simulate_cpu;
+use sward::scene::{Field, MeshObject, Range, Scene};
+use sward::session::Session;
+use sward::sim::layout::Blade;
+
+/// A 1 m cube as OBJ, each face its own four corners (flat normals), in a scratch folder.
+fn cube_obj() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sward-surface-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let path = dir.join("cube.obj");
+    let mut text = String::new();
+    let quads: [[[f32; 3]; 4]; 6] = [
+        [[0., 0., 0.], [0., 0., 1.], [0., 1., 1.], [0., 1., 0.]],
+        [[1., 0., 0.], [1., 1., 0.], [1., 1., 1.], [1., 0., 1.]],
+        [[0., 0., 0.], [1., 0., 0.], [1., 0., 1.], [0., 0., 1.]],
+        [[0., 1., 0.], [0., 1., 1.], [1., 1., 1.], [1., 1., 0.]],
+        [[0., 0., 0.], [0., 1., 0.], [1., 1., 0.], [1., 0., 0.]],
+        [[0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]],
+    ];
+    for q in quads {
+        for v in q {
+            text += &format!("v {} {} {}\n", v[0] - 0.5, v[1] - 0.5, v[2] - 0.5);
+        }
+    }
+    for f in 0..6 {
+        let b = f * 4 + 1;
+        text += &format!("f {} {} {}\nf {} {} {}\n", b, b + 1, b + 2, b, b + 2, b + 3);
+    }
+    std::fs::write(&path, text).expect("write cube");
+    path
+}
+
+fn grassy_cube_scene() -> Scene {
+    let mut scene = common::still_scene();
+    scene.physics.gravity_acceleration = 9.81;
+    scene.objects = vec![MeshObject {
+        mesh: cube_obj().display().to_string(),
+        // A 2 m cube whose bottom is 1 m above the flat ground.
+        scale: 2.0,
+        translation: (0.0, 2.0, 0.0),
+        grass: Some(Field {
+            density: 120.0,
+            height: Range { min: 0.3, max: 0.5 },
+            stiffness: Range { min: 3.0, max: 5.0 },
+            tuft_fraction: 0.0,
+            ..Field::default()
+        }),
+        ..Default::default()
+    }];
+    scene
+}
+
+fn tip(b: &Blade) -> Vec3 {
+    Vec3::new(b.v2_width[0], b.v2_width[1], b.v2_width[2])
+}
+
+fn root(b: &Blade) -> Vec3 {
+    Vec3::new(b.v0_dir[0], b.v0_dir[1], b.v0_dir[2])
+}
+
+fn up(b: &Blade) -> Vec3 {
+    Vec3::new(b.up_stiffness[0], b.up_stiffness[1], b.up_stiffness[2])
+}
+
+#[test]
+fn blades_stand_on_top_hang_on_the_sides_and_under_the_box_and_match_the_twin() {
+    let gpu = common::gpu();
+    let session = Session::new(grassy_cube_scene(), Some(4096), Some(&gpu)).expect("field");
+    // The flat field's 4,096 blades come first; the cube's follow.
+    let blades = &session.field.blades;
+    let on_cube: Vec<usize> = (0..blades.len())
+        .filter(|&i| root(&blades[i]).y > 0.5)
+        .collect();
+    // 6 faces of 4 m² at 120 blades/m², rounded up to whole patches.
+    assert!(
+        on_cube.len() >= 2880,
+        "{} blades on the cube",
+        on_cube.len()
+    );
+    let steps = 60;
+    let r = common::stepped(&gpu, &session, steps, 1.0 / 30.0);
+    let (gpu_blades, _) = r.buffers.read(&gpu).expect("read-back");
+    let (mut top, mut side, mut under) = (Vec::new(), Vec::new(), Vec::new());
+    for &i in &on_cube {
+        let (b, g) = (&blades[i], &gpu_blades[i]);
+        let rise = (tip(g).y - root(b).y) / b.v1_height[3];
+        match up(b).y {
+            y if y > 0.9 => top.push(rise),
+            y if y < -0.9 => under.push(rise),
+            _ => side.push(rise),
+        }
+    }
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let (t, s, u) = (mean(&top), mean(&side), mean(&under));
+    println!(
+        "tip height above the root over the blade height: top {t:.2} ({} blades), sides \
+         {s:.2} ({}), under {u:.2} ({})",
+        top.len(),
+        side.len(),
+        under.len()
+    );
+    assert!(t > 0.6, "blades on the top must stand ({t})");
+    assert!(s < -0.1, "blades on the sides must hang down ({s})");
+    assert!(
+        u < -0.6,
+        "blades under the box must hang below their roots ({u})"
+    );
+
+    let cpu = simulate_cpu(&session, steps, 1.0 / 30.0).blades;
+    let err = on_cube
+        .iter()
+        .map(|&i| tip(&cpu[i]).distance(tip(&gpu_blades[i])))
+        .fold(0.0f32, f32::max);
+    println!("surface blades, GPU against the CPU twin: max tip distance {err:.2e} m");
+    assert!(err < 1e-4, "GPU and CPU differ by {err} m");
+}
+
+#[test]
+fn grass_on_a_streamed_field_or_too_dense_is_refused() {
+    let mut scene = grassy_cube_scene();
+    scene.field.tile_size = 8.0;
+    let text = ron::ser::to_string(&scene).expect("ron");
+    let e = sward::scene::parse_scene(&text, Path::new("s.ron"))
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("objects[0].grass") && e.contains("field.tile_size"),
+        "{e}"
+    );
+
+    let mut scene = grassy_cube_scene();
+    if let Some(g) = &mut scene.objects[0].grass {
+        g.density = -1.0;
+    }
+    let text = ron::ser::to_string(&scene).expect("ron");
+    let e = sward::scene::parse_scene(&text, Path::new("s.ron"))
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("objects[0].grass.density = -1 is out of range"),
+        "{e}"
+    );
+
+    let gpu = common::gpu();
+    let mut scene = grassy_cube_scene();
+    scene.objects[0].scale = 1000.0;
+    if let Some(g) = &mut scene.objects[0].grass {
+        g.density = 1000.0;
+    }
+    let e = Session::new(scene, Some(1024), Some(&gpu))
+        .err()
+        .expect("too many blades")
+        .to_string();
+    println!("{e}");
+    assert!(
+        e.contains("objects[0].grass.density") && e.contains("lower the density"),
+        "{e}"
+    );
+}
