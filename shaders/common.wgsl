@@ -43,6 +43,9 @@ struct SimParams {
     patch_count: u32,
     fluid_layer_height: f32,
     pad_c: u32,
+    // Collision hierarchy: camera x, y, z, exact-walk distance; on, nodes, depth, unused.
+    bvh_camera: vec4<f32>,
+    bvh_info: vec4<u32>,
 }
 
 struct CullParams {

@@ -27,6 +27,20 @@ const COLLISION_ROUNDS: u32 = 4u;
 
 const THROTTLED: u32 = 0x80000000u;
 
+// A node of the colliders' hierarchy (`sim::bvh::BvhNode`).
+struct BvhNode {
+    sphere: vec4<f32>,
+    // Left, right, the collider of a leaf (BVH_INTERNAL otherwise), depth.
+    link: vec4<u32>,
+}
+
+const BVH_INTERNAL: u32 = 0xffffffffu;
+// Deep enough for any tree of MAX_SPHERES leaves (depth 10) with room to spare.
+const BVH_STACK: u32 = 32u;
+
+// The hierarchy, root first (read only when params.bvh_info.x != 0).
+@group(0) @binding(8) var<storage, read> bvh: array<BvhNode>;
+
 
 
 // Whether x is a finite number. A bit test, because a compiler may assume that NaN never
@@ -60,10 +74,78 @@ fn rest_curve(v0: vec3<f32>, rest: vec3<f32>, up: vec3<f32>, height: f32) -> arr
     return validate(v0, tip, up, height);
 }
 
+// Eq. 14-16 for one sphere (c, r): against v2 and against the curve midpoint m (the push
+// on m moves v2 four times as far); adds to v2 and to the collision strength.
+fn push_out(c: vec3<f32>, r: f32, v0: vec3<f32>, v1: vec3<f32>, v2: ptr<function, vec3<f32>>, added: ptr<function, f32>) {
+    let to_c = c - *v2;
+    let dist = length(to_c);
+    if dist < r && dist > 1e-6 {
+        let d = (dist - r) * to_c / dist;
+        *v2 += d;
+        *added += params.collision_gain * dot(d, d);
+    }
+    let m = 0.25 * v0 + 0.5 * v1 + 0.25 * *v2;
+    let to_cm = c - m;
+    let distm = length(to_cm);
+    if distm < r && distm > 1e-6 {
+        let d = (distm - r) * to_cm / distm;
+        *v2 += 4.0 * d;
+        *added += params.collision_gain * dot(d, d);
+    }
+}
+
+// The level at which a blade's walk of the hierarchy stops (`sim::bvh::depth_limit`).
+fn bvh_depth_limit(v0: vec3<f32>, throttled: bool) -> u32 {
+    let ratio = distance(v0, params.bvh_camera.xyz) / max(params.bvh_camera.w, 1e-3);
+    var coarser = 0u;
+    if ratio > 1.0 {
+        coarser = u32(min(floor(log2(ratio)), 31.0)) + 1u;
+    }
+    if throttled {
+        coarser += 1u;
+    }
+    return select(params.bvh_info.z - coarser, 0u, coarser > params.bvh_info.z);
+}
+
+// The spheres the blade can reach, walking the hierarchy depth first (left child first)
+// down to `limit`, where a node's bounding sphere stands in for those under it.
+fn collide_bvh(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, height: f32, limit: u32) -> vec4<f32> {
+    var v2 = v2_in;
+    var added = 0.0;
+    var stack: array<u32, BVH_STACK>;
+    var top = 1u;
+    stack[0] = 0u;
+    while top > 0u {
+        top -= 1u;
+        let node = bvh[stack[top]];
+        let c = node.sphere.xyz;
+        let r = node.sphere.w;
+        // Out of the blade's reach: neither the tip nor the midpoint can be inside.
+        if distance(c, v0) >= r + height {
+            continue;
+        }
+        if node.link.z != BVH_INTERNAL {
+            let s = spheres[node.link.z];
+            push_out(s.xyz, s.w, v0, v1, &v2, &added);
+        } else if node.link.w >= limit {
+            push_out(c, r, v0, v1, &v2, &added);
+        } else if top + 2u <= BVH_STACK {
+            // Right below left, so that the left child is walked first.
+            stack[top] = node.link.y;
+            stack[top + 1u] = node.link.x;
+            top += 2u;
+        }
+    }
+    return vec4<f32>(v2, added);
+}
+
 // Eq. 14-16: the spheres on the patch's broad-phase list (in index order, like the CPU twin
-// that tests all of them) against v2 and against the curve midpoint m (the push on m moves
-// v2 four times as far). Returns the new v2 and the added collision strength.
-fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, patch_id: u32) -> vec4<f32> {
+// that tests all of them), or the hierarchy's walk when it is on. Returns the new v2 and
+// the added collision strength.
+fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, patch_id: u32, height: f32, limit: u32) -> vec4<f32> {
+    if params.bvh_info.x != 0u && params.bvh_info.y > 0u {
+        return collide_bvh(v0, v1, v2_in, height, limit);
+    }
     var v2 = v2_in;
     var added = 0.0;
     let base = patch_id * PATCH_SPHERE_STRIDE;
@@ -72,23 +154,7 @@ fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, patch_id: u32) -> vec
     let n = select(listed, params.sphere_count, all);
     for (var k = 0u; k < n; k++) {
         let sphere = spheres[select(patch_spheres[base + 1u + k], k, all)];
-        let c = sphere.xyz;
-        let r = sphere.w;
-        let to_c = c - v2;
-        let dist = length(to_c);
-        if dist < r && dist > 1e-6 {
-            let d = (dist - r) * to_c / dist;
-            v2 += d;
-            added += params.collision_gain * dot(d, d);
-        }
-        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
-        let to_cm = c - m;
-        let distm = length(to_cm);
-        if distm < r && distm > 1e-6 {
-            let d = (distm - r) * to_cm / distm;
-            v2 += 4.0 * d;
-            added += params.collision_gain * dot(d, d);
-        }
+        push_out(sphere.xyz, sphere.w, v0, v1, &v2, &added);
     }
     return vec4<f32>(v2, added);
 }
@@ -165,8 +231,9 @@ fn main(
     // back into the sphere, so collide + validate repeats until nothing is pushed.
     var corrected = validate(v0, v2, up, height);
     if params.collisions != 0u {
+        let limit = bvh_depth_limit(v0, (entry & THROTTLED) != 0u);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
-            let c = collide(v0, corrected[0], corrected[1], patch_id);
+            let c = collide(v0, corrected[0], corrected[1], patch_id, height, limit);
             if c.w <= 0.0 {
                 break;
             }

@@ -348,7 +348,7 @@ pub fn simulate_cpu_from(
             f.step(dt, &forces);
             wind = Some(f.state());
         }
-        let params = sim_params(
+        let mut params = sim_params(
             &scene.physics,
             &scene.wind,
             scene.terrain.size,
@@ -357,6 +357,10 @@ pub fn simulate_cpu_from(
             blades.len() as u32,
             spheres.len() as u32,
         );
+        if scene.physics.collision_hierarchy {
+            let eye = glam::Vec3::from(scene.camera.eye);
+            crate::sim::bvh::fill_params(&mut params, &crate::sim::bvh::build(&spheres), eye);
+        }
         let zero = [[0.0f32; 2]];
         let grid = reference::WindGrid {
             velocity: wind

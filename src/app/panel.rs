@@ -305,6 +305,17 @@ fn physics_section(ui: &mut Ui, app: &mut AppState) {
         ui.add(egui::Slider::new(&mut p.collision_decay, 0.0..=5.0).text("η decay 1/s"));
         ui.add(egui::Slider::new(&mut p.max_dt, 0.001..=0.1).text("Δt clamp s"));
         ui.checkbox(&mut p.collisions, "collisions");
+        ui.checkbox(
+            &mut p.collision_hierarchy,
+            "collider hierarchy (BVH, precision by distance)",
+        );
+        if p.collision_hierarchy {
+            ui.add(
+                egui::Slider::new(&mut p.hierarchy_precision_distance, 0.5..=200.0)
+                    .logarithmic(true)
+                    .text("exact within m"),
+            );
+        }
     });
 }
 

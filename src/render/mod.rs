@@ -122,6 +122,8 @@ pub struct Renderer {
     /// The sphere packing of each mesh object (`None`: no collider), in its mesh's units;
     /// the spheres move with their object.
     packings: Vec<Option<crate::mesh::pack::Packing>>,
+    /// This frame's hierarchy of the colliders (`physics.collision_hierarchy`; else empty).
+    bvh: Vec<crate::sim::bvh::BvhNode>,
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
     /// culling camera" in the panel: fly out and look at what the frozen view keeps).
     pub cull_camera: Option<CameraView>,
@@ -274,6 +276,7 @@ impl Renderer {
             last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),
             packings: Vec::new(),
+            bvh: Vec::new(),
             display_aspect: None,
             cull_camera: None,
             format,
@@ -317,6 +320,12 @@ impl Renderer {
     fn upload_colliders(&mut self, gpu: &Gpu) {
         let spheres = self.frame_spheres();
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
+        self.bvh = if self.scene.physics.collision_hierarchy {
+            crate::sim::bvh::build(&spheres[..self.sphere_count as usize])
+        } else {
+            Vec::new()
+        };
+        self.buffers.upload_bvh(&gpu.queue, &self.bvh);
     }
 
     /// The spheres drawn: all but the objects' packed ones (which follow the colliders
@@ -415,6 +424,7 @@ impl Renderer {
         );
         params.patch_size = self.buffers.patch_size;
         params.patch_count = self.buffers.patch_count;
+        crate::sim::bvh::fill_params(&mut params, &self.bvh, eye);
         // The grid's corner and cell now (a following grid moves; the blades and the
         // billboards must sample it where it is).
         if let Some(f) = &self.fluid {

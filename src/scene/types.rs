@@ -257,6 +257,13 @@ pub struct Physics {
     /// Largest time step the update takes; longer frames are clamped to it.
     pub max_dt: f32,
     pub collisions: bool,
+    /// Qiu et al.'s hierarchy of the colliders (`sim::bvh`): each blade walks a tree of
+    /// bounding spheres instead of its patch's list of nearby spheres.
+    pub collision_hierarchy: bool,
+    /// Metres from the camera within which a blade walks the hierarchy down to the
+    /// colliders themselves; each doubling of the distance beyond (and a throttled patch)
+    /// stops the walk one level higher, at a coarser bounding sphere.
+    pub hierarchy_precision_distance: f32,
 }
 
 impl Default for Physics {
@@ -273,6 +280,8 @@ impl Default for Physics {
             max_collision_strength: 2.0,
             stiffness_scale: 1.0,
             max_dt: 0.05,
+            collision_hierarchy: false,
+            hierarchy_precision_distance: 10.0,
             collisions: true,
         }
     }

@@ -95,6 +95,12 @@ pub struct SimParams {
     /// Wind grid: thickness of a layer in metres (3D grids).
     pub fluid_layer_height: f32,
     pub _pad: u32,
+    /// Collision hierarchy (`sim::bvh`): the camera's x, y, z and the distance within which
+    /// the walk goes down to the colliders.
+    pub bvh_camera: [f32; 4],
+    /// Collision hierarchy: 1 = walk it (else the patch lists), nodes, the tree's depth,
+    /// unused.
+    pub bvh_info: [u32; 4],
 }
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.
@@ -297,7 +303,7 @@ pub struct DrawIndexedIndirect {
 const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
-const _: () = assert!(std::mem::size_of::<SimParams>() == 192);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 224);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 240);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 320);
 // `DrawnBlades.head` in common.wgsl skips this many words.

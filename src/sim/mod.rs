@@ -2,6 +2,7 @@
 //! layouts shared with the shaders.
 
 pub mod agc;
+pub mod bvh;
 pub mod colliders;
 pub mod fluid;
 pub mod health;

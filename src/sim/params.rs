@@ -35,6 +35,9 @@ pub fn sim_params(
         blade_count,
         sphere_count,
         collisions: physics.collisions as u32,
+        // The camera and the tree are the caller's (`bvh::fill_params`).
+        bvh_camera: [0.0, 0.0, 0.0, physics.hierarchy_precision_distance],
+        bvh_info: [physics.collision_hierarchy as u32, 0, 0, 0],
         ..Default::default()
     };
     if let Some(d) = &wind.directional {

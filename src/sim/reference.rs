@@ -5,6 +5,8 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
+use super::bvh::{self, BvhNode};
+
 use super::layout::{
     Blade, BladeState, CullParams, PatchBox, SimParams, PATCH_SPHERE_STRIDE, SEEN_CANDIDATE,
     SEEN_DRAWN_EARLY, SEEN_NO, SEEN_YES, TEST_DISTANCE, TEST_FRUSTUM, TEST_OCCLUSION,
@@ -182,34 +184,83 @@ fn v4(a: [f32; 4]) -> Vec4 {
     Vec4::from_array(a)
 }
 
-/// Eq. 14–16: every sphere against v2 and the curve midpoint m (the push on m moves v2 four
-/// times as far). Returns the new v2 and the added collision strength.
+/// Eq. 14–16 for one sphere (c, r) against v2 and the curve midpoint m (the push on m
+/// moves v2 four times as far); `push_out` in `update.wgsl`.
+fn push_out(c: Vec3, r: f32, v0: Vec3, v1: Vec3, v2: &mut Vec3, added: &mut f32, gain: f32) {
+    let to_c = c - *v2;
+    let dist = to_c.length();
+    if dist < r && dist > 1e-6 {
+        let d = (dist - r) * to_c / dist;
+        *v2 += d;
+        *added += gain * d.dot(d);
+    }
+    let m = 0.25 * v0 + 0.5 * v1 + 0.25 * *v2;
+    let to_c = c - m;
+    let dist = to_c.length();
+    if dist < r && dist > 1e-6 {
+        let d = (dist - r) * to_c / dist;
+        *v2 += 4.0 * d;
+        *added += gain * d.dot(d);
+    }
+}
+
+/// The collision hierarchy of one step and how deep each blade walks it (`collide_bvh` in
+/// `update.wgsl`).
+#[derive(Clone, Copy, Debug)]
+pub struct Hierarchy<'a> {
+    pub nodes: &'a [BvhNode],
+    /// The level the walk stops at ([`bvh::depth_limit`]).
+    pub limit: u32,
+    /// The blade's height (the reach of its tip and midpoint from the root).
+    pub height: f32,
+}
+
+/// Eq. 14–16: every sphere against v2 and the curve midpoint m, in index order, or the walk
+/// of the hierarchy when one is given (depth first, left child first, a node's sphere
+/// standing in for those under it at the blade's depth limit). Returns the new v2 and the
+/// added collision strength.
 pub fn collide(
     v0: Vec3,
     v1: Vec3,
     v2: Vec3,
     params: &SimParams,
     spheres: &[[f32; 4]],
+    hierarchy: Option<Hierarchy>,
 ) -> (Vec3, f32) {
     let mut v2 = v2;
     let mut added = 0.0;
-    for s in spheres.iter().take(params.sphere_count as usize) {
-        let c = Vec3::new(s[0], s[1], s[2]);
-        let r = s[3];
-        let to_c = c - v2;
-        let dist = to_c.length();
-        if dist < r && dist > 1e-6 {
-            let d = (dist - r) * to_c / dist;
-            v2 += d;
-            added += params.collision_gain * d.dot(d);
+    let gain = params.collision_gain;
+    let Some(h) = hierarchy.filter(|h| !h.nodes.is_empty()) else {
+        for s in spheres.iter().take(params.sphere_count as usize) {
+            let c = Vec3::new(s[0], s[1], s[2]);
+            push_out(c, s[3], v0, v1, &mut v2, &mut added, gain);
         }
-        let m = 0.25 * v0 + 0.5 * v1 + 0.25 * v2;
-        let to_c = c - m;
-        let dist = to_c.length();
-        if dist < r && dist > 1e-6 {
-            let d = (dist - r) * to_c / dist;
-            v2 += 4.0 * d;
-            added += params.collision_gain * d.dot(d);
+        return (v2, added);
+    };
+    let mut stack = vec![0u32];
+    while let Some(k) = stack.pop() {
+        let node = &h.nodes[k as usize];
+        let c = Vec3::new(node.sphere[0], node.sphere[1], node.sphere[2]);
+        let r = node.sphere[3];
+        if c.distance(v0) >= r + h.height {
+            continue;
+        }
+        if node.link[2] != bvh::INTERNAL {
+            let s = spheres[node.link[2] as usize];
+            push_out(
+                Vec3::new(s[0], s[1], s[2]),
+                s[3],
+                v0,
+                v1,
+                &mut v2,
+                &mut added,
+                gain,
+            );
+        } else if node.link[3] >= h.limit {
+            push_out(c, r, v0, v1, &mut v2, &mut added, gain);
+        } else if stack.len() + 2 <= 32 {
+            stack.push(node.link[1]);
+            stack.push(node.link[0]);
         }
     }
     (v2, added)
@@ -257,6 +308,28 @@ pub fn update_blade(
     params: &SimParams,
     spheres: &[[f32; 4]],
     grid: &WindGrid,
+) -> bool {
+    let nodes = hierarchy_of(params, spheres);
+    step_blade(blade, state, params, spheres, grid, &nodes)
+}
+
+/// The collision hierarchy the GPU walks this step (empty when it is off).
+fn hierarchy_of(params: &SimParams, spheres: &[[f32; 4]]) -> Vec<BvhNode> {
+    if params.bvh_info[0] == 0 {
+        return Vec::new();
+    }
+    bvh::build(&spheres[..(params.sphere_count as usize).min(spheres.len())])
+}
+
+/// [`update_blade`] with the step's hierarchy `nodes` (empty: the flat list). Every patch
+/// is taken as stepped every frame (the twin has no throttle).
+fn step_blade(
+    blade: &mut Blade,
+    state: &mut BladeState,
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+    grid: &WindGrid,
+    nodes: &[BvhNode],
 ) -> bool {
     let v0 = v4(blade.v0_dir).xyz();
     let angle = blade.v0_dir[3];
@@ -311,8 +384,23 @@ pub fn update_blade(
     // back into the sphere, so collide + validate repeats until nothing is pushed.
     let (mut v1, mut v2) = validate(v0, v2, up, height);
     if params.collisions != 0 {
+        let camera = Vec3::new(
+            params.bvh_camera[0],
+            params.bvh_camera[1],
+            params.bvh_camera[2],
+        );
+        let hierarchy = (!nodes.is_empty()).then(|| Hierarchy {
+            nodes,
+            limit: bvh::depth_limit(
+                params.bvh_info[2],
+                v0.distance(camera),
+                params.bvh_camera[3],
+                false,
+            ),
+            height,
+        });
         for _ in 0..COLLISION_ROUNDS {
-            let (cv2, added) = collide(v0, v1, v2, params, spheres);
+            let (cv2, added) = collide(v0, v1, v2, params, spheres, hierarchy);
             if added <= 0.0 {
                 break;
             }
@@ -346,9 +434,10 @@ pub fn update_all(
     spheres: &[[f32; 4]],
     grid: &WindGrid,
 ) -> u32 {
+    let nodes = hierarchy_of(params, spheres);
     let mut resets = 0;
     for (b, s) in blades.iter_mut().zip(states.iter_mut()) {
-        resets += update_blade(b, s, params, spheres, grid) as u32;
+        resets += step_blade(b, s, params, spheres, grid, &nodes) as u32;
     }
     resets
 }

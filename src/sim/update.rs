@@ -3,6 +3,7 @@
 
 use wgpu::util::DeviceExt;
 
+use super::bvh::BvhNode;
 use super::layout::{
     Blade, BladeState, PatchBox, PatchDispatch, SimParams, DRAW_BATCH, LOD_LEVELS, MAX_SPHERES,
     PATCH_SPHERE_STRIDE, WORKGROUP_SIZE,
@@ -20,6 +21,8 @@ pub struct BladeBuffers {
     pub patches: wgpu::Buffer,
     /// `vec4(centre, radius)` per collider, `MAX_SPHERES` slots.
     pub spheres: wgpu::Buffer,
+    /// The colliders' hierarchy (`sim::bvh`), `2 · MAX_SPHERES` node slots.
+    pub bvh: wgpu::Buffer,
     /// Visible blade indices written by the cull pass: `LOD_LEVELS` regions of `region`
     /// slots, one per level of detail.
     pub visible: wgpu::Buffer,
@@ -52,6 +55,7 @@ impl BladeBuffers {
             + patches
                 * (std::mem::size_of::<PatchBox>() as u64 + 8 + PATCH_SPHERE_STRIDE as u64 * 4)
             + (MAX_SPHERES * 16) as u64
+            + (2 * MAX_SPHERES * std::mem::size_of::<BvhNode>()) as u64
             + 8
             + std::mem::size_of::<PatchDispatch>() as u64
             + 4
@@ -148,6 +152,12 @@ impl BladeBuffers {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let bvh = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.bvh"),
+            size: (2 * MAX_SPHERES * std::mem::size_of::<BvhNode>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let visible = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.visible"),
             size: LOD_LEVELS as u64 * region as u64 * 4,
@@ -190,6 +200,7 @@ impl BladeBuffers {
             states,
             patches,
             spheres,
+            bvh,
             visible,
             patch_lists,
             patch_spheres,
@@ -214,6 +225,14 @@ impl BladeBuffers {
             queue.write_buffer(&self.spheres, 0, bytemuck::cast_slice(&spheres[..n]));
         }
         n as u32
+    }
+
+    /// Uploads the colliders' hierarchy of this frame (built from the uploaded spheres).
+    pub fn upload_bvh(&self, queue: &wgpu::Queue, nodes: &[BvhNode]) {
+        let n = nodes.len().min(2 * MAX_SPHERES);
+        if n > 0 {
+            queue.write_buffer(&self.bvh, 0, bytemuck::cast_slice(&nodes[..n]));
+        }
     }
 
     /// Reads the blades and their states back from the GPU.
@@ -349,6 +368,7 @@ impl UpdatePass {
                 storage_entry(5, true),
                 storage_entry(6, true),
                 storage_entry(7, false),
+                storage_entry(8, true),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -392,6 +412,10 @@ impl UpdatePass {
                 wgpu::BindGroupEntry {
                     binding: 7,
                     resource: buffers.resets.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: buffers.bvh.as_entire_binding(),
                 },
             ],
         });

@@ -23,6 +23,7 @@ const CEILING: Allowed = Allowed::closed(0.0, 100.0, "");
 /// Explicit Euler on the recovery term stays stable while s·scale·Δt < 2; with s up to
 /// ~12 1/s and Δt ≤ 0.05 s a scale of 4 keeps that margin for the default fields.
 const STIFFNESS_SCALE: Allowed = Allowed::closed(0.05, 4.0, "");
+const PRECISION_DISTANCE: Allowed = Allowed::closed(0.01, 100000.0, "m");
 const MAX_DT: Allowed = Allowed::open_closed(0.0, 1.0, "s");
 
 /// The rules of every `physics` value.
@@ -42,6 +43,11 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("physics.stiffness_scale", Rule::Real(STIFFNESS_SCALE)),
     ("physics.max_dt", Rule::Real(MAX_DT)),
     ("physics.collisions", Rule::Bool),
+    ("physics.collision_hierarchy", Rule::Bool),
+    (
+        "physics.hierarchy_precision_distance",
+        Rule::Real(PRECISION_DISTANCE),
+    ),
 ];
 
 pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
@@ -65,6 +71,11 @@ pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     check.real("physics.mass", p.mass, MASS)?;
     check.real("physics.collision_decay", p.collision_decay, DECAY)?;
     check.real("physics.collision_gain", p.collision_gain, GAIN)?;
+    check.real(
+        "physics.hierarchy_precision_distance",
+        p.hierarchy_precision_distance,
+        PRECISION_DISTANCE,
+    )?;
     let ceiling = p.max_collision_strength;
     check.real("physics.max_collision_strength", ceiling, CEILING)?;
     check.real(

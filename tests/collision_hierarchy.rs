@@ -1,0 +1,117 @@
+//! Qiu's bounding-volume hierarchy of the colliders (issue 14, point 3b;
+//! `physics.collision_hierarchy`), walked per blade in the update:
+//! - the GPU walk matches the CPU twin's, at full precision and at a coarse one;
+//! - at full precision it presses the grass as the flat lists do (the same spheres, in
+//!   another order);
+//! - coarser precision (a short `hierarchy_precision_distance`) presses at least as many
+//!   blades, with the bounding spheres standing in for the colliders, and never fewer.
+
+mod common;
+
+use std::path::Path;
+
+use glam::Vec3;
+use sward::commands::simulate_cpu;
+use sward::scene::{MeshCollider, MeshObject, Scene, SpherePacking};
+use sward::session::Session;
+use sward::sim::layout::{Blade, BladeState};
+
+fn scene(hierarchy: bool, precision: f32) -> Scene {
+    let mut scene = common::still_scene();
+    scene.physics.gravity_acceleration = 9.81;
+    scene.physics.collision_hierarchy = hierarchy;
+    scene.physics.hierarchy_precision_distance = precision;
+    // Every patch every frame: the twin has no throttle.
+    scene.culling.physics_throttle = 1;
+    scene.colliders = vec![common::rolling_sphere(-4.0, 0.3, 0.35, 2.0)];
+    scene.objects = vec![MeshObject {
+        mesh: Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("assets/models/bunny.obj")
+            .display()
+            .to_string(),
+        scale: 0.2,
+        collider: MeshCollider::Spheres(SpherePacking {
+            count: 300,
+            ..Default::default()
+        }),
+        ..Default::default()
+    }];
+    scene
+}
+
+fn tip(b: &Blade) -> Vec3 {
+    Vec3::new(b.v2_width[0], b.v2_width[1], b.v2_width[2])
+}
+
+const STEPS: u32 = 30;
+
+fn run(scene: Scene) -> (Session, Vec<Blade>, Vec<BladeState>) {
+    let gpu = common::gpu();
+    let session = Session::new(scene, Some(16384), Some(&gpu)).expect("field");
+    let r = common::stepped(&gpu, &session, STEPS, 1.0 / 30.0);
+    let (blades, states) = r.buffers.read(&gpu).expect("read-back");
+    (session, blades, states)
+}
+
+fn crushed(states: &[BladeState]) -> usize {
+    states.iter().filter(|s| s.rest_eta[3] > 0.0).count()
+}
+
+#[test]
+fn the_gpu_walk_matches_its_twin_at_every_precision() {
+    for precision in [1000.0, 0.5] {
+        let (session, gpu_blades, _) = run(scene(true, precision));
+        let cpu = simulate_cpu(&session, STEPS, 1.0 / 30.0).blades;
+        let err = cpu
+            .iter()
+            .zip(&gpu_blades)
+            .map(|(c, g)| tip(c).distance(tip(g)))
+            .fold(0.0f32, f32::max);
+        println!("hierarchy walk, precision distance {precision} m: max |gpu - cpu| {err:.2e} m");
+        assert!(err < 1e-4, "GPU and CPU differ by {err} m");
+    }
+}
+
+#[test]
+fn the_exact_walk_presses_as_the_lists_do_and_a_coarse_one_no_less() {
+    let (_, flat, flat_states) = run(scene(false, 10.0));
+    let (_, exact, exact_states) = run(scene(true, 1000.0));
+    let (_, coarse, coarse_states) = run(scene(true, 0.5));
+    // Inside the packing many spheres overlap: a blade pushed out of one into the next ends
+    // where the order of the pushes takes it, so a few blades differ much; the rest agree.
+    let apart = flat
+        .iter()
+        .zip(&exact)
+        .filter(|(a, b)| tip(a).distance(tip(b)) > 0.01)
+        .count();
+    let diff = apart as f32 / flat.len() as f32;
+    let (f, e, c) = (
+        crushed(&flat_states),
+        crushed(&exact_states),
+        crushed(&coarse_states),
+    );
+    let moved = |b: &[Blade]| {
+        b.iter()
+            .zip(&coarse)
+            .map(|(x, y)| tip(x).distance(tip(y)))
+            .fold(0.0f32, f32::max)
+    };
+    println!(
+        "blades crushed: lists {f}, exact walk {e}, coarse walk {c}; tips more than 1 cm \
+         apart, lists vs exact walk: {apart} ({:.3} %); largest exact vs coarse {:.3} m",
+        diff * 100.0,
+        moved(&exact)
+    );
+    assert!(f > 100, "the colliders must press the grass ({f})");
+    // The same spheres push the same blades; only the order of the pushes differs.
+    assert!(
+        (e as f32 - f as f32).abs() <= 0.02 * f as f32,
+        "exact walk {e} vs lists {f}"
+    );
+    assert!(
+        diff < 0.01,
+        "{apart} blades differ between the exact walk and the lists"
+    );
+    assert!(c >= e, "the coarse walk pressed fewer blades ({c} < {e})");
+    assert!(moved(&exact) > 1e-3, "a coarse walk must change something");
+}
