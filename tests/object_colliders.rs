@@ -236,3 +236,59 @@ fn packed_spheres_are_not_drawn_but_the_scenes_colliders_are() {
     };
     assert_eq!(d.drawn(), [0..50, 100..100]);
 }
+
+#[test]
+fn a_rolling_object_turns_by_the_distance_over_its_radius_and_pushes_the_wind() {
+    use sward::sim::colliders::object_transform;
+    let gpu = common::gpu();
+    let r = 0.5f32;
+    let mut object = bunny_object(40);
+    object.translation = (0.0, r, 0.0);
+    object.rolls = true;
+    object.motion = Motion::Path {
+        points: vec![(-4.0, 0.0), (20.0, 0.0)],
+        speed: 1.0,
+        looped: false,
+    };
+    let mut scene = scene_with(object);
+    scene.wind.source = sward::scene::WindSource::Fluid;
+    scene.wind.fluid.resolution = 64;
+    scene.wind.fluid.obstacles = true;
+    let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
+    let o = &session.scene.objects[0];
+    let at = |t: f32, p: Vec3| object_transform(o, &session.terrain, t).transform_point3(p);
+    // A point on top of the object's origin (in the file's units: / scale) ends at the
+    // bottom after half a turn (π r travelled) and back on top after a whole one.
+    let top = Vec3::new(0.0, r / o.scale, 0.0);
+    let start = at(0.0, top);
+    let half = at(std::f32::consts::PI * r, top);
+    let whole = at(std::f32::consts::TAU * r, top);
+    println!("rolling: top {start} → half a turn {half} → a whole turn {whole}");
+    assert!(
+        (start - Vec3::new(-4.0, 2.0 * r, 0.0)).length() < 1e-3,
+        "{start}"
+    );
+    assert!(
+        (half - Vec3::new(-4.0 + std::f32::consts::PI * r, 0.0, 0.0)).length() < 1e-3,
+        "{half}"
+    );
+    assert!(
+        (whole - Vec3::new(-4.0 + std::f32::consts::TAU * r, 2.0 * r, 0.0)).length() < 1e-3,
+        "{whole}"
+    );
+
+    // Still air, no forces: only the moving object stirs it.
+    let mut renderer = common::stepped(&gpu, &session, 1, 1.0 / 30.0);
+    for _ in 0..40 {
+        renderer.step(&gpu, 1.0 / 30.0);
+    }
+    let state = renderer
+        .fluid
+        .as_ref()
+        .expect("the fluid runs")
+        .read_state(&gpu)
+        .expect("read-back");
+    let speed = state.max_speed();
+    println!("air stirred by the rolling object: peak {speed:.2} m/s");
+    assert!(speed > 0.3, "the moving object must push the air ({speed})");
+}

@@ -507,7 +507,10 @@ impl ApplicationHandler for WindowApp {
                 let size = r.window.inner_size();
                 r.surface.resize(&r.gpu, (size.width, size.height));
             }
-            WindowEvent::Focused(false) => r.app.input.release_all(),
+            // A replay holds its own keys: the window losing the focus (Xvfb hands it
+            // around while the window maps, sometimes a few frames in) must not release a
+            // scripted Alt between its press and the click it modifies.
+            WindowEvent::Focused(false) if r.player.is_none() => r.app.input.release_all(),
             WindowEvent::ModifiersChanged(m) => {
                 let s = m.state();
                 r.modifiers = egui::Modifiers {

@@ -366,10 +366,7 @@ impl Renderer {
         if let Some(pass) = &self.draw.objects {
             let models: Vec<glam::Mat4> = objects
                 .iter()
-                .map(|o| {
-                    let origin = crate::sim::colliders::object_origin(o, &self.terrain, self.time);
-                    o.transform_at(origin)
-                })
+                .map(|o| crate::sim::colliders::object_transform(o, &self.terrain, self.time))
                 .collect();
             pass.set_transforms(&gpu.queue, &models);
         }

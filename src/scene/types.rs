@@ -513,6 +513,11 @@ pub struct MeshObject {
     /// `Path(..)`: its origin follows the (x, z) points at `speed`, `translation.y` above
     /// the ground under it. The mesh and its collider move together.
     pub motion: Motion,
+    /// With `motion: Path`, the object rolls along it like a ball: it turns about the
+    /// horizontal axis across its heading by the distance travelled over its rolling radius,
+    /// `translation.y` (its origin's height above the ground, so a boulder centred on its
+    /// origin rolls without slipping). Off: it slides, like a cart.
+    pub rolls: bool,
     /// Grass grown on the object's surface (`crate::field::surface`), with the fields of
     /// the scene's `field` (density in blades per m² of surface; the shape, tip threshold,
     /// patch size, segments and tile size are the scene field's, one draw for all blades).
@@ -559,6 +564,7 @@ impl Default for MeshObject {
             color: (0.6, 0.55, 0.5),
             collider: MeshCollider::None,
             motion: Motion::Static,
+            rolls: false,
             grass: None,
         }
     }

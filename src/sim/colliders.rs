@@ -86,6 +86,54 @@ pub fn object_origin(object: &MeshObject, terrain: &HeightField, time: f32) -> V
     }
 }
 
+/// The object-to-world transform of `object` at `time`: placed at [`object_origin`], and
+/// for a rolling object on a path turned by the distance travelled over its rolling
+/// radius about the horizontal axis across its heading.
+pub fn object_transform(object: &MeshObject, terrain: &HeightField, time: f32) -> glam::Mat4 {
+    let origin = object_origin(object, terrain, time);
+    let rest = object.transform_at(origin);
+    let Motion::Path {
+        points,
+        speed,
+        looped,
+    } = &object.motion
+    else {
+        return rest;
+    };
+    let radius = object.translation.1;
+    if !object.rolls || radius <= 0.0 {
+        return rest;
+    }
+    // Distance travelled (clamped at an open path's end) and the heading there.
+    let s = speed * time;
+    let ahead = along_path(points, *looped, s + 0.01);
+    let behind = along_path(points, *looped, s - 0.01);
+    let heading = (ahead - behind).normalize_or_zero();
+    let travelled = path_distance(points, *looped, s);
+    let axis = Vec3::Y.cross(Vec3::new(heading.x, 0.0, heading.y));
+    if axis.length_squared() < 1e-12 {
+        return rest;
+    }
+    let roll = glam::Quat::from_axis_angle(axis.normalize(), travelled / radius);
+    glam::Mat4::from_translation(origin)
+        * glam::Mat4::from_quat(roll)
+        * glam::Mat4::from_translation(-origin)
+        * rest
+}
+
+/// How far along a path an object has gone at arc length `s` (an open path stops at its
+/// end; a looped one keeps counting).
+fn path_distance(points: &[(f32, f32)], looped: bool, s: f32) -> f32 {
+    if looped {
+        return s.max(0.0);
+    }
+    let total: f32 = points
+        .windows(2)
+        .map(|w| Vec2::from(w[0]).distance(Vec2::from(w[1])))
+        .sum();
+    s.clamp(0.0, total)
+}
+
 /// The spheres of every packed object at `time` (`packings[i]` is object i's packing in
 /// its mesh's units, `None` without a collider), as `vec4(centre, radius)` in the world.
 pub fn object_spheres_at(
@@ -97,7 +145,7 @@ pub fn object_spheres_at(
     let mut out = Vec::new();
     for (object, packing) in objects.iter().zip(packings) {
         let Some(packing) = packing else { continue };
-        let m = object.transform_at(object_origin(object, terrain, time));
+        let m = object_transform(object, terrain, time);
         for s in &packing.spheres {
             let c = m.transform_point3(Vec3::new(s[0], s[1], s[2]));
             out.push([c.x, c.y, c.z, s[3] * object.scale]);
