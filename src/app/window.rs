@@ -511,7 +511,7 @@ impl ApplicationHandler for WindowApp {
             // around while the window maps, sometimes a few frames in) must not release a
             // scripted Alt between its press and the click it modifies.
             WindowEvent::Focused(false) if r.player.is_none() => r.app.input.release_all(),
-            WindowEvent::ModifiersChanged(m) => {
+            WindowEvent::ModifiersChanged(m) if r.player.is_none() => {
                 let s = m.state();
                 r.modifiers = egui::Modifiers {
                     alt: s.alt_key(),
