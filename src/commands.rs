@@ -357,7 +357,7 @@ pub fn simulate_cpu_from(
             blades.len() as u32,
             spheres.len() as u32,
         );
-        if scene.physics.collision_hierarchy {
+        if scene.collision_hierarchy() {
             let eye = glam::Vec3::from(scene.camera.eye);
             crate::sim::bvh::fill_params(&mut params, &crate::sim::bvh::build(&spheres), eye);
         }

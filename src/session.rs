@@ -7,7 +7,7 @@ use crate::field::tiles::{TileLayout, MAX_POOL_BLADES};
 use crate::field::{flat_field, generate, DensityMap, GeneratedField, HeightField};
 use crate::gpu::Gpu;
 use crate::mesh::pack::Packing;
-use crate::scene::{MeshCollider, Scene};
+use crate::scene::Scene;
 use crate::sim::layout::Blade;
 
 /// Largest `--blades` value accepted on the command line.
@@ -75,9 +75,9 @@ fn pack_objects(scene: &Scene, meshes: &[crate::mesh::Mesh]) -> Vec<Option<Packi
         .iter()
         .zip(meshes)
         .enumerate()
-        .map(|(i, (object, mesh))| match &object.collider {
-            MeshCollider::None => None,
-            MeshCollider::Spheres(p) => {
+        .map(|(i, (object, mesh))| match object.collider.packing() {
+            None => None,
+            Some(p) => {
                 let packing = crate::mesh::pack::pack(mesh, p.count as usize, p.resolution);
                 log::info!(
                     "objects[{i}] ({}): {} spheres cover {:.1} % of the mesh's {} inside \

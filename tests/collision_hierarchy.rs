@@ -115,3 +115,28 @@ fn the_exact_walk_presses_as_the_lists_do_and_a_coarse_one_no_less() {
     assert!(c >= e, "the coarse walk pressed fewer blades ({c} < {e})");
     assert!(moved(&exact) > 1e-3, "a coarse walk must change something");
 }
+
+#[test]
+fn a_bvh_collider_switches_the_walk_on_for_the_scene() {
+    let mut with_bvh = scene(false, 1000.0);
+    let packing = match &with_bvh.objects[0].collider {
+        MeshCollider::Spheres(p) => p.clone(),
+        other => panic!("{other:?}"),
+    };
+    with_bvh.objects[0].collider = MeshCollider::Bvh(packing);
+    assert!(with_bvh.collision_hierarchy());
+    assert!(!scene(false, 1000.0).collision_hierarchy());
+    let (_, a, _) = run(with_bvh);
+    let (_, b, _) = run(scene(true, 1000.0));
+    assert_eq!(
+        a, b,
+        "collider: Bvh must walk the hierarchy as the physics switch does"
+    );
+    // The scene file spells it as the issue does.
+    let text = r#"(objects: [(mesh: "bunny.obj", collider: Bvh((count: 50)))])"#;
+    let parsed: Scene = ron::from_str(text).expect("parses");
+    assert!(matches!(
+        parsed.objects[0].collider,
+        MeshCollider::Bvh(SpherePacking { count: 50, .. })
+    ));
+}

@@ -122,7 +122,7 @@ pub struct Renderer {
     /// The sphere packing of each mesh object (`None`: no collider), in its mesh's units;
     /// the spheres move with their object.
     packings: Vec<Option<crate::mesh::pack::Packing>>,
-    /// This frame's hierarchy of the colliders (`physics.collision_hierarchy`; else empty).
+    /// This frame's hierarchy of the colliders (`Scene::collision_hierarchy`; else empty).
     bvh: Vec<crate::sim::bvh::BvhNode>,
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
     /// culling camera" in the panel: fly out and look at what the frozen view keeps).
@@ -320,7 +320,7 @@ impl Renderer {
     fn upload_colliders(&mut self, gpu: &Gpu) {
         let spheres = self.frame_spheres();
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
-        self.bvh = if self.scene.physics.collision_hierarchy {
+        self.bvh = if self.scene.collision_hierarchy() {
             crate::sim::bvh::build(&spheres[..self.sphere_count as usize])
         } else {
             Vec::new()

@@ -533,6 +533,32 @@ pub enum MeshCollider {
     None,
     /// Jahrmann & Wimmer's sphere packing, computed from the mesh (`crate::mesh::pack`).
     Spheres(SpherePacking),
+    /// The same packing, walked through Qiu's hierarchy (`crate::sim::bvh`): it switches
+    /// `physics.collision_hierarchy` on for the whole scene (the hierarchy holds every
+    /// collider).
+    Bvh(SpherePacking),
+}
+
+impl MeshCollider {
+    /// The packing asked for, if any.
+    pub fn packing(&self) -> Option<&SpherePacking> {
+        match self {
+            MeshCollider::None => None,
+            MeshCollider::Spheres(p) | MeshCollider::Bvh(p) => Some(p),
+        }
+    }
+}
+
+impl Scene {
+    /// Whether the blades walk the colliders' hierarchy: `physics.collision_hierarchy`, or
+    /// an object whose collider is `Bvh`.
+    pub fn collision_hierarchy(&self) -> bool {
+        self.physics.collision_hierarchy
+            || self
+                .objects
+                .iter()
+                .any(|o| matches!(o.collider, MeshCollider::Bvh(_)))
+    }
 }
 
 /// How a mesh is packed with spheres.

@@ -103,6 +103,8 @@ pub fn fill_params(params: &mut crate::sim::layout::SimParams, nodes: &[BvhNode]
     params.bvh_camera[0] = camera.x;
     params.bvh_camera[1] = camera.y;
     params.bvh_camera[2] = camera.z;
+    // A tree is built only when the scene walks it (`Scene::collision_hierarchy`).
+    params.bvh_info[0] = u32::from(!nodes.is_empty());
     params.bvh_info[1] = nodes.len() as u32;
     params.bvh_info[2] = depth(nodes);
 }

@@ -7,7 +7,7 @@ use super::allowed::{Allowed, Integers, Rule};
 use super::objects::{motion, motion_rules, POSITION};
 use super::{tuple3, Checker};
 use crate::error::Result;
-use crate::scene::types::{MeshCollider, MeshObject};
+use crate::scene::types::MeshObject;
 use crate::sim::layout::MAX_SPHERES;
 
 /// Turns of at most a full circle either way (more says the same with a larger number).
@@ -39,7 +39,9 @@ pub(super) const RULES: &[(&str, Rule)] = &{
     ("objects[].color", Rule::Vector(COLOR)),
     (
         "objects[].collider",
-        Rule::Choice("None or Spheres((count: .., resolution: ..))"),
+        Rule::Choice(
+            "None, Spheres((count: .., resolution: ..)) or Bvh((count: .., resolution: ..))",
+        ),
     ),
     ("objects[].collider.count", Rule::Integer(PACKED)),
     (
@@ -71,7 +73,7 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
     check.vector(&at("rotation"), &tuple3(object.rotation), ANGLE)?;
     check.real(&at("scale"), object.scale, SCALE)?;
     check.vector(&at("color"), &tuple3(object.color), COLOR)?;
-    if let MeshCollider::Spheres(p) = &object.collider {
+    if let Some(p) = object.collider.packing() {
         check.integer(&at("collider.count"), p.count, PACKED)?;
         check.integer(&at("collider.resolution"), p.resolution, VOXELS)?;
     }
@@ -82,9 +84,6 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
 pub(super) fn packed_spheres(objects: &[MeshObject]) -> usize {
     objects
         .iter()
-        .map(|o| match &o.collider {
-            MeshCollider::Spheres(p) => p.count as usize,
-            MeshCollider::None => 0,
-        })
+        .map(|o| o.collider.packing().map_or(0, |p| p.count as usize))
         .sum()
 }

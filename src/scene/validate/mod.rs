@@ -154,7 +154,7 @@ pub(crate) fn validate_with_sets(
         let last = scene
             .objects
             .iter()
-            .rposition(|o| matches!(o.collider, crate::scene::MeshCollider::Spheres(_)))
+            .rposition(|o| o.collider.packing().is_some())
             .unwrap_or(0);
         let name = format!("objects[{last}].collider.count");
         let message = format!(
