@@ -72,14 +72,21 @@ struct CullParams {
     hiz: vec4<u32>,
     // x: near, y: far.
     clip: vec4<f32>,
-    // Collision broad phase: x sphere count, y 1 = collisions on.
+    // Collision broad phase: x sphere count, y 1 = collisions on, z the hierarchy's node
+    // count (0: flat lists), w its depth.
     collide: vec4<u32>,
+    // The hierarchy's precision camera (xyz) and exact distance (w).
+    bvh: vec4<f32>,
 }
 
 // Slots per patch in the broad phase's sphere lists (count + indices) and the count of a
 // patch whose list overflowed (it tests every sphere). PATCH_SPHERE_STRIDE in Rust.
 const PATCH_SPHERE_STRIDE: u32 = 64u;
 const SPHERES_ALL: u32 = 0xffffffffu;
+// Words of CullCounters.spheres_used (MAX_SPHERES / 32) and where the hierarchy's nodes
+// start in the spheres buffer (BVH_NODE_BASE in Rust).
+const SPHERE_WORDS: u32 = 512u;
+const BVH_NODE_BASE: u32 = 16384u;
 
 // Blades per instance of the grass draw (DRAW_BATCH in Rust): each level's mesh is this
 // many copies of its blade mesh. A level's visible region is a multiple of it.

@@ -20,6 +20,7 @@
 //    grass drawn now. The twin is `reference::grass_hidden`.
 // The twins are `reference::cull_patch` and `reference::cull_blade`.
 //!include common.wgsl
+//!include bvh_node.wgsl
 
 struct DrawArgs {
     index_count: u32,
@@ -49,7 +50,7 @@ struct CullOutput {
     blades: array<atomic<u32>, 3>,
     late_blades: array<atomic<u32>, 3>,
     pad: u32,
-    spheres_used: array<atomic<u32>, 32>,
+    spheres_used: array<atomic<u32>, SPHERE_WORDS>,
 }
 
 // PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
@@ -96,8 +97,10 @@ const MAX_GROUPS: u32 = 65535u;
 // Written by the patch step only (the blade cull reads `dispatch` as its indirect
 // argument, which may not be bound at the same time).
 @group(1) @binding(0) var<storage, read_write> dispatch: PatchDispatch;
+// The colliders, then their hierarchy's nodes from BVH_NODE_BASE (`bvh_node.wgsl`).
 @group(1) @binding(1) var<storage, read> spheres: array<vec4<f32>>;
-// Collision broad phase: per patch [count or SPHERES_ALL, sphere, ...].
+// Collision broad phase: per patch [count or SPHERES_ALL, sphere or (with the hierarchy)
+// node, ...].
 @group(1) @binding(2) var<storage, read_write> patch_spheres: array<u32>;
 // The blade passes' second group: one SEEN_* word per blade.
 @group(1) @binding(3) var<storage, read_write> seen: array<u32>;
@@ -142,7 +145,7 @@ fn reset() {
     atomicStore(&out.culled_occlusion_patch, 0u);
     atomicStore(&out.patch_sphere_pairs, 0u);
     atomicStore(&out.culled_occlusion_grass, 0u);
-    for (var w = 0u; w < 32u; w++) {
+    for (var w = 0u; w < SPHERE_WORDS; w++) {
         atomicStore(&out.spheres_used[w], 0u);
     }
 }
@@ -335,7 +338,11 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             atomicAdd(&out.throttled_patches, 1u);
         }
         patch_lists[update_list() + 1u + slot] = entry;
-        broad_phase(p, pbox, n);
+        if params.collide.z > 0u {
+            broad_phase_bvh(p, pbox, !every_frame);
+        } else {
+            broad_phase(p, pbox, n);
+        }
     }
 }
 
@@ -371,6 +378,62 @@ fn broad_phase(p: u32, pbox: PatchBox, n: u32) {
             mark_used(s);
         }
         count = params.collide.x;
+    } else {
+        patch_spheres[base] = count;
+    }
+    atomicAdd(&out.patch_sphere_pairs, count);
+}
+
+// The broad phase with the colliders' hierarchy (Qiu et al.; the twin is
+// `reference::patch_nodes`): the patch's cut of the tree. A walk from the root skips the
+// nodes that cannot touch the patch box (the same two radii as the flat list, which also
+// covers every sphere under a node) and records, in the order it meets them, the leaves and
+// the nodes at the level where the coarsest blade of the patch stops its own walk (the
+// level of the box's farthest corner from the camera, a hair farther so that no blade
+// rounds coarser). Each blade walks on from the recorded nodes down to its own level, and
+// so meets exactly the spheres and bounding spheres, in the same order, that a walk from
+// the root would push it with; the walk is O(log n) per listed node where the flat list
+// tests every sphere per patch. A list that overflows makes the blades walk from the root.
+fn broad_phase_bvh(p: u32, pbox: PatchBox, throttled: bool) {
+    let base = p * PATCH_SPHERE_STRIDE;
+    if params.collide.y == 0u {
+        patch_spheres[base] = 0u;
+        return;
+    }
+    let cam = params.bvh.xyz;
+    let lo = pbox.min.xyz;
+    let hi = pbox.max.xyz;
+    let corner = select(lo, hi, abs(hi - cam) > abs(lo - cam));
+    let cut = bvh_limit(distance(corner, cam) * 1.001, params.bvh.w, params.collide.w, throttled);
+    var count = 0u;
+    var stack: array<u32, BVH_STACK>;
+    var top = 1u;
+    stack[0] = 0u;
+    while top > 0u {
+        top -= 1u;
+        let k = stack[top];
+        let node = bvh_node(k);
+        let c = node.sphere.xyz;
+        if distance(clamp(c, lo, hi), c) >= 2.0 * node.sphere.w {
+            continue;
+        }
+        if node.link.z < BVH_LOOSE || node.link.w >= cut {
+            if count < PATCH_SPHERE_STRIDE - 1u {
+                patch_spheres[base + 1u + count] = k;
+                if node.link.z < BVH_LOOSE {
+                    mark_used(node.link.z);
+                }
+            }
+            count++;
+        } else if top + 2u <= BVH_STACK {
+            stack[top] = node.link.y;
+            stack[top + 1u] = node.link.x;
+            top += 2u;
+        }
+    }
+    if count > PATCH_SPHERE_STRIDE - 1u {
+        patch_spheres[base] = SPHERES_ALL;
+        count = params.collide.z;
     } else {
         patch_spheres[base] = count;
     }

@@ -6,6 +6,7 @@
 //!include wind.wgsl
 //!include blade_pose.wgsl
 //!include wind_sample.wgsl
+//!include bvh_node.wgsl
 
 // Most collide + validate rounds per step.
 const COLLISION_ROUNDS: u32 = 4u;
@@ -13,35 +14,21 @@ const COLLISION_ROUNDS: u32 = 4u;
 @group(0) @binding(0) var<uniform> params: SimParams;
 @group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read_write> states: array<BladeState>;
+// The colliders, then their hierarchy's nodes from BVH_NODE_BASE (`bvh_node.wgsl`).
 @group(0) @binding(3) var<storage, read> spheres: array<vec4<f32>>;
 // The fluid solver's velocity grid (one dummy cell when the fluid is off).
 @group(0) @binding(4) var<storage, read> wind_grid: array<vec2<f32>>;
 // The patch pass's lists (`cull.wgsl`): the update list [count, patch | THROTTLED?, ...]
 // starts at patch_count + 1.
 @group(0) @binding(5) var<storage, read> patch_lists: array<u32>;
-// The broad phase's sphere list per patch: [count or SPHERES_ALL, sphere, ...].
+// The broad phase's list per patch: [count or SPHERES_ALL, sphere or (with the hierarchy)
+// node, ...].
 @group(0) @binding(6) var<storage, read> patch_spheres: array<u32>;
 // Blades reset to their rest pose because their new state was non-finite or absurd,
 // counted since the start (never cleared).
 @group(0) @binding(7) var<storage, read_write> resets: atomic<u32>;
 
 const THROTTLED: u32 = 0x80000000u;
-
-// A node of the colliders' hierarchy (`sim::bvh::BvhNode`).
-struct BvhNode {
-    sphere: vec4<f32>,
-    // Left, right, the collider of a leaf (BVH_INTERNAL otherwise), depth.
-    link: vec4<u32>,
-}
-
-const BVH_INTERNAL: u32 = 0xffffffffu;
-// Deep enough for any tree of MAX_SPHERES leaves (depth 10) with room to spare.
-const BVH_STACK: u32 = 32u;
-
-// The hierarchy, root first (read only when params.bvh_info.x != 0).
-@group(0) @binding(8) var<storage, read> bvh: array<BvhNode>;
-
-
 
 // Whether x is a finite number. A bit test, because a compiler may assume that NaN never
 // occurs and fold `x == x` away. The twin of `f32::is_finite`.
@@ -96,43 +83,37 @@ fn push_out(c: vec3<f32>, r: f32, v0: vec3<f32>, v1: vec3<f32>, v2: ptr<function
 
 // The level at which a blade's walk of the hierarchy stops (`sim::bvh::depth_limit`).
 fn bvh_depth_limit(v0: vec3<f32>, throttled: bool) -> u32 {
-    let ratio = distance(v0, params.bvh_camera.xyz) / max(params.bvh_camera.w, 1e-3);
-    var coarser = 0u;
-    if ratio > 1.0 {
-        coarser = u32(min(floor(log2(ratio)), 31.0)) + 1u;
-    }
-    if throttled {
-        coarser += 1u;
-    }
-    return select(params.bvh_info.z - coarser, 0u, coarser > params.bvh_info.z);
+    return bvh_limit(distance(v0, params.bvh_camera.xyz), params.bvh_camera.w, params.bvh_info.z, throttled);
 }
 
-// The spheres the blade can reach, walking the hierarchy depth first (left child first)
-// down to `limit`, where a node's bounding sphere stands in for those under it.
-fn collide_bvh(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, height: f32, limit: u32) -> vec4<f32> {
-    var v2 = v2_in;
-    var added = 0.0;
-    var stack: array<u32, BVH_STACK>;
+// The spheres the blade can reach under node `start`, walking the hierarchy depth first
+// (left child first) down to `limit`, where a node's bounding sphere stands in for those
+// under it (a loose node never does). `acc`: v2 and the strength added so far (a walk goes
+// on from the last one's result); `stack`: the caller's, so that it is set up once per
+// blade rather than once per listed node.
+fn collide_bvh(start: u32, v0: vec3<f32>, v1: vec3<f32>, acc: vec4<f32>, height: f32, limit: u32, stack: ptr<function, array<u32, BVH_STACK>>) -> vec4<f32> {
+    var v2 = acc.xyz;
+    var added = acc.w;
     var top = 1u;
-    stack[0] = 0u;
+    (*stack)[0] = start;
     while top > 0u {
         top -= 1u;
-        let node = bvh[stack[top]];
+        let node = bvh_node((*stack)[top]);
         let c = node.sphere.xyz;
         let r = node.sphere.w;
         // Out of the blade's reach: neither the tip nor the midpoint can be inside.
         if distance(c, v0) >= r + height {
             continue;
         }
-        if node.link.z != BVH_INTERNAL {
+        if node.link.z < BVH_LOOSE {
             let s = spheres[node.link.z];
             push_out(s.xyz, s.w, v0, v1, &v2, &added);
-        } else if node.link.w >= limit {
+        } else if node.link.z == BVH_INTERNAL && node.link.w >= limit {
             push_out(c, r, v0, v1, &v2, &added);
         } else if top + 2u <= BVH_STACK {
             // Right below left, so that the left child is walked first.
-            stack[top] = node.link.y;
-            stack[top + 1u] = node.link.x;
+            (*stack)[top] = node.link.y;
+            (*stack)[top + 1u] = node.link.x;
             top += 2u;
         }
     }
@@ -140,16 +121,36 @@ fn collide_bvh(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, height: f32, limi
 }
 
 // Eq. 14-16: the spheres on the patch's broad-phase list (in index order, like the CPU twin
-// that tests all of them), or the hierarchy's walk when it is on. Returns the new v2 and
-// the added collision strength.
+// that tests all of them), or, when the hierarchy is on, the walk under each node on the
+// patch's list (the broad phase's cut of the tree, in the order a walk from the root meets
+// them, so that the pushes come as the twin's walk from the root makes them; from the root
+// when the list overflowed). Returns the new v2 and the added collision strength.
 fn collide(v0: vec3<f32>, v1: vec3<f32>, v2_in: vec3<f32>, patch_id: u32, height: f32, limit: u32) -> vec4<f32> {
+    let base = patch_id * PATCH_SPHERE_STRIDE;
+    let listed = patch_spheres[base];
     if params.bvh_info.x != 0u && params.bvh_info.y > 0u {
-        return collide_bvh(v0, v1, v2_in, height, limit);
+        var stack: array<u32, BVH_STACK>;
+        if listed == SPHERES_ALL {
+            return collide_bvh(0u, v0, v1, vec4<f32>(v2_in, 0.0), height, limit, &stack);
+        }
+        var v2 = v2_in;
+        var added = 0.0;
+        for (var k = 0u; k < listed; k++) {
+            let node = bvh_node(patch_spheres[base + 1u + k]);
+            if node.link.z < BVH_LOOSE {
+                // A listed collider: pushed at once, as the walk would.
+                let s = spheres[node.link.z];
+                push_out(s.xyz, s.w, v0, v1, &v2, &added);
+            } else {
+                let c = collide_bvh(patch_spheres[base + 1u + k], v0, v1, vec4<f32>(v2, added), height, limit, &stack);
+                v2 = c.xyz;
+                added = c.w;
+            }
+        }
+        return vec4<f32>(v2, added);
     }
     var v2 = v2_in;
     var added = 0.0;
-    let base = patch_id * PATCH_SPHERE_STRIDE;
-    let listed = patch_spheres[base];
     let all = listed == SPHERES_ALL;
     let n = select(listed, params.sphere_count, all);
     for (var k = 0u; k < n; k++) {

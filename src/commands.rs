@@ -323,8 +323,22 @@ pub fn simulate_cpu_from(
         ))
     });
     let mut wind = None;
+    let carried = &session.field.carried;
+    let mut previous = vec![glam::Mat4::IDENTITY; carried.objects.len()];
     for _ in 0..steps {
         time += dt;
+        // The grass of moving objects goes with them first, as the GPU's carry pass does.
+        if !carried.is_empty() {
+            let now: Vec<glam::Mat4> = scene
+                .objects
+                .iter()
+                .map(|o| crate::sim::colliders::object_transform(o, &session.terrain, time))
+                .collect();
+            let models = crate::sim::carry::models(carried, &now);
+            let motions = crate::sim::carry::motions(&models, &previous);
+            crate::sim::carry::carry_cpu(&mut blades, &mut states, &carried.blades, &motions);
+            previous = models;
+        }
         let mut spheres = spheres_at(&scene.colliders, &session.terrain, time);
         spheres.extend(crate::sim::colliders::object_spheres_at(
             &scene.objects,

@@ -201,6 +201,13 @@ enum Command {
         /// divergence before and after the projection.
         #[arg(long, value_name = "SOLVERS")]
         pressure_solvers: Option<String>,
+        /// Time the collisions against N scattered spheres (increasing counts up to 16384,
+        /// comma-separated, e.g. 100,1000,10000) as flat lists and through the colliders'
+        /// hierarchy, exact and at the scene's precision, on the same frames: GPU ms of the
+        /// update and the broad phase, ns per stepped blade, and the difference in the
+        /// blades' final state.
+        #[arg(long, value_name = "COUNTS")]
+        colliders: Option<String>,
     },
 }
 
@@ -401,6 +408,7 @@ fn main() -> ExitCode {
             flight,
             trace,
             pressure_solvers,
+            colliders,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -419,6 +427,9 @@ fn main() -> ExitCode {
         .and_then(|mut b| {
             if let Some(text) = &pressure_solvers {
                 b.pressure_solvers = sward::bench::pressure::parse_pressure_solvers(text)?;
+            }
+            if let Some(text) = &colliders {
+                b.colliders = sward::bench::colliders::parse_collider_counts(text)?;
             }
             Ok(b)
         })

@@ -59,9 +59,23 @@ fn grow_on_objects(
             blades.len(),
             patches.len()
         );
-        field
-            .states
-            .extend(blades.iter().map(crate::field::rest_state));
+        let states: Vec<_> = blades.iter().map(crate::field::rest_state).collect();
+        // The grass of a moving object travels with it (`sim::carry`).
+        if object.motion != crate::scene::Motion::Static {
+            field.carried.add(
+                i,
+                object.transform(),
+                crate::sim::carry::Grown {
+                    blades: &blades,
+                    states: &states,
+                    boxes: &patches,
+                    first_blade: field.blades.len(),
+                    first_patch: field.patches.len(),
+                    patch_size,
+                },
+            );
+        }
+        field.states.extend(states);
         field.blades.extend(blades);
         field.patches.extend(patches);
     }

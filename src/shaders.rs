@@ -34,6 +34,8 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/billboard_cull.wgsl"),
     ),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
+    ("bvh_node.wgsl", include_str!("../shaders/bvh_node.wgsl")),
+    ("carry.wgsl", include_str!("../shaders/carry.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
     ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
@@ -100,6 +102,7 @@ const FILES: &[(&str, &str)] = &[
 /// The entry files, one per pass (the others are only included).
 pub const ENTRY_FILES: &[&str] = &[
     "update.wgsl",
+    "carry.wgsl",
     "tile_gen.wgsl",
     "billboard.wgsl",
     "billboard_probe.wgsl",

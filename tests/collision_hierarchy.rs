@@ -140,3 +140,60 @@ fn a_bvh_collider_switches_the_walk_on_for_the_scene() {
         MeshCollider::Bvh(SpherePacking { count: 50, .. })
     ));
 }
+
+/// The broad phase feeds the hierarchy: each stepped patch's list is its cut of the tree
+/// (the nodes a walk from the root meets near the patch, down to the level of the patch's
+/// coarsest blade), the same on the GPU as in the twin; at full precision it lists the flat
+/// lists' spheres, at a coarse one inner nodes.
+#[test]
+fn the_broad_phase_lists_each_patch_cut_of_the_tree_as_its_twin() {
+    use sward::sim::{bvh, reference::patch_nodes, reference::patch_spheres};
+    let mut entries = Vec::new();
+    for precision in [1000.0, 0.5] {
+        let gpu = common::gpu();
+        let session = Session::new(scene(true, precision), Some(16384), Some(&gpu)).expect("field");
+        let r = common::stepped(&gpu, &session, 3, 1.0 / 30.0);
+        let cp = *r.last_cull_params();
+        let spheres = r.frame_spheres();
+        let nodes = bvh::build(&spheres);
+        assert_eq!(
+            cp.collide[2] as usize,
+            nodes.len(),
+            "the cull pass has the tree"
+        );
+        let lists = r.cull.read_patch_spheres(&gpu, &r.buffers).expect("lists");
+        let (mut listed, mut flat, mut inner, mut compared) = (0usize, 0usize, 0usize, 0usize);
+        for (p, patch) in session.field.patches.iter().enumerate() {
+            let cpu = patch_nodes(patch, &cp, &nodes, false);
+            assert_eq!(lists[p], cpu, "patch {p} at precision {precision}");
+            // Patches whose lists overflowed (every sphere, or the walk from the root) are
+            // left out of the counts.
+            let (Some(cpu), Some(f)) = (cpu, patch_spheres(patch, &cp, &spheres)) else {
+                continue;
+            };
+            compared += 1;
+            listed += cpu.len();
+            inner += cpu
+                .iter()
+                .filter(|&&k| !bvh::is_leaf(&nodes[k as usize]))
+                .count();
+            flat += f.len();
+        }
+        println!(
+            "precision {precision} m: {compared} patches, {listed} list entries ({inner} inner \
+             nodes) against {flat} on the flat lists"
+        );
+        assert!(listed > 0, "the colliders touch some patch");
+        entries.push((listed, inner, flat));
+    }
+    let (exact, coarse) = (entries[0], entries[1]);
+    assert_eq!(exact.1, 0, "at full precision only colliders are listed");
+    // The same spheres (a node's test is a hair looser than its sphere's, in f32).
+    assert!(
+        exact.0.abs_diff(exact.2) * 100 <= exact.2,
+        "at full precision the lists hold the flat lists' spheres ({} vs {})",
+        exact.0,
+        exact.2
+    );
+    assert!(coarse.1 > 0, "a coarse cut lists inner nodes");
+}

@@ -189,10 +189,10 @@ fn packings_that_do_not_fit_are_refused_naming_the_field() {
             .map(|e| e.to_string())
             .unwrap_or_default()
     };
-    let e = check(bunny_object(1000), 30);
+    let e = check(bunny_object(16000), 400);
     println!("{e}");
     assert!(
-        e.contains("objects[0].collider.count") && e.contains("1030") && e.contains("1024"),
+        e.contains("objects[0].collider.count") && e.contains("16400") && e.contains("16384"),
         "{e}"
     );
     let e = check(bunny_object(0), 0);

@@ -41,3 +41,35 @@ fn every_shader_file_is_reachable_from_an_entry_file() {
         );
     }
 }
+
+/// The constants `common.wgsl` shares with Rust hold the same values (a mismatch would
+/// size a struct or a buffer differently on the two sides without any error).
+#[test]
+fn shared_constants_match_rust() {
+    use sward::sim::layout::{
+        BVH_NODE_BASE, DRAW_BATCH, MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERES_ALL,
+    };
+    let src = source("common.wgsl");
+    let value = |name: &str| -> u64 {
+        let line = src
+            .lines()
+            .find(|l| l.starts_with(&format!("const {name}: u32 = ")))
+            .unwrap_or_else(|| panic!("common.wgsl has no const {name}"));
+        let text = line
+            .split('=')
+            .nth(1)
+            .expect("a value")
+            .trim()
+            .trim_end_matches(';')
+            .trim_end_matches('u');
+        match text.strip_prefix("0x") {
+            Some(hex) => u64::from_str_radix(hex, 16).expect("hex"),
+            None => text.parse().expect("a number"),
+        }
+    };
+    assert_eq!(value("PATCH_SPHERE_STRIDE"), u64::from(PATCH_SPHERE_STRIDE));
+    assert_eq!(value("SPHERES_ALL"), u64::from(SPHERES_ALL));
+    assert_eq!(value("DRAW_BATCH"), u64::from(DRAW_BATCH));
+    assert_eq!(value("SPHERE_WORDS"), (MAX_SPHERES / 32) as u64);
+    assert_eq!(value("BVH_NODE_BASE"), BVH_NODE_BASE as u64);
+}

@@ -37,6 +37,7 @@ use crate::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_S
 use measure::measure;
 
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
+pub mod colliders;
 pub mod flight;
 mod measure;
 pub mod pressure;
@@ -84,6 +85,9 @@ pub struct BenchOptions {
     /// `--pressure-solvers jacobi,multigrid`: time the wind solver alone once per pressure
     /// solver instead of the three configurations (empty: not asked for).
     pub pressure_solvers: Vec<crate::scene::PressureSolver>,
+    /// `--colliders 100,1000,10000`: time the collisions against that many spheres, flat
+    /// and through the hierarchy, instead of the three configurations (empty: not asked).
+    pub colliders: Vec<usize>,
 }
 
 impl BenchOptions {
@@ -114,6 +118,7 @@ impl BenchOptions {
             flight: false,
             trace: None,
             pressure_solvers: Vec::new(),
+            colliders: Vec::new(),
         })
     }
 
@@ -697,6 +702,17 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if !o.colliders.is_empty() {
+        let report = colliders::run_collider_bench(o, &o.colliders)?;
+        if o.json {
+            let text = serde_json::to_string_pretty(&report)
+                .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
+            println!("{text}");
+        } else {
+            print!("{}", colliders::format_colliders(&report));
+        }
+        return Ok(());
+    }
     if !o.pressure_solvers.is_empty() {
         let report = pressure::run_pressure_bench(o)?;
         if o.json {

@@ -37,6 +37,9 @@ pub struct GeneratedField {
     pub patches: Vec<PatchBox>,
     /// Blades per patch, a multiple of `WORKGROUP_SIZE`.
     pub patch_size: u32,
+    /// The blades and patches of moving objects' grass, which the renderer carries with
+    /// their objects (`sim::carry`; empty when none moves).
+    pub carried: crate::sim::carry::Carried,
 }
 
 impl GeneratedField {
@@ -122,5 +125,6 @@ fn generate_count(
         states,
         patches,
         patch_size,
+        carried: Default::default(),
     }
 }

@@ -92,6 +92,25 @@ impl Placed {
         (p, n.try_normalize().unwrap_or(face), t)
     }
 
+    /// The normal interpolated at point `p` of triangle `t` (barycentric weights of the
+    /// vertex normals; the face normal where they cancel), so that a tuft's blades follow a
+    /// curved surface as single blades do.
+    fn normal_at(&self, t: usize, p: Vec3) -> Vec3 {
+        let [ia, ib, ic] = self.triangles[t];
+        let [a, b, c] = [ia, ib, ic].map(|i| self.positions[i]);
+        let n = (b - a).cross(c - a);
+        let face = n.normalize_or_zero();
+        let area2 = n.length_squared();
+        if area2 <= 0.0 {
+            return face;
+        }
+        let wa = (c - b).cross(p - b).dot(n) / area2;
+        let wb = (a - c).cross(p - c).dot(n) / area2;
+        let wc = 1.0 - wa - wb;
+        let normal = self.normals[ia] * wa + self.normals[ib] * wb + self.normals[ic] * wc;
+        normal.try_normalize().unwrap_or(face)
+    }
+
     /// The point of triangle `t` nearest `p` (Ericson, Real-Time Collision Detection 5.1.5).
     fn closest_on(&self, t: usize, p: Vec3) -> Vec3 {
         let [a, b, c] = self.triangles[t].map(|i| self.positions[i]);
@@ -160,8 +179,8 @@ pub fn surface_field(
                 let (side, front) = blade_frame(normal, roots.f32() * std::f32::consts::TAU);
                 let r = grass.tuft_radius * roots.f32().sqrt();
                 let a = roots.f32() * std::f32::consts::TAU;
-                let p = centre + (side * a.cos() + front * a.sin()) * r;
-                (placed.closest_on(t, p), normal)
+                let p = placed.closest_on(t, centre + (side * a.cos() + front * a.sin()) * r);
+                (p, placed.normal_at(t, p))
             }
             _ => {
                 let s = placed.sample(&mut roots);

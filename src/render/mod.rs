@@ -7,6 +7,7 @@
 pub mod arrows;
 pub mod billboard;
 pub mod camera;
+mod carried;
 pub mod clipmap;
 pub mod cull;
 pub mod draw;
@@ -124,6 +125,8 @@ pub struct Renderer {
     packings: Vec<Option<crate::mesh::pack::Packing>>,
     /// This frame's hierarchy of the colliders (`Scene::collision_hierarchy`; else empty).
     bvh: Vec<crate::sim::bvh::BvhNode>,
+    /// The grass of moving objects, carried with them (`None` when none moves).
+    carried: Option<carried::CarriedGrass>,
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
     /// culling camera" in the panel: fly out and look at what the frozen view keeps).
     pub cull_camera: Option<CameraView>,
@@ -228,6 +231,7 @@ impl Renderer {
         });
         let update = UpdatePass::new(gpu, &buffers, grid);
         let cull = CullPass::new(gpu, &buffers);
+        let carried = carried::CarriedGrass::new(gpu, &buffers, field)?;
         let lod = mesh::lod_meshes(scene.field.segments);
         let multi_draw = gpu
             .device
@@ -277,6 +281,7 @@ impl Renderer {
             dynamic_spheres: Vec::new(),
             packings: Vec::new(),
             bvh: Vec::new(),
+            carried,
             display_aspect: None,
             cull_camera: None,
             format,
@@ -351,6 +356,9 @@ impl Renderer {
         self.time += dt;
         self.upload_colliders(gpu);
         self.place_objects(gpu);
+        if let Some(c) = &mut self.carried {
+            c.advance(gpu, &self.buffers, &self.scene, &self.terrain, self.time);
+        }
         dt
     }
 
@@ -465,6 +473,13 @@ impl Renderer {
                 collisions: self.scene.physics.collisions,
             },
         );
+        // The broad phase cuts the same tree at the same precision as the update walks it.
+        crate::sim::bvh::fill_cull_params(
+            &mut p,
+            &self.bvh,
+            camera.eye,
+            self.scene.physics.hierarchy_precision_distance,
+        );
         // With multi-draw each level's instances start at its region of the visible list.
         // The late draws start mid-region, which needs first-instance draws: without them
         // grass does not occlude grass.
@@ -488,10 +503,14 @@ impl Renderer {
         // No camera: no patch is culled and none is throttled.
         let camera = CameraView::from_scene(&self.scene.camera);
         self.stream_tiles(gpu, &mut encoder, camera.eye);
+        if let Some(c) = &self.carried {
+            c.encode(&mut encoder);
+        }
         let mut cp = self.cull_uniforms(&camera, (16, 9), [0; 4]);
         cp.tests = 0;
         cp.physics_throttle = 1;
         self.cull.prepare(&gpu.queue, &cp);
+        self.last_cull = cp;
         self.cull.encode_patches(&mut encoder, None);
         self.encode_update(gpu, &mut encoder, dt, camera.eye);
         if let Some(t) = &mut self.timer {
@@ -689,6 +708,9 @@ impl Renderer {
         let cull_camera = self.cull_camera.unwrap_or(*camera);
         // The tiles follow the culling camera: a frozen one keeps its field.
         self.stream_tiles(gpu, encoder, cull_camera.eye);
+        if let Some(c) = &self.carried {
+            c.encode(encoder);
+        }
         let cp = self.cull_uniforms(&cull_camera, size, hiz);
         self.cull.prepare(&gpu.queue, &cp);
         self.last_cull = cp;

@@ -5,8 +5,15 @@ use bytemuck::{Pod, Zeroable};
 
 /// Workgroup size of every per-blade compute pass; patches are a multiple of it.
 pub const WORKGROUP_SIZE: u32 = 64;
-/// Upper bound on sphere colliders uploaded per frame.
-pub const MAX_SPHERES: usize = 1024;
+/// Upper bound on sphere colliders uploaded per frame: enough for the 10,000 spheres of the
+/// hierarchy's cost table (issue 14); a flat list of that many is what the hierarchy beats.
+pub const MAX_SPHERES: usize = 16384;
+/// Where the colliders' hierarchy starts in the spheres buffer, in `vec4`s: node k is the two
+/// `vec4`s at `BVH_NODE_BASE + 2k` (`sim::bvh::encode`). One buffer for both keeps the cull
+/// pass within the eight storage buffers per stage of the WebGPU defaults.
+pub const BVH_NODE_BASE: usize = MAX_SPHERES;
+/// Bytes of the spheres buffer: the spheres, then up to `2 · MAX_SPHERES` nodes.
+pub const SPHERE_BUFFER_BYTES: u64 = (MAX_SPHERES * 16 + 2 * MAX_SPHERES * 32) as u64;
 /// u32 slots per patch in the collision broad phase's lists: a count, then up to
 /// `PATCH_SPHERE_STRIDE - 1` sphere indices (more: `SPHERES_ALL`, the patch tests them all).
 pub const PATCH_SPHERE_STRIDE: u32 = 64;
@@ -152,8 +159,12 @@ pub struct CullParams {
     /// x: near plane, y: far plane of the culling camera, z: the grass-occlusion test's
     /// bias (a fraction of the view distance, like `occlusion_bias`).
     pub clip: [f32; 4],
-    /// Collision broad phase: sphere count, 1 = collisions on, unused ×2.
+    /// Collision broad phase: sphere count, 1 = collisions on, the hierarchy's node count
+    /// (0: the flat lists), the hierarchy's depth.
     pub collide: [u32; 4],
+    /// The hierarchy's precision camera (xyz) and the distance within which it is exact
+    /// (w), as `SimParams::bvh_camera`.
+    pub bvh: [f32; 4],
 }
 
 pub const TEST_PATCH: u32 = 1;
@@ -189,7 +200,7 @@ pub struct DispatchIndirect {
 /// `cull.wgsl`). An instance draws a batch of [`DRAW_BATCH`] blades; the blade counts are
 /// `blades` and `late_blades`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq, Eq)]
 pub struct CullCounters {
     /// The early draws (blades seen last frame, or every survivor with grass occlusion
     /// off): `blades[k]` blades in `ceil(blades[k] / DRAW_BATCH)` instances.
@@ -222,6 +233,13 @@ pub struct CullCounters {
     pub _pad: [u32; 1],
     /// Bit s set: sphere s is on some stepped patch's list.
     pub spheres_used: [u32; MAX_SPHERES / 32],
+}
+
+// Arrays of more than 32 have no derived Default.
+impl Default for CullCounters {
+    fn default() -> Self {
+        Zeroable::zeroed()
+    }
 }
 
 impl CullCounters {
@@ -304,8 +322,8 @@ const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 224);
-const _: () = assert!(std::mem::size_of::<CullParams>() == 240);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 320);
+const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 192 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);

@@ -3,6 +3,8 @@
 
 pub mod agc;
 pub mod bvh;
+pub mod carry;
+pub mod carry_pass;
 pub mod colliders;
 pub mod fluid;
 pub mod health;

@@ -172,6 +172,8 @@ pub fn cull_params(culling: &Culling, inputs: &CullInputs) -> CullParams {
         hiz: inputs.hiz,
         clip: [inputs.near, inputs.far, culling.grass_occlusion_bias, 0.0],
         collide: [inputs.sphere_count, inputs.collisions as u32, 0, 0],
+        // The hierarchy's, from `bvh::fill_cull_params` where there is one.
+        bvh: [0.0; 4],
     }
 }
 

@@ -245,7 +245,7 @@ pub fn collide(
         if c.distance(v0) >= r + h.height {
             continue;
         }
-        if node.link[2] != bvh::INTERNAL {
+        if bvh::is_leaf(node) {
             let s = spheres[node.link[2] as usize];
             push_out(
                 Vec3::new(s[0], s[1], s[2]),
@@ -256,7 +256,7 @@ pub fn collide(
                 &mut added,
                 gain,
             );
-        } else if node.link[3] >= h.limit {
+        } else if node.link[2] == bvh::INTERNAL && node.link[3] >= h.limit {
             push_out(c, r, v0, v1, &mut v2, &mut added, gain);
         } else if stack.len() + 2 <= 32 {
             stack.push(node.link[1]);
@@ -754,6 +754,42 @@ pub fn patch_spheres(
         })
         .map(|(k, _)| k as u32)
         .collect();
+    (listed.len() < PATCH_SPHERE_STRIDE as usize).then_some(listed)
+}
+
+/// The collision broad phase of a stepped patch with the colliders' hierarchy
+/// (`broad_phase_bvh` in `cull.wgsl`): the nodes a walk from the root meets, in that order,
+/// that may touch the box (centre within two radii, as the flat list's test), stopping at
+/// the leaves and at the patch's cut level ([`bvh::cut_depth`]); `None` when more than
+/// `PATCH_SPHERE_STRIDE - 1` are met (the blades then walk from the root). Empty with
+/// collisions off.
+pub fn patch_nodes(
+    patch: &PatchBox,
+    params: &CullParams,
+    nodes: &[BvhNode],
+    throttled: bool,
+) -> Option<Vec<u32>> {
+    if params.collide[1] == 0 || nodes.is_empty() {
+        return Some(Vec::new());
+    }
+    let (lo, hi) = (v4(patch.min).xyz(), v4(patch.max).xyz());
+    let camera = v4(params.bvh).xyz();
+    let cut = bvh::cut_depth(params.collide[3], lo, hi, camera, params.bvh[3], throttled);
+    let mut listed = Vec::new();
+    let mut stack = vec![0u32];
+    while let Some(k) = stack.pop() {
+        let node = &nodes[k as usize];
+        let c = Vec3::new(node.sphere[0], node.sphere[1], node.sphere[2]);
+        if c.clamp(lo, hi).distance(c) >= 2.0 * node.sphere[3] {
+            continue;
+        }
+        if bvh::is_leaf(node) || node.link[3] >= cut {
+            listed.push(k);
+        } else if stack.len() + 2 <= 32 {
+            stack.push(node.link[1]);
+            stack.push(node.link[0]);
+        }
+    }
     (listed.len() < PATCH_SPHERE_STRIDE as usize).then_some(listed)
 }
 

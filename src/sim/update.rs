@@ -5,8 +5,8 @@ use wgpu::util::DeviceExt;
 
 use super::bvh::BvhNode;
 use super::layout::{
-    Blade, BladeState, PatchBox, PatchDispatch, SimParams, DRAW_BATCH, LOD_LEVELS, MAX_SPHERES,
-    PATCH_SPHERE_STRIDE, WORKGROUP_SIZE,
+    Blade, BladeState, PatchBox, PatchDispatch, SimParams, BVH_NODE_BASE, DRAW_BATCH, LOD_LEVELS,
+    MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES, WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
 use crate::field::tiles::{empty_patch, TileLayout};
@@ -19,10 +19,9 @@ pub struct BladeBuffers {
     pub blades: wgpu::Buffer,
     pub states: wgpu::Buffer,
     pub patches: wgpu::Buffer,
-    /// `vec4(centre, radius)` per collider, `MAX_SPHERES` slots.
+    /// `vec4(centre, radius)` per collider, `MAX_SPHERES` slots, then from `BVH_NODE_BASE`
+    /// the colliders' hierarchy (`sim::bvh::encode`), `2 · MAX_SPHERES` node slots.
     pub spheres: wgpu::Buffer,
-    /// The colliders' hierarchy (`sim::bvh`), `2 · MAX_SPHERES` node slots.
-    pub bvh: wgpu::Buffer,
     /// Visible blade indices written by the cull pass: `LOD_LEVELS` regions of `region`
     /// slots, one per level of detail.
     pub visible: wgpu::Buffer,
@@ -54,8 +53,7 @@ impl BladeBuffers {
         count * super::layout::BYTES_PER_BLADE as u64
             + patches
                 * (std::mem::size_of::<PatchBox>() as u64 + 8 + PATCH_SPHERE_STRIDE as u64 * 4)
-            + (MAX_SPHERES * 16) as u64
-            + (2 * MAX_SPHERES * std::mem::size_of::<BvhNode>()) as u64
+            + SPHERE_BUFFER_BYTES
             + 8
             + std::mem::size_of::<PatchDispatch>() as u64
             + 4
@@ -148,13 +146,7 @@ impl BladeBuffers {
         });
         let spheres = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.spheres"),
-            size: (MAX_SPHERES * 16) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bvh = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward.bvh"),
-            size: (2 * MAX_SPHERES * std::mem::size_of::<BvhNode>()) as u64,
+            size: SPHERE_BUFFER_BYTES,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -200,7 +192,6 @@ impl BladeBuffers {
             states,
             patches,
             spheres,
-            bvh,
             visible,
             patch_lists,
             patch_spheres,
@@ -231,7 +222,11 @@ impl BladeBuffers {
     pub fn upload_bvh(&self, queue: &wgpu::Queue, nodes: &[BvhNode]) {
         let n = nodes.len().min(2 * MAX_SPHERES);
         if n > 0 {
-            queue.write_buffer(&self.bvh, 0, bytemuck::cast_slice(&nodes[..n]));
+            queue.write_buffer(
+                &self.spheres,
+                (BVH_NODE_BASE * 16) as u64,
+                bytemuck::cast_slice(&super::bvh::encode(&nodes[..n])),
+            );
         }
     }
 
@@ -368,7 +363,6 @@ impl UpdatePass {
                 storage_entry(5, true),
                 storage_entry(6, true),
                 storage_entry(7, false),
-                storage_entry(8, true),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -412,10 +406,6 @@ impl UpdatePass {
                 wgpu::BindGroupEntry {
                     binding: 7,
                     resource: buffers.resets.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 8,
-                    resource: buffers.bvh.as_entire_binding(),
                 },
             ],
         });

@@ -2,6 +2,8 @@
 //! egui_kittest) and small scenes.
 #![allow(dead_code)]
 
+pub mod shapes;
+
 use sward::gpu::{AdapterChoice, Gpu};
 use sward::render::target::COLOR_FORMAT;
 use sward::render::Renderer;

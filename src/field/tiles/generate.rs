@@ -327,6 +327,7 @@ pub fn generate_pool(
         states: vec![BladeState::default(); slots * per_tile],
         patches: vec![empty_patch(); slots * per_slot_patches],
         patch_size: layout.patch_size,
+        carried: Default::default(),
     };
     for (slot, tile) in residency.slots().iter().enumerate() {
         if let Some(tile) = tile {
