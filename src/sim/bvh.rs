@@ -1,16 +1,23 @@
 //! Qiu et al.'s bounding-volume hierarchy of the colliders (issue 14, point 3b): a binary
 //! tree of bounding spheres over the frame's collision spheres, built on the CPU each frame
-//! (at most `MAX_SPHERES` spheres: microseconds, and no per-blade data) and walked on the
-//! GPU by every blade (`collide` in `update.wgsl`, twin `reference::collide`).
+//! (at most `MAX_SPHERES` spheres, median splits along the longest axis; no per-blade data)
+//! and walked on the GPU by every blade (`collide` in `update.wgsl`, twin
+//! `reference::collide`).
+//!
+//! The spheres nest (a node's holds its children's whole), so a walk may start anywhere: the
+//! patch pass's broad phase walks the tree once per stepped patch against its box and lists
+//! the patch's cut of it (`broad_phase_bvh` in `cull.wgsl`, twin `reference::patch_nodes`),
+//! and each blade walks on from the listed nodes, meeting what a walk from the root meets.
 //!
 //! The walk is depth first, left child first, and skips a node whose sphere the blade
 //! cannot reach (farther from its root than the node's radius plus the blade's height:
 //! exact, since the tip and the curve's midpoint stay within a height of the root). Its
-//! precision is chosen per blade: a blade within `physics.bvh_precision_distance` of the
-//! camera, in a patch stepped every frame, walks down to the leaves (the colliders
+//! precision is chosen per blade: a blade within `physics.hierarchy_precision_distance` of
+//! the camera, in a patch stepped every frame, walks down to the leaves (the colliders
 //! themselves); farther away each doubling of the distance, and a throttled patch, stops the
 //! walk one level higher, where the node's bounding sphere stands in for the spheres under
-//! it (coarser, and never smaller than what it stands for).
+//! it (coarser, and never smaller than what it stands for), unless the node is loose (its
+//! spheres fill too little of it to stand in for them: [`MIN_FILL`]).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
