@@ -125,6 +125,11 @@ fn bad_objects_fail_cleanly_naming_the_line_field_file_and_problem() {
     )
     .unwrap();
     std::fs::write(dir.join("empty.obj"), "# nothing\n").unwrap();
+    let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+    write("nonfinite.obj", "v 0 0 0\nv 1 0 0\nv inf 0 1\nf 1 2 3\n");
+    write("index.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 9\n");
+    write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    write("bad.glb", "glTF, but not really");
     let cases = [
         (
             "missing.obj",
@@ -142,6 +147,18 @@ fn bad_objects_fail_cleanly_naming_the_line_field_file_and_problem() {
             vec!["objects[0].mesh", "empty.obj", "no triangles"],
         ),
         ("rock.stl", 1.0, vec!["objects[0].mesh", "not a mesh file"]),
+        (
+            "nonfinite.obj",
+            1.0,
+            vec!["nonfinite.obj", "vertex 3 is not finite"],
+        ),
+        ("index.obj", 1.0, vec!["index.obj", "out of bounds"]),
+        ("flat.obj", 1.0, vec!["flat.obj", "zero area"]),
+        (
+            "bad.glb",
+            1.0,
+            vec!["objects[0].mesh", "bad.glb", "cannot load mesh"],
+        ),
         (
             "broken.obj",
             0.0,
