@@ -17,9 +17,12 @@ pub const MAX_BLADES: usize = 50_000_000;
 pub struct Session {
     pub scene: Scene,
     pub terrain: HeightField,
-    /// The whole field, or for a streamed scene an empty one (the renderer's pool is filled
-    /// on the GPU, tile by tile, around the camera).
+    /// The whole field, or for a streamed scene only the grass grown on mesh objects (the
+    /// renderer's pool, filled on the GPU tile by tile around the camera, comes before it).
     pub field: GeneratedField,
+    /// For a streamed scene, the grass grown on mesh objects as `field` held it at load
+    /// (`fill_tiles_cpu` replaces `field` with the pool followed by this).
+    object_grass: GeneratedField,
     /// How a streamed scene is cut into tiles (`field.tile_size > 0`).
     pub tiles: Option<TileLayout>,
     /// The meshes of `scene.objects`, in order, read and checked.
@@ -161,7 +164,7 @@ impl Session {
         let density = DensityMap::from_scene(&self.scene.terrain)
             .map_err(|e| self.scene.image_error("terrain.density_map", e))?;
         let eye = crate::render::camera::CameraView::from_scene(&self.scene.camera).eye;
-        self.field = crate::field::tiles::generate_pool(
+        let mut pool = crate::field::tiles::generate_pool(
             layout,
             &self.scene.field,
             &self.terrain,
@@ -169,6 +172,15 @@ impl Session {
             eye.x,
             eye.z,
         );
+        // The grass grown on mesh objects follows the pool, as in the GPU's buffers.
+        let objects = &self.object_grass;
+        pool.carried = objects
+            .carried
+            .shifted(pool.blades.len(), pool.patches.len());
+        pool.blades.extend_from_slice(&objects.blades);
+        pool.states.extend_from_slice(&objects.states);
+        pool.patches.extend_from_slice(&objects.patches);
+        self.field = pool;
         Ok(())
     }
 
@@ -251,6 +263,7 @@ impl Session {
                     scene,
                     terrain,
                     field,
+                    object_grass: GeneratedField::default(),
                     tiles: None,
                     meshes,
                     packings,
@@ -274,12 +287,19 @@ impl Session {
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
                 if let Some(gpu) = gpu {
-                    check_blade_count(gpu, field.blades.len() as f64)?;
+                    let pool = tiles.as_ref().map_or(0, |l| l.pool_blades());
+                    check_blade_count(gpu, (pool + field.blades.len() as u64) as f64)?;
                 }
+                let object_grass = if tiles.is_some() {
+                    field.clone()
+                } else {
+                    GeneratedField::default()
+                };
                 Ok(Self {
                     scene,
                     terrain,
                     field,
+                    object_grass,
                     tiles,
                     meshes,
                     packings,

@@ -175,3 +175,34 @@ fn a_static_objects_grass_is_not_carried() {
     assert!(session.field.carried.is_empty());
     assert!(session.field.blades.len() > 4096, "the object has grass");
 }
+
+/// In a streamed field the object's grass follows the tile pool in the GPU's buffers; the
+/// carry pass finds it there.
+#[test]
+fn carried_grass_in_a_streamed_field_follows_the_object() {
+    let mut scene = sliding();
+    scene.field.tile_size = 8.0;
+    scene.culling.max_distance = 12.0;
+    let gpu = common::gpu();
+    let session = Session::new(scene, None, Some(&gpu)).expect("streamed field");
+    let pool = session.tiles.as_ref().expect("streamed").pool_blades() as usize;
+    let r = common::stepped(&gpu, &session, STEPS, DT);
+    let (blades, _) = r.buffers.read(&gpu).expect("read-back");
+    let object = &session.scene.objects[0];
+    let model = object_transform(object, &session.terrain, r.time) * object.transform().inverse();
+    let worst = session
+        .field
+        .carried
+        .blades
+        .iter()
+        .map(|c| {
+            let rest = &session.field.blades[c.blade as usize];
+            let now = &blades[pool + c.blade as usize];
+            model
+                .transform_point3(v(rest.v0_dir))
+                .distance(v(now.v0_dir))
+        })
+        .fold(0.0f32, f32::max);
+    println!("streamed field: carried roots within {worst:.2e} m of the object's transform");
+    assert!(worst < 1e-4, "a carried root is {worst} m off");
+}

@@ -3,8 +3,10 @@
 //!   hang down under world-down gravity, blades under the box hang below their roots;
 //! - the GPU update of surface blades (their up is the surface normal, not the terrain's)
 //!   matches the CPU twin;
-//! - a grassy object on a streamed field, and a density that would make too many blades,
-//!   are refused naming the field, before anything is generated.
+//! - a grassy object on a streamed field: its blades follow the tile pool on the GPU and
+//!   match the twin;
+//! - a density that would make too many blades is refused naming the field, before
+//!   anything is generated.
 
 mod common;
 
@@ -129,18 +131,53 @@ fn blades_stand_on_top_hang_on_the_sides_and_under_the_box_and_match_the_twin() 
 }
 
 #[test]
-fn grass_on_a_streamed_field_or_too_dense_is_refused() {
+fn grass_on_an_object_in_a_streamed_field_follows_the_pool_and_matches_the_twin() {
     let mut scene = grassy_cube_scene();
     scene.field.tile_size = 8.0;
-    let text = ron::ser::to_string(&scene).expect("ron");
-    let e = sward::scene::parse_scene(&text, Path::new("s.ron"))
-        .expect_err("refused")
-        .to_string();
-    assert!(
-        e.contains("objects[0].grass") && e.contains("field.tile_size"),
-        "{e}"
+    // A small blade radius keeps the pool small.
+    scene.culling.max_distance = 12.0;
+    let gpu = common::gpu();
+    let session = Session::new(scene.clone(), None, Some(&gpu)).expect("streamed field");
+    let layout = session.tiles.expect("streamed");
+    let pool = layout.pool_blades() as usize;
+    let on_cube = session.field.blades.len();
+    assert!(on_cube >= 2880, "{on_cube} blades on the cube");
+    let steps = 30;
+    let r = common::stepped(&gpu, &session, steps, 1.0 / 30.0);
+    let (gpu_blades, _) = r.buffers.read(&gpu).expect("read-back");
+    assert_eq!(
+        gpu_blades.len(),
+        pool + on_cube,
+        "the object's grass follows the pool"
     );
+    // The CPU twin of the same run: the pool filled around the camera, then the cube's
+    // grass, stepped.
+    let mut twin = Session::new(scene, None, Some(&gpu)).expect("streamed field");
+    twin.fill_tiles_cpu().expect("pool");
+    assert_eq!(twin.field.blades.len(), pool + on_cube);
+    let cpu = simulate_cpu(&twin, steps, 1.0 / 30.0).blades;
+    let (mut roots, mut tips) = (0.0f32, 0.0f32);
+    for i in pool..pool + on_cube {
+        roots = roots.max(root(&cpu[i]).distance(root(&gpu_blades[i])));
+        tips = tips.max(tip(&cpu[i]).distance(tip(&gpu_blades[i])));
+    }
+    // Gravity pulls them: they moved, the same on both sides.
+    let hanging = (pool..pool + on_cube)
+        .filter(|&i| tip(&gpu_blades[i]).y < root(&gpu_blades[i]).y)
+        .count();
+    println!(
+        "a grassy cube in a streamed field: {on_cube} blades after a pool of {pool}; GPU against the twin: roots {roots:.2e} m, tips {tips:.2e} m; {hanging} tips below their roots"
+    );
+    assert_eq!(roots, 0.0);
+    assert!(tips < 1e-4, "GPU and CPU differ by {tips} m");
+    assert!(
+        hanging > 500,
+        "the grass on the sides and underneath hangs ({hanging})"
+    );
+}
 
+#[test]
+fn grass_too_dense_is_refused() {
     let mut scene = grassy_cube_scene();
     if let Some(g) = &mut scene.objects[0].grass {
         g.density = -1.0;

@@ -7,7 +7,7 @@
 use glam::Mat4;
 
 use crate::error::Result;
-use crate::field::{GeneratedField, HeightField};
+use crate::field::HeightField;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use crate::sim::carry::{self, Carried};
@@ -25,24 +25,19 @@ pub(super) struct CarriedGrass {
 }
 
 impl CarriedGrass {
-    /// `None` when nothing with grass moves.
+    /// `None` when nothing with grass moves; `carried` indexes the GPU's blades.
     pub(super) fn new(
         gpu: &Gpu,
         buffers: &BladeBuffers,
-        field: &GeneratedField,
+        carried: &Carried,
     ) -> Result<Option<Self>> {
-        if field.carried.is_empty() {
+        if carried.is_empty() {
             return Ok(None);
         }
-        let pass = CarryPass::new(
-            gpu,
-            buffers,
-            &field.carried.blades,
-            field.carried.objects.len(),
-        )?;
+        let pass = CarryPass::new(gpu, buffers, &carried.blades, carried.objects.len())?;
         let carried = Carried {
             blades: Vec::new(),
-            objects: field.carried.objects.clone(),
+            objects: carried.objects.clone(),
         };
         let previous = vec![Mat4::IDENTITY; carried.objects.len()];
         Ok(Some(Self {

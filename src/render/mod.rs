@@ -222,8 +222,16 @@ impl Renderer {
         let grid = fluid.as_ref().map(|f| f.velocity()).unwrap_or(&dummy_grid);
         let layout = TileLayout::from_scene(&scene.field, &scene.terrain, &scene.culling);
         let buffers = match &layout {
-            Some(l) => BladeBuffers::new_pool(gpu, l)?,
+            Some(l) => BladeBuffers::new_pool(gpu, l, field)?,
             None => BladeBuffers::new(gpu, field)?,
+        };
+        // A streamed field's object grass sits after the tile pool.
+        let carried = match &layout {
+            Some(l) => field.carried.shifted(
+                l.pool_blades() as usize,
+                (l.slots * l.patches_per_tile()) as usize,
+            ),
+            None => field.carried.clone(),
         };
         let density = crate::field::DensityMap::from_scene(&scene.terrain)?;
         let tiles = layout.map(|l| {
@@ -231,7 +239,7 @@ impl Renderer {
         });
         let update = UpdatePass::new(gpu, &buffers, grid);
         let cull = CullPass::new(gpu, &buffers);
-        let carried = carried::CarriedGrass::new(gpu, &buffers, field)?;
+        let carried = carried::CarriedGrass::new(gpu, &buffers, &carried)?;
         let lod = mesh::lod_meshes(scene.field.segments);
         let multi_draw = gpu
             .device

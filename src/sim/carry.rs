@@ -89,6 +89,19 @@ impl Carried {
         self.blades.is_empty()
     }
 
+    /// The same records for blades and patches that sit `blades` and `patches` further on
+    /// (a streamed field's object grass follows the tile pool in the GPU buffers).
+    pub fn shifted(&self, blades: usize, patches: usize) -> Carried {
+        let mut out = self.clone();
+        for c in &mut out.blades {
+            c.blade += blades as u32;
+        }
+        for o in &mut out.objects {
+            o.first_patch += patches;
+        }
+        out
+    }
+
     /// Records the grass of object `object` (rest transform `rest`).
     pub fn add(&mut self, object: usize, rest: Mat4, grass: Grown<'_>) {
         let Grown {

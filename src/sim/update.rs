@@ -71,11 +71,30 @@ impl BladeBuffers {
     }
 
     /// An empty pool for a streamed field: `layout.slots` tiles of blades, every patch empty
-    /// until the tile generation fills its slot.
-    pub fn new_pool(gpu: &Gpu, layout: &TileLayout) -> Result<Self> {
-        let patches =
+    /// until the tile generation fills its slot; then `objects`' blades and patches (the
+    /// grass grown on mesh objects, in patches of the pool's size), uploaded after the pool.
+    pub fn new_pool(gpu: &Gpu, layout: &TileLayout, objects: &GeneratedField) -> Result<Self> {
+        let mut patches =
             vec![empty_patch(); layout.slots as usize * layout.patches_per_tile() as usize];
-        Self::create(gpu, layout.pool_blades(), layout.patch_size, &patches, None)
+        patches.extend_from_slice(&objects.patches);
+        let pool = layout.pool_blades();
+        let count = pool + objects.blades.len() as u64;
+        let buffers = Self::create(gpu, count, layout.patch_size, &patches, None)?;
+        if !objects.blades.is_empty() {
+            let blade = std::mem::size_of::<Blade>() as u64;
+            let state = std::mem::size_of::<BladeState>() as u64;
+            gpu.queue.write_buffer(
+                &buffers.blades,
+                pool * blade,
+                bytemuck::cast_slice(&objects.blades),
+            );
+            gpu.queue.write_buffer(
+                &buffers.states,
+                pool * state,
+                bytemuck::cast_slice(&objects.states),
+            );
+        }
+        Ok(buffers)
     }
 
     /// The buffers for `count` blades in patches of `patch_size`; `contents` uploads the

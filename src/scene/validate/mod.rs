@@ -135,16 +135,6 @@ pub(crate) fn validate_with_sets(
         if let Some(grass) = &object.grass {
             let name = format!("objects[{i}].grass");
             terrain_field::field(&check, &name, grass)?;
-            // A streamed field is generated tile by tile on the GPU; surface blades are
-            // generated once with the whole field.
-            if scene.field.tile_size > 0.0 {
-                let message = format!(
-                    "{name}: grass on an object needs a field generated whole \
-                     (field.tile_size: 0), but field.tile_size = {}",
-                    scene.field.tile_size
-                );
-                return Err(check.error(&name, message));
-            }
         }
     }
     // The packed spheres join the colliders in the update pass's fixed list.
