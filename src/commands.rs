@@ -329,15 +329,14 @@ pub fn simulate_cpu_from(
         time += dt;
         // The grass of moving objects goes with them first, as the GPU's carry pass does.
         if !carried.is_empty() {
-            let now: Vec<glam::Mat4> = scene
-                .objects
-                .iter()
-                .map(|o| crate::sim::colliders::object_transform(o, &session.terrain, time))
-                .collect();
-            let models = crate::sim::carry::models(carried, &now);
-            let motions = crate::sim::carry::motions(&models, &previous);
+            let (_, motions) = crate::sim::carry::step(
+                carried,
+                &scene.objects,
+                &session.terrain,
+                time,
+                &mut previous,
+            );
             crate::sim::carry::carry_cpu(&mut blades, &mut states, &carried.blades, &motions);
-            previous = models;
         }
         let mut spheres = spheres_at(&scene.colliders, &session.terrain, time);
         spheres.extend(crate::sim::colliders::object_spheres_at(

@@ -24,13 +24,11 @@ use glam::Vec3;
 use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
-use crate::commands::{load, DEFAULT_SCENE_PATH};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::camera::CameraView;
-use crate::render::target::{Target, COLOR_FORMAT};
+use crate::render::target::Target;
 use crate::render::timing;
-use crate::render::Renderer;
 use crate::scene::{MeshCollider, Motion, Scene, Sphere};
 use crate::session::Session;
 use crate::sim::layout::{Blade, MAX_SPHERES};
@@ -218,15 +216,7 @@ fn run_mode(
     mode: &Mode,
 ) -> Result<RunResult> {
     let camera = CameraView::from_scene(&scene.camera);
-    let mut renderer = Renderer::new(
-        gpu,
-        scene,
-        session.terrain.clone(),
-        &session.field,
-        COLOR_FORMAT,
-    )?;
-    renderer.set_objects(gpu, &session.meshes, &session.packings);
-    gpu.check_errors()?;
+    let mut renderer = super::measure::fresh_renderer(gpu, session, scene)?;
     let size = (target.width, target.height);
     let (mut update, mut patches, mut timed) = (0.0, 0.0, 0u32);
     let (mut stepped, mut entries, mut patches_stepped) = (0.0f64, 0.0f64, 0.0f64);
@@ -285,15 +275,12 @@ fn run_mode(
 pub fn run_collider_bench(o: &BenchOptions, counts: &[usize]) -> Result<ColliderBenchReport> {
     check_collider_options(o)?;
     let date = utc_now();
-    let scene = load(o.scene.as_deref(), &o.sets)?;
-    let scene_name = o
-        .scene
-        .as_deref()
-        .unwrap_or(std::path::Path::new(DEFAULT_SCENE_PATH))
-        .display()
-        .to_string();
-    let gpu = Gpu::new(&o.adapter)?;
-    eprintln!("adapter: {}", gpu.describe());
+    let super::Start {
+        scene,
+        scene_name,
+        gpu,
+        ..
+    } = super::start(o, [])?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let mut base = scene;
     base.physics.collisions = true;

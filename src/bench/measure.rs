@@ -38,6 +38,20 @@ impl Measured {
     }
 }
 
+/// A new renderer of `scene` over `session`'s field, terrain and mesh objects.
+pub(super) fn fresh_renderer(gpu: &Gpu, session: &Session, scene: Scene) -> Result<Renderer> {
+    let mut renderer = Renderer::new(
+        gpu,
+        scene,
+        session.terrain.clone(),
+        &session.field,
+        COLOR_FORMAT,
+    )?;
+    renderer.set_objects(gpu, &session.meshes, &session.packings);
+    gpu.check_errors()?;
+    Ok(renderer)
+}
+
 /// Runs `warmup + frames` frames of `scene` over `session`'s field with a fresh renderer.
 pub(super) fn measure(
     gpu: &Gpu,
@@ -49,15 +63,7 @@ pub(super) fn measure(
     trace: bool,
 ) -> Result<Measured> {
     let camera = CameraView::from_scene(&scene.camera);
-    let mut renderer = Renderer::new(
-        gpu,
-        scene,
-        session.terrain.clone(),
-        &session.field,
-        COLOR_FORMAT,
-    )?;
-    renderer.set_objects(gpu, &session.meshes, &session.packings);
-    gpu.check_errors()?;
+    let mut renderer = fresh_renderer(gpu, session, scene)?;
     let size = (target.width, target.height);
     let mut passes = [0.0f64; timing::PASSES.len()];
     let mut wind = 0.0f64;

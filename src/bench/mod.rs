@@ -502,18 +502,21 @@ fn colliders(scene: &Scene) -> u64 {
 const IMAGE_NAMES: [&str; 3] = ["all.png", "unculled.png", "difference.png"];
 
 /// What every bench run begins with.
-struct Start {
+pub(super) struct Start {
     /// `--images DIR`'s files, checked (nothing is written yet).
-    outputs: Outputs,
+    pub(super) outputs: Outputs,
     /// The scene with its `--set` overrides, and the name the report gives it.
-    scene: Scene,
-    scene_name: String,
-    gpu: Gpu,
+    pub(super) scene: Scene,
+    pub(super) scene_name: String,
+    pub(super) gpu: Gpu,
 }
 
 /// Checks the outputs (`image_names` in `--images DIR`) before any work, loads the scene
 /// and opens the adapter.
-fn start(o: &BenchOptions, image_names: impl IntoIterator<Item = String>) -> Result<Start> {
+pub(super) fn start(
+    o: &BenchOptions,
+    image_names: impl IntoIterator<Item = String>,
+) -> Result<Start> {
     let mut outputs = Outputs::new();
     if let Some(scene) = &o.scene {
         outputs.input("--scene", scene)?;
@@ -703,46 +706,34 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
     if !o.colliders.is_empty() {
-        let report = colliders::run_collider_bench(o, &o.colliders)?;
-        if o.json {
-            let text = serde_json::to_string_pretty(&report)
-                .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
-            println!("{text}");
-        } else {
-            print!("{}", colliders::format_colliders(&report));
-        }
-        return Ok(());
+        return print_report(
+            o.json,
+            &colliders::run_collider_bench(o, &o.colliders)?,
+            colliders::format_colliders,
+        );
     }
     if !o.pressure_solvers.is_empty() {
-        let report = pressure::run_pressure_bench(o)?;
-        if o.json {
-            let text = serde_json::to_string_pretty(&report)
-                .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
-            println!("{text}");
-        } else {
-            print!("{}", pressure::format_pressure(&report));
-        }
-        return Ok(());
+        return print_report(
+            o.json,
+            &pressure::run_pressure_bench(o)?,
+            pressure::format_pressure,
+        );
     }
     if o.flight {
         flight::check_flight_options(o)?;
-        let report = flight::run_flight(o)?;
-        if o.json {
-            let text = serde_json::to_string_pretty(&report)
-                .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
-            println!("{text}");
-        } else {
-            print!("{}", flight::format_flight(&report));
-        }
-        return Ok(());
+        return print_report(o.json, &flight::run_flight(o)?, flight::format_flight);
     }
-    let report = run_bench(o)?;
-    if o.json {
-        let text = serde_json::to_string_pretty(&report)
+    print_report(o.json, &run_bench(o)?, format_report)
+}
+
+/// Prints `report` to stdout: one JSON object with `--json`, else the table `table` makes.
+fn print_report<T: Serialize>(json: bool, report: &T, table: fn(&T) -> String) -> Result<()> {
+    if json {
+        let text = serde_json::to_string_pretty(report)
             .map_err(|e| Error::Invalid(format!("cannot encode the report as JSON: {e}")))?;
         println!("{text}");
     } else {
-        print!("{}", format_report(&report));
+        print!("{}", table(report));
     }
     Ok(())
 }

@@ -13,7 +13,6 @@
 use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
-use crate::commands::{load, DEFAULT_SCENE_PATH};
 use crate::error::{Error, Result};
 use crate::field::HeightField;
 use crate::gpu::Gpu;
@@ -179,16 +178,13 @@ fn measure(
 pub fn run_pressure_bench(o: &BenchOptions) -> Result<PressureBenchReport> {
     check_pressure_options(o)?;
     let date = utc_now();
-    let scene = load(o.scene.as_deref(), &o.sets)?;
-    let scene_name = o
-        .scene
-        .as_deref()
-        .unwrap_or(std::path::Path::new(DEFAULT_SCENE_PATH))
-        .display()
-        .to_string();
+    let super::Start {
+        scene,
+        scene_name,
+        gpu,
+        ..
+    } = super::start(o, [])?;
     let terrain = HeightField::from_scene(&scene.terrain)?;
-    let gpu = Gpu::new(&o.adapter)?;
-    eprintln!("adapter: {}", gpu.describe());
     let config = FluidConfig::from_scene(&scene.wind.fluid, scene.terrain.size);
     let pressure_solvers = o
         .pressure_solvers

@@ -56,14 +56,14 @@ impl CarriedGrass {
         terrain: &HeightField,
         time: f32,
     ) {
-        let now: Vec<Mat4> = scene
-            .objects
-            .iter()
-            .map(|o| crate::sim::colliders::object_transform(o, terrain, time))
-            .collect();
-        let models = carry::models(&self.carried, &now);
-        self.pass
-            .prepare(&gpu.queue, &carry::motions(&models, &self.previous));
+        let (models, motions) = carry::step(
+            &self.carried,
+            &scene.objects,
+            terrain,
+            time,
+            &mut self.previous,
+        );
+        self.pass.prepare(&gpu.queue, &motions);
         for (first, boxes) in carry::moved_boxes(&self.carried, &models) {
             gpu.queue.write_buffer(
                 &buffers.patches,
@@ -71,7 +71,6 @@ impl CarriedGrass {
                 bytemuck::cast_slice(&boxes),
             );
         }
-        self.previous = models;
     }
 
     pub(super) fn encode(&self, encoder: &mut wgpu::CommandEncoder) {

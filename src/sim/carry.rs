@@ -16,6 +16,9 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, Mat4, Vec3};
 
+use crate::field::HeightField;
+use crate::scene::MeshObject;
+use crate::sim::colliders::object_transform;
 use crate::sim::layout::{Blade, BladeState, PatchBox};
 
 /// The rest values of one carried blade (`CarriedBlade` in `carry.wgsl`).
@@ -153,24 +156,28 @@ impl Carried {
     }
 }
 
-/// M(t) of each carried object: `now[object]` (the object's transform at t) times the
-/// inverse of its rest transform, composed in f64.
-pub fn models(carried: &Carried, now: &[Mat4]) -> Vec<Mat4> {
-    carried
+/// One step of the carried objects at `time`: each one's M(t) (its transform now times the
+/// inverse of its rest transform, composed in f64) and its motion from `previous` (last
+/// step's M, identity at the start), which becomes this step's. The renderer and the CPU
+/// twin both step through here.
+pub fn step(
+    carried: &Carried,
+    objects: &[MeshObject],
+    terrain: &HeightField,
+    time: f32,
+    previous: &mut [Mat4],
+) -> (Vec<Mat4>, Vec<CarryObject>) {
+    let models: Vec<Mat4> = carried
         .objects
         .iter()
         .map(|c| {
-            let m = now[c.object].as_dmat4() * c.rest.as_dmat4().inverse();
-            m.as_mat4()
+            let now = object_transform(&objects[c.object], terrain, time);
+            (now.as_dmat4() * c.rest.as_dmat4().inverse()).as_mat4()
         })
-        .collect()
-}
-
-/// The step's object motions from this step's models and the last one's.
-pub fn motions(models: &[Mat4], previous: &[Mat4]) -> Vec<CarryObject> {
-    models
+        .collect();
+    let motions = models
         .iter()
-        .zip(previous)
+        .zip(previous.iter())
         .map(|(m, p)| {
             let step: DMat4 = m.as_dmat4() * p.as_dmat4().inverse();
             CarryObject {
@@ -178,7 +185,9 @@ pub fn motions(models: &[Mat4], previous: &[Mat4]) -> Vec<CarryObject> {
                 step: step.as_mat4().to_cols_array_2d(),
             }
         })
-        .collect()
+        .collect();
+    previous.copy_from_slice(&models);
+    (models, motions)
 }
 
 /// The carried objects' patch boxes under `models`: each rest box's eight corners through
