@@ -46,7 +46,32 @@ struct SimParams {
     // Collision hierarchy: camera x, y, z, exact-walk distance; on, nodes, depth, unused.
     bvh_camera: vec4<f32>,
     bvh_info: vec4<u32>,
+    // Blade model id (MODEL_*), Verlet damping, Cwd cell size, Verlet wind gain.
+    model: vec4<f32>,
+    // CWD-Sim's k1, k2, lambda, F.
+    cwd: vec4<f32>,
 }
+
+// The Verlet blade's state beside the blade (`sim::layout::VerletState`): P2, the cubic's
+// second inner control point (P1 and P3 are the blade's v1 and v2), with the Δt of the
+// last step (0: never stepped), and the previous positions of P1, P2 and P3, whose w hold
+// the root (x, y, z) the state belongs to.
+struct VerletState {
+    p2_dt: vec4<f32>,
+    o1_x: vec4<f32>,
+    o2_y: vec4<f32>,
+    o3_z: vec4<f32>,
+}
+
+// Whether a Verlet state belongs to the blade rooted at v0 and has been stepped.
+fn verlet_owned(s: VerletState, v0: vec3<f32>) -> bool {
+    return s.p2_dt.w > 0.0 && all(vec3<f32>(s.o1_x.w, s.o2_y.w, s.o3_z.w) == v0);
+}
+
+// `SimParams::model.x`: the blade model (`BladeModel::id`).
+const MODEL_JAHRMANN: u32 = 0u;
+const MODEL_VERLET: u32 = 1u;
+const MODEL_CWD: u32 = 2u;
 
 struct CullParams {
     view_proj: mat4x4<f32>,

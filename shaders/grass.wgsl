@@ -10,6 +10,9 @@
 // linear interpolation between the coarser rows around it), so at the threshold the finer
 // mesh has the coarser one's shape and the switch moves nothing.
 //!include common.wgsl
+//!include wind.wgsl
+//!include wind_sample.wgsl
+//!include cwd.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
@@ -20,6 +23,12 @@
 @group(0) @binding(4) var<uniform> draw_level: vec4<u32>;
 // The cull's output (also this draw's indirect arguments), for the lists' lengths.
 @group(0) @binding(5) var<storage, read> drawn: DrawnBlades;
+// The blade models: the update's uniforms (which model, CWD-Sim's parameters, the wind),
+// the wind grid (a Cwd blade bends here, from its cell's wind) and the Verlet states
+// (a Verlet blade is a cubic through v0, v1, the state's P2 and v2).
+@group(0) @binding(6) var<uniform> params: SimParams;
+@group(0) @binding(7) var<storage, read> wind_grid: array<vec2<f32>>;
+@group(0) @binding(8) var<storage, read> verlet: array<VerletState>;
 
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
@@ -75,21 +84,46 @@ struct BladePoint {
     n: vec3<f32>,
 }
 
-// The vertex at (u, v) of a blade: Eq. 21-24.
-fn blade_point(blade: Blade, u: f32, v: f32) -> BladePoint {
+// The blade's centre line at v and its tangent, by the blade model: Jahrmann's quadratic
+// (Eq. 21, De Casteljau), the thesis's cubic (Eq. 5) once the blade has a Verlet state,
+// or CWD-Sim's bent straight blade (Eq. 11-13, from the wind of the blade's cell).
+fn centre_line(blade: Blade, index: u32, v: f32) -> CwdPoint {
     let v0 = blade.v0_dir.xyz;
     let v1 = blade.v1_height.xyz;
     let v2 = blade.v2_width.xyz;
-    let half_width = 0.5 * blade.v2_width.w;
-    let up = blade.up_stiffness.xyz;
-    // Eq. 21: De Casteljau gives the curve point c and the tangent t0.
+    let model = u32(params.model.x);
+    if model == MODEL_CWD {
+        let up = blade.up_stiffness.xyz;
+        let h = blade.v1_height.w;
+        let front = blade_frame(up, blade.v0_dir.w)[1];
+        return cwd_point(v0, up, front, h, cwd_wind(v0, h), v);
+    }
+    if model == MODEL_VERLET {
+        let s = verlet[index];
+        if verlet_owned(s, v0) {
+            let p2 = s.p2_dt.xyz;
+            let u = 1.0 - v;
+            let c = v0 * (u * u * u) + v1 * (3.0 * v * u * u) + p2 * (3.0 * v * v * u) + v2 * (v * v * v);
+            let t = 3.0 * (u * u * (v1 - v0) + 2.0 * u * v * (p2 - v1) + v * v * (v2 - p2));
+            return CwdPoint(c, t);
+        }
+    }
     let a = v0 + v * (v1 - v0);
     let b = v1 + v * (v2 - v1);
-    let c = a + v * (b - a);
+    return CwdPoint(a + v * (b - a), b - a);
+}
+
+// The vertex at (u, v) of a blade: Eq. 21-24.
+fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
+    let half_width = 0.5 * blade.v2_width.w;
+    let up = blade.up_stiffness.xyz;
+    // Eq. 21: the curve point c and the tangent t0.
+    let centre = centre_line(blade, index, v);
+    let c = centre.p;
     let t1 = blade_frame(up, blade.v0_dir.w)[0];
     let c0 = c - half_width * t1;
     let c1 = c + half_width * t1;
-    var t0 = b - a;
+    var t0 = centre.t;
     if length(t0) < 1e-6 {
         t0 = up;
     }
@@ -163,7 +197,7 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     let row = vid / 3u;
     let u = f32(vid % 3u) * 0.5;
     let v = f32(row) / f32(rows);
-    var point = blade_point(blade, u, v);
+    var point = blade_point(blade, index, u, v);
 
     let h_px = projected_height(v0, blade.v1_height.w, cull);
     let morph = morph_factor(level, h_px);
@@ -176,8 +210,8 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
         let rem = num % rows;
         if rem != 0u {
             let f = f32(rem) / f32(rows);
-            let a = blade_point(blade, u, f32(below) / f32(coarse));
-            let b = blade_point(blade, u, f32(below + 1u) / f32(coarse));
+            let a = blade_point(blade, index, u, f32(below) / f32(coarse));
+            let b = blade_point(blade, index, u, f32(below + 1u) / f32(coarse));
             point.p = mix(point.p, mix(a.p, b.p, f), morph);
             point.n = normalize(mix(point.n, normalize(mix(a.n, b.n, f)), morph));
         }

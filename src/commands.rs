@@ -12,13 +12,13 @@ use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing::PASSES;
 use crate::render::Renderer;
-use crate::scene::WindSource;
 use crate::scene::{load_scene_with_sets, parse_scene_with_sets, Scene};
+use crate::scene::{BladeModel, WindSource};
 use crate::session::Session;
 use crate::sim::agc;
 use crate::sim::colliders::spheres_at;
 use crate::sim::fluid::{FluidConfig, FluidState};
-use crate::sim::layout::{Blade, BladeState};
+use crate::sim::layout::{Blade, BladeState, VerletState};
 use crate::sim::params::sim_params;
 use crate::sim::reference;
 use crate::sim::reference::fluid::FluidCpu;
@@ -253,12 +253,16 @@ pub struct SimulateOptions {
     pub wind_resolution: Option<u32>,
 }
 
-/// One blade as `sward simulate` writes it.
+/// One blade as `sward simulate` writes it. A Verlet blade (`physics.model: Verlet`) is a
+/// cubic: `v0`..`v3` are its four control points (root, P1, P2, tip); the others' `v2` is
+/// the tip and `v3` is absent.
 #[derive(Serialize)]
 pub struct BladeJson {
     pub v0: [f32; 3],
     pub v1: [f32; 3],
     pub v2: [f32; 3],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub v3: Option<[f32; 3]>,
     pub up: [f32; 3],
     pub height: f32,
     pub width: f32,
@@ -273,6 +277,7 @@ impl BladeJson {
             v0: xyz(b.v0_dir),
             v1: xyz(b.v1_height),
             v2: xyz(b.v2_width),
+            v3: None,
             up: xyz(b.up_stiffness),
             height: b.v1_height[3],
             width: b.v2_width[3],
@@ -282,8 +287,23 @@ impl BladeJson {
     }
 }
 
+impl BladeJson {
+    /// A Verlet blade with its state: the four control points of its cubic.
+    pub fn verlet(b: &Blade, s: &BladeState, v: &VerletState) -> Self {
+        let p = crate::sim::verlet::control_points(b, v);
+        Self {
+            v1: p[1].into(),
+            v2: p[2].into(),
+            v3: Some(p[3].into()),
+            ..Self::new(b, s)
+        }
+    }
+}
+
 #[derive(Serialize)]
 struct Dump {
+    /// The blade model the run stepped (`physics.model`).
+    model: &'static str,
     initial: Vec<BladeJson>,
     #[serde(rename = "final")]
     last: Vec<BladeJson>,
@@ -314,6 +334,11 @@ pub fn simulate_cpu_from(
 ) -> CpuRun {
     let mut blades_reset_nonfinite = 0u64;
     let scene = &session.scene;
+    let mut verlet = if scene.physics.model == BladeModel::Verlet {
+        vec![VerletState::default(); blades.len()]
+    } else {
+        Vec::new()
+    };
     let dt = dt.clamp(0.0, scene.physics.max_dt);
     let mut time = 0.0f32;
     let mut fluid = (scene.wind.source != WindSource::Analytic).then(|| {
@@ -381,17 +406,26 @@ pub fn simulate_cpu_from(
                 .map(|w| w.velocity.as_slice())
                 .unwrap_or(&zero),
         };
-        blades_reset_nonfinite += u64::from(reference::update_all(
-            &mut blades,
-            &mut states,
-            &params,
-            &spheres,
-            &grid,
-        ));
+        let resets = match scene.physics.model {
+            BladeModel::Jahrmann => {
+                reference::update_all(&mut blades, &mut states, &params, &spheres, &grid)
+            }
+            BladeModel::Verlet => crate::sim::verlet::update_all(
+                &mut blades,
+                &mut states,
+                &mut verlet,
+                &params,
+                &spheres,
+                &grid,
+            ),
+            BladeModel::Cwd => crate::sim::cwd::pose_all(&mut blades, &mut states, &params, &grid),
+        };
+        blades_reset_nonfinite += u64::from(resets);
     }
     CpuRun {
         blades,
         states,
+        verlet,
         wind,
         blades_reset_nonfinite,
     }
@@ -401,6 +435,8 @@ pub fn simulate_cpu_from(
 pub struct CpuRun {
     pub blades: Vec<Blade>,
     pub states: Vec<BladeState>,
+    /// The Verlet states (`physics.model: Verlet`; else empty).
+    pub verlet: Vec<VerletState>,
     /// The wind grid after the last step, when the scene uses the fluid.
     pub wind: Option<FluidState>,
     /// Blades reset to their rest pose because their new state was non-finite or absurd,
@@ -505,12 +541,14 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
     }
     let mut wind_state = None;
     let resets: u64;
+    let verlet: Vec<VerletState>;
     let (session, (blades, states)) = if o.cpu {
         let mut session = Session::new(scene, o.blades, None)?;
         session.fill_tiles_cpu()?;
         let run = simulate_cpu(&session, o.steps, o.dt);
         wind_state = run.wind;
         resets = run.blades_reset_nonfinite;
+        verlet = run.verlet;
         (session, (run.blades, run.states))
     } else {
         let gpu = open_gpu(&o.adapter)?;
@@ -526,6 +564,7 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         }
         resets = renderer.blades_reset_nonfinite(&gpu)?.into();
         let out = renderer.buffers.read(&gpu)?;
+        verlet = renderer.buffers.read_verlet(&gpu)?;
         if let Some(f) = &renderer.fluid {
             wind_state = Some(f.read_state(&gpu)?);
         }
@@ -540,9 +579,21 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         (&session.field.blades, &session.field.states),
         (&blades, &states),
     )?;
+    let last = if session.scene.physics.model == BladeModel::Verlet && verlet.len() == blades.len()
+    {
+        blades
+            .iter()
+            .zip(&states)
+            .zip(&verlet)
+            .map(|((b, s), v)| BladeJson::verlet(b, s, v))
+            .collect()
+    } else {
+        to_json(&blades, &states)
+    };
     let dump = Dump {
+        model: session.scene.physics.model.name(),
         initial: to_json(&session.field.blades, &session.field.states),
-        last: to_json(&blades, &states),
+        last,
     };
     let text = serde_json::to_vec(&dump).map_err(|e| Error::Write {
         path: o.dump.clone(),

@@ -8,6 +8,23 @@ const FILES: &[(&str, &str)] = &[
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
     (
+        "update_common.wgsl",
+        include_str!("../shaders/update_common.wgsl"),
+    ),
+    (
+        "collide_walk.wgsl",
+        include_str!("../shaders/collide_walk.wgsl"),
+    ),
+    (
+        "update_verlet.wgsl",
+        include_str!("../shaders/update_verlet.wgsl"),
+    ),
+    (
+        "update_cwd.wgsl",
+        include_str!("../shaders/update_cwd.wgsl"),
+    ),
+    ("cwd.wgsl", include_str!("../shaders/cwd.wgsl")),
+    (
         "blade_pose.wgsl",
         include_str!("../shaders/blade_pose.wgsl"),
     ),
@@ -102,6 +119,8 @@ const FILES: &[(&str, &str)] = &[
 /// The entry files, one per pass (the others are only included).
 pub const ENTRY_FILES: &[&str] = &[
     "update.wgsl",
+    "update_verlet.wgsl",
+    "update_cwd.wgsl",
     "carry.wgsl",
     "tile_gen.wgsl",
     "billboard.wgsl",

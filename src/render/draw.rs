@@ -6,6 +6,7 @@
 use wgpu::util::DeviceExt;
 
 use super::camera::CameraView;
+use super::grass_bind::{GrassBindings, ModelBuffers};
 use super::mesh::{sphere_mesh, LodMeshes};
 use super::terrain::TerrainPass;
 use crate::field::{DensityMap, HeightField};
@@ -54,7 +55,8 @@ pub struct DrawPass {
     spheres_group: wgpu::BindGroup,
     /// Kept to rebuild the pipelines for another sample count.
     frame_layout: wgpu::BindGroupLayout,
-    grass_layout: wgpu::BindGroupLayout,
+    /// The grass groups' layout and sources, kept to rebind the blade models' buffers.
+    grass: GrassBindings,
     spheres_layout: wgpu::BindGroupLayout,
     format: wgpu::TextureFormat,
     pipelines: Pipelines,
@@ -341,6 +343,7 @@ impl DrawPass {
         multi_draw: bool,
         format: wgpu::TextureFormat,
         samples: u32,
+        model: ModelBuffers,
     ) -> Self {
         let device = &gpu.device;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -353,17 +356,6 @@ impl DrawPass {
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.draw.frame_layout"),
             entries: &[uniform_entry(0, vf)],
-        });
-        let grass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sward.draw.grass_layout"),
-            entries: &[
-                uniform_entry(0, vf),
-                read_storage(1, wgpu::ShaderStages::VERTEX),
-                read_storage(2, wgpu::ShaderStages::VERTEX),
-                uniform_entry(3, wgpu::ShaderStages::VERTEX),
-                uniform_entry(4, wgpu::ShaderStages::VERTEX),
-                read_storage(5, wgpu::ShaderStages::VERTEX),
-            ],
         });
         let spheres_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.draw.spheres_layout"),
@@ -390,48 +382,19 @@ impl DrawPass {
                 .map(|k| (k, k as u64 * region_bytes, Some(region_bytes)))
                 .collect()
         };
-        let mut grass_groups = Vec::new();
-        for (level, offset, size) in levels {
-            let level_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward.draw.grass_level"),
-                contents: bytemuck::cast_slice(&[level, buffers.region, 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-            grass_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("sward.draw.grass_group"),
-                layout: &grass_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: frame.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: buffers.blades.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                            buffer: &buffers.visible,
-                            offset,
-                            size: size.and_then(wgpu::BufferSize::new),
-                        }),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: cull_params.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: level_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 5,
-                        resource: cull_output.as_entire_binding(),
-                    },
-                ],
-            }));
-        }
+        let levels = levels
+            .into_iter()
+            .map(|(level, offset, size)| {
+                let level_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("sward.draw.grass_level"),
+                    contents: bytemuck::cast_slice(&[level, buffers.region, 0, 0]),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                (level_buffer, offset, size)
+            })
+            .collect();
+        let grass = GrassBindings::new(device, &frame, buffers, cull_params, cull_output, levels);
+        let grass_groups = grass.groups(device, model);
         let spheres_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.draw.spheres_group"),
             layout: &spheres_layout,
@@ -456,7 +419,7 @@ impl DrawPass {
                 &frame_layout,
                 &terrain_pass.layout,
                 &spheres_layout,
-                &grass_layout,
+                &grass.layout,
             ],
         );
         let sphere = |rings, sectors, label: &str| {
@@ -488,7 +451,7 @@ impl DrawPass {
             grass_groups,
             spheres_group,
             frame_layout,
-            grass_layout,
+            grass,
             spheres_layout,
             format,
             pipelines,
@@ -538,9 +501,14 @@ impl DrawPass {
                 &self.frame_layout,
                 &self.terrain_pass.layout,
                 &self.spheres_layout,
-                &self.grass_layout,
+                &self.grass.layout,
             ],
         );
+    }
+
+    /// Binds the blade models' buffers anew (a new wind grid, the Verlet states allocated).
+    pub fn bind_model(&mut self, device: &wgpu::Device, model: ModelBuffers) {
+        self.grass_groups = self.grass.groups(device, model);
     }
 
     /// Whether the grass can be drawn as lines (the adapter supports line rasterisation).

@@ -11,6 +11,7 @@ mod carried;
 pub mod clipmap;
 pub mod cull;
 pub mod draw;
+pub mod grass_bind;
 pub mod hiz;
 mod levels;
 pub mod mesh;
@@ -41,6 +42,7 @@ use crate::sim::wind_layout::{ObstacleGpu, MAX_OBSTACLES};
 use camera::CameraView;
 use cull::CullPass;
 use draw::DrawPass;
+use grass_bind::ModelBuffers;
 use hiz::DepthPyramid;
 use mesh::LodMeshes;
 use timing::{cs, rs, timed, GpuTimer};
@@ -221,10 +223,13 @@ impl Renderer {
         });
         let grid = fluid.as_ref().map(|f| f.velocity()).unwrap_or(&dummy_grid);
         let layout = TileLayout::from_scene(&scene.field, &scene.terrain, &scene.culling);
-        let buffers = match &layout {
+        let mut buffers = match &layout {
             Some(l) => BladeBuffers::new_pool(gpu, l, field)?,
             None => BladeBuffers::new(gpu, field)?,
         };
+        if scene.physics.model == crate::scene::BladeModel::Verlet {
+            buffers.ensure_verlet(gpu)?;
+        }
         // A streamed field's object grass sits after the tile pool.
         let carried = match &layout {
             Some(l) => field.carried.shifted(
@@ -259,6 +264,11 @@ impl Renderer {
             multi_draw,
             format,
             samples,
+            ModelBuffers {
+                sim_params: update.params_buffer(),
+                wind_grid: grid,
+                verlet: &buffers.verlet,
+            },
         );
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(
@@ -451,9 +461,11 @@ impl Renderer {
             self.scene.culling.physics_throttle,
             self.scene.physics.max_dt,
         );
+        let model = self.stepped_model().id();
+        params.model[0] = model as f32;
         self.update.prepare(&gpu.queue, &params);
         timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
-            self.update.encode(e, cs(q))
+            self.update.encode(e, cs(q), model)
         });
     }
 

@@ -2,6 +2,7 @@
 //! (`--wind-overlay`, the panel), and the rebuild of the wind solver when the scene's wind
 //! changes in ways its settings cannot take live.
 
+use super::grass_bind::ModelBuffers;
 use super::{overlay, Renderer};
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -47,17 +48,56 @@ impl Renderer {
         } else {
             None
         };
-        let grid = fluid
-            .as_ref()
-            .map(|f| f.velocity())
-            .unwrap_or(&self._dummy_grid);
-        self.update = UpdatePass::new(gpu, &self.buffers, grid);
         self.fluid = fluid;
+        self.rebind_update(gpu);
         if self.overlay.is_some() {
             self.enable_overlay(gpu, self.format);
         }
         self.rebind_billboards(gpu);
         Ok(())
+    }
+
+    /// Makes the buffers of the scene's blade model (`physics.model`) exist: the Verlet
+    /// states, allocated the first time a Verlet blade is asked for (from the panel), and
+    /// the passes that bind them. An adapter that cannot hold them says so and the blades
+    /// keep Jahrmann's update.
+    pub fn apply_model(&mut self, gpu: &Gpu) -> Result<()> {
+        if self.scene.physics.model == crate::scene::BladeModel::Verlet
+            && self.buffers.ensure_verlet(gpu)?
+        {
+            self.rebind_update(gpu);
+        }
+        Ok(())
+    }
+
+    /// Rebuilds the update pass and the grass draw's bindings over the current wind grid
+    /// and Verlet states.
+    fn rebind_update(&mut self, gpu: &Gpu) {
+        let grid = self
+            .fluid
+            .as_ref()
+            .map(|f| f.velocity())
+            .unwrap_or(&self._dummy_grid);
+        self.update = UpdatePass::new(gpu, &self.buffers, grid);
+        self.draw.bind_model(
+            &gpu.device,
+            ModelBuffers {
+                sim_params: self.update.params_buffer(),
+                wind_grid: grid,
+                verlet: &self.buffers.verlet,
+            },
+        );
+    }
+
+    /// The blade model the update steps: the scene's, except Verlet before its states
+    /// exist ([`Renderer::apply_model`]), which steps as Jahrmann.
+    pub fn stepped_model(&self) -> crate::scene::BladeModel {
+        match self.scene.physics.model {
+            crate::scene::BladeModel::Verlet if !self.buffers.has_verlet => {
+                crate::scene::BladeModel::Jahrmann
+            }
+            m => m,
+        }
     }
 
     /// Turns the wind overlay off.

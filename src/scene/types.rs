@@ -264,6 +264,102 @@ pub struct Physics {
     /// colliders themselves; each doubling of the distance beyond (and a throttled patch)
     /// stops the walk one level higher, at a coarser bounding sphere.
     pub hierarchy_precision_distance: f32,
+    /// Which paper's blade the update steps and the draw bends.
+    pub model: BladeModel,
+    /// The parameters of the `Verlet` model.
+    pub verlet: VerletParams,
+    /// The parameters of the `Cwd` model.
+    pub cwd: CwdParams,
+}
+
+/// The blade model: how a blade's shape follows the forces.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum BladeModel {
+    /// Jahrmann & Wimmer 2017: a quadratic Bézier whose tip v2 moves under recovery,
+    /// gravity, wind and collisions, then the state validation (Eq. 1–16).
+    #[default]
+    Jahrmann,
+    /// Zhang's prairie thesis §3.2: a cubic Bézier whose control points P1..P3 are
+    /// integrated with Verlet from the wind at each point and gravity, then pulled back to
+    /// segments of a third of the height (the shape constraint of §3.2.4).
+    Verlet,
+    /// CWD-Sim (Choi & Sung 2024) §3.3: no state between frames; every vertex bent by the
+    /// quadratic equations 11–13 from the wind at the blade's grid cell. No collisions and
+    /// no trails.
+    Cwd,
+}
+
+impl BladeModel {
+    pub const ALL: [BladeModel; 3] = [BladeModel::Jahrmann, BladeModel::Verlet, BladeModel::Cwd];
+
+    /// The id the shaders switch on (`MODEL_*` in `common.wgsl`).
+    pub fn id(self) -> u32 {
+        match self {
+            BladeModel::Jahrmann => 0,
+            BladeModel::Verlet => 1,
+            BladeModel::Cwd => 2,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            BladeModel::Jahrmann => "Jahrmann",
+            BladeModel::Verlet => "Verlet",
+            BladeModel::Cwd => "Cwd",
+        }
+    }
+}
+
+/// The Verlet blade (thesis §3.2.3–3.2.4). Its forces are Jahrmann's at each control point
+/// (recovery towards the rest chain, gravity, the wind at the point), scaled by the blade's
+/// stiffness s to an acceleration: a Verlet blade rests where a Jahrmann blade rests and
+/// sways at ω = s rad/s.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct VerletParams {
+    /// Velocity damping per second (the thesis has none: without it a blade sways forever).
+    pub damping: f32,
+    /// Multiplies the wind at each control point.
+    pub wind_gain: f32,
+}
+
+impl Default for VerletParams {
+    fn default() -> Self {
+        Self {
+            damping: 3.0,
+            wind_gain: 1.0,
+        }
+    }
+}
+
+/// CWD-Sim's deformation (§3.3, Eq. 11–13), with the paper's k1 = 0.05, k2 = 0.1 and
+/// λ = 0.2 (§4). Heights are in blade heights (the paper's model units).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct CwdParams {
+    /// Eq. 11: how far gravity lowers a vertex, k1·Py².
+    pub k1: f32,
+    /// Eq. 11: how far gravity moves a vertex forward, k2·Py².
+    pub k2: f32,
+    /// Eq. 13: the weight λ of the gravity shape against the wind translation.
+    pub lambda: f32,
+    /// Eq. 12: F, the wind translation per m/s of wind, in blade heights.
+    pub force: f32,
+    /// Side of the cells whose blades share one wind value when the fluid is off (with the
+    /// fluid, its grid's cells), in metres.
+    pub cell_size: f32,
+}
+
+impl Default for CwdParams {
+    fn default() -> Self {
+        Self {
+            k1: 0.05,
+            k2: 0.1,
+            lambda: 0.2,
+            force: 0.1,
+            cell_size: 1.0,
+        }
+    }
 }
 
 impl Default for Physics {
@@ -283,6 +379,9 @@ impl Default for Physics {
             collision_hierarchy: false,
             hierarchy_precision_distance: 10.0,
             collisions: true,
+            model: BladeModel::Jahrmann,
+            verlet: VerletParams::default(),
+            cwd: CwdParams::default(),
         }
     }
 }

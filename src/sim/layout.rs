@@ -48,6 +48,20 @@ pub struct BladeState {
     pub rest_eta: [f32; 4],
 }
 
+/// The Verlet blade's state beside the blade (`VerletState` in `common.wgsl`; only
+/// allocated for `physics.model: Verlet`): P2, the cubic's second inner control point (P1
+/// and P3 are the blade's v1 and v2), with the Δt of the last step (0: never stepped), and
+/// the previous positions of P1, P2 and P3, whose w hold the root (x, y, z) the state
+/// belongs to (a tile generated into the slot, or a carried root, is recognised by it).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct VerletState {
+    pub p2_dt: [f32; 4],
+    pub o1_x: [f32; 4],
+    pub o2_y: [f32; 4],
+    pub o3_z: [f32; 4],
+}
+
 /// A patch's bounding box, already grown by the tallest blade so that it holds every pose.
 /// `min[3]`: 1 for an empty patch; `max[3]`: the smallest up.y of its blades.
 #[repr(C)]
@@ -108,6 +122,11 @@ pub struct SimParams {
     /// Collision hierarchy: 1 = walk it (else the patch lists), nodes, the tree's depth,
     /// unused.
     pub bvh_info: [u32; 4],
+    /// The blade model (`BladeModel::id`: 0 Jahrmann, 1 Verlet, 2 Cwd), the Verlet
+    /// damping (1/s), the Cwd cell size (m) when the fluid is off, the Verlet wind gain.
+    pub model: [f32; 4],
+    /// CWD-Sim's k1, k2, λ and F (Eq. 11–13).
+    pub cwd: [f32; 4],
 }
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.
@@ -320,8 +339,9 @@ pub struct DrawIndexedIndirect {
 
 const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
+const _: () = assert!(std::mem::size_of::<VerletState>() == 64);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
-const _: () = assert!(std::mem::size_of::<SimParams>() == 224);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 256);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 192 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.

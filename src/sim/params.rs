@@ -38,6 +38,18 @@ pub fn sim_params(
         // The camera and the tree are the caller's (`bvh::fill_params`).
         bvh_camera: [0.0, 0.0, 0.0, physics.hierarchy_precision_distance],
         bvh_info: [physics.collision_hierarchy as u32, 0, 0, 0],
+        model: [
+            physics.model.id() as f32,
+            physics.verlet.damping,
+            physics.cwd.cell_size,
+            physics.verlet.wind_gain,
+        ],
+        cwd: [
+            physics.cwd.k1,
+            physics.cwd.k2,
+            physics.cwd.lambda,
+            physics.cwd.force,
+        ],
         ..Default::default()
     };
     if let Some(d) = &wind.directional {

@@ -180,7 +180,7 @@ pub fn rest_pose(v0: Vec3, up: Vec3, front: Vec3, height: f32, bend: f32) -> (Ve
 /// Most collide + validate rounds per step; `COLLISION_ROUNDS` in WGSL.
 pub const COLLISION_ROUNDS: u32 = 4;
 
-fn v4(a: [f32; 4]) -> Vec4 {
+pub(crate) fn v4(a: [f32; 4]) -> Vec4 {
     Vec4::from_array(a)
 }
 
@@ -230,40 +230,72 @@ pub fn collide(
     let mut v2 = v2;
     let mut added = 0.0;
     let gain = params.collision_gain;
+    visit_colliders(v0, params, spheres, hierarchy, |c, r| {
+        push_out(c, r, v0, v1, &mut v2, &mut added, gain)
+    });
+    (v2, added)
+}
+
+/// Calls `push` with every collider (centre, radius) a blade rooted at `root` meets, in the
+/// order the GPU pushes them (`collide_walk.wgsl`): every sphere in index order, or the
+/// walk of the hierarchy when one is given (nothing beyond `hierarchy.height` of the root).
+/// Shared by every blade model's twin.
+pub fn visit_colliders(
+    root: Vec3,
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+    hierarchy: Option<Hierarchy>,
+    mut push: impl FnMut(Vec3, f32),
+) {
     let Some(h) = hierarchy.filter(|h| !h.nodes.is_empty()) else {
         for s in spheres.iter().take(params.sphere_count as usize) {
-            let c = Vec3::new(s[0], s[1], s[2]);
-            push_out(c, s[3], v0, v1, &mut v2, &mut added, gain);
+            push(Vec3::new(s[0], s[1], s[2]), s[3]);
         }
-        return (v2, added);
+        return;
     };
     let mut stack = vec![0u32];
     while let Some(k) = stack.pop() {
         let node = &h.nodes[k as usize];
         let c = Vec3::new(node.sphere[0], node.sphere[1], node.sphere[2]);
         let r = node.sphere[3];
-        if c.distance(v0) >= r + h.height {
+        if c.distance(root) >= r + h.height {
             continue;
         }
         if bvh::is_leaf(node) {
             let s = spheres[node.link[2] as usize];
-            push_out(
-                Vec3::new(s[0], s[1], s[2]),
-                s[3],
-                v0,
-                v1,
-                &mut v2,
-                &mut added,
-                gain,
-            );
+            push(Vec3::new(s[0], s[1], s[2]), s[3]);
         } else if node.link[2] == bvh::INTERNAL && node.link[3] >= h.limit {
-            push_out(c, r, v0, v1, &mut v2, &mut added, gain);
+            push(c, r);
         } else if stack.len() + 2 <= 32 {
             stack.push(node.link[1]);
             stack.push(node.link[0]);
         }
     }
-    (v2, added)
+}
+
+/// The hierarchy a blade at `v0` walks this step (`None`: the flat list), as the update
+/// shaders' `bvh_depth_limit` cuts it (every patch taken as stepped every frame).
+pub fn blade_hierarchy<'a>(
+    nodes: &'a [BvhNode],
+    params: &SimParams,
+    v0: Vec3,
+    height: f32,
+) -> Option<Hierarchy<'a>> {
+    let camera = Vec3::new(
+        params.bvh_camera[0],
+        params.bvh_camera[1],
+        params.bvh_camera[2],
+    );
+    (!nodes.is_empty()).then(|| Hierarchy {
+        nodes,
+        limit: bvh::depth_limit(
+            params.bvh_info[2],
+            v0.distance(camera),
+            params.bvh_camera[3],
+            false,
+        ),
+        height,
+    })
 }
 
 /// Whether a blade's new state is sound: every value finite and the curve's length (Eq. 12)
@@ -314,7 +346,7 @@ pub fn update_blade(
 }
 
 /// The collision hierarchy the GPU walks this step (empty when it is off).
-fn hierarchy_of(params: &SimParams, spheres: &[[f32; 4]]) -> Vec<BvhNode> {
+pub fn hierarchy_of(params: &SimParams, spheres: &[[f32; 4]]) -> Vec<BvhNode> {
     if params.bvh_info[0] == 0 {
         return Vec::new();
     }
@@ -384,21 +416,7 @@ fn step_blade(
     // back into the sphere, so collide + validate repeats until nothing is pushed.
     let (mut v1, mut v2) = validate(v0, v2, up, height);
     if params.collisions != 0 {
-        let camera = Vec3::new(
-            params.bvh_camera[0],
-            params.bvh_camera[1],
-            params.bvh_camera[2],
-        );
-        let hierarchy = (!nodes.is_empty()).then(|| Hierarchy {
-            nodes,
-            limit: bvh::depth_limit(
-                params.bvh_info[2],
-                v0.distance(camera),
-                params.bvh_camera[3],
-                false,
-            ),
-            height,
-        });
+        let hierarchy = blade_hierarchy(nodes, params, v0, height);
         for _ in 0..COLLISION_ROUNDS {
             let (cv2, added) = collide(v0, v1, v2, params, spheres, hierarchy);
             if added <= 0.0 {

@@ -5,8 +5,8 @@ use wgpu::util::DeviceExt;
 
 use super::bvh::BvhNode;
 use super::layout::{
-    Blade, BladeState, PatchBox, PatchDispatch, SimParams, BVH_NODE_BASE, DRAW_BATCH, LOD_LEVELS,
-    MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES, WORKGROUP_SIZE,
+    Blade, BladeState, PatchBox, PatchDispatch, SimParams, VerletState, BVH_NODE_BASE, DRAW_BATCH,
+    LOD_LEVELS, MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES, WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
 use crate::field::tiles::{empty_patch, TileLayout};
@@ -38,6 +38,12 @@ pub struct BladeBuffers {
     /// One u32: blades the update reset to their rest pose because their new state was
     /// non-finite or absurd, counted since the start (never cleared).
     pub resets: wgpu::Buffer,
+    /// `VerletState` per blade for `physics.model: Verlet` (allocated by
+    /// [`BladeBuffers::ensure_verlet`] when a Verlet blade is first stepped; until then one
+    /// unused element).
+    pub verlet: wgpu::Buffer,
+    /// Whether `verlet` holds a state per blade.
+    pub has_verlet: bool,
     pub count: u32,
     pub patch_size: u32,
     pub patch_count: u32,
@@ -206,6 +212,7 @@ impl BladeBuffers {
             usage: storage,
             mapped_at_creation: false,
         });
+        let verlet = verlet_buffer(device, 1);
         Ok(Self {
             blades,
             states,
@@ -217,11 +224,43 @@ impl BladeBuffers {
             dispatch,
             seen,
             resets,
+            verlet,
+            has_verlet: false,
             count: count as u32,
             patch_size: patch_size.max(1),
             patch_count,
             region,
         })
+    }
+
+    /// Allocates the Verlet states (zeroed: every blade starts at rest on its first step)
+    /// unless they exist; true when it allocated (the passes that bind them must be
+    /// rebuilt). Checked against the adapter's limits first.
+    pub fn ensure_verlet(&mut self, gpu: &Gpu) -> Result<bool> {
+        if self.has_verlet {
+            return Ok(false);
+        }
+        let bytes = self.count.max(1) as u64 * std::mem::size_of::<VerletState>() as u64;
+        gpu.check_storage(
+            &format!("the Verlet states of {} blades", self.count),
+            bytes,
+        )?;
+        self.verlet = verlet_buffer(&gpu.device, self.count.max(1) as u64);
+        self.has_verlet = true;
+        Ok(true)
+    }
+
+    /// Reads the Verlet states back (empty when none were allocated).
+    pub fn read_verlet(&self, gpu: &Gpu) -> Result<Vec<VerletState>> {
+        if !self.has_verlet || self.count == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = read_buffer(
+            gpu,
+            &self.verlet,
+            self.count as u64 * std::mem::size_of::<VerletState>() as u64,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
     /// Uploads the colliders of this frame (at most `MAX_SPHERES`; the rest are dropped
@@ -319,9 +358,21 @@ impl BladeBuffers {
     }
 }
 
-/// The blade update compute pass.
+fn verlet_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.blades.verlet"),
+        size: count * std::mem::size_of::<VerletState>() as u64,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// The blade update compute pass: one pipeline per blade model over the same bindings.
 pub struct UpdatePass {
-    pipeline: wgpu::ComputePipeline,
+    /// Jahrmann's update, the Verlet update and CWD-Sim's pose (`BladeModel::id` order).
+    pipelines: [wgpu::ComputePipeline; 3],
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     /// The patch pass's `PatchDispatch` (the update's arguments follow the cull's).
@@ -370,7 +421,6 @@ impl UpdatePass {
     /// `wind_grid` is the fluid velocity grid the blades sample (a dummy when unused).
     pub fn new(gpu: &Gpu, buffers: &BladeBuffers, wind_grid: &wgpu::Buffer) -> Self {
         let device = &gpu.device;
-        let module = shaders::module(device, "update.wgsl");
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.update.layout"),
             entries: &[
@@ -382,6 +432,7 @@ impl UpdatePass {
                 storage_entry(5, true),
                 storage_entry(6, true),
                 storage_entry(7, false),
+                storage_entry(8, false),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -426,6 +477,10 @@ impl UpdatePass {
                     binding: 7,
                     resource: buffers.resets.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: buffers.verlet.as_entire_binding(),
+                },
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -433,16 +488,24 @@ impl UpdatePass {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("sward.update.pipeline"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = |file: &str, label: &str| {
+            let module = shaders::module(device, file);
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipelines = [
+            pipeline("update.wgsl", "sward.update.pipeline"),
+            pipeline("update_verlet.wgsl", "sward.update.verlet_pipeline"),
+            pipeline("update_cwd.wgsl", "sward.update.cwd_pipeline"),
+        ];
         Self {
-            pipeline,
+            pipelines,
             bind_group,
             params,
             dispatch: buffers.dispatch.clone(),
@@ -455,12 +518,14 @@ impl UpdatePass {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
-    /// Records the update, dispatched indirectly over the patch pass's update list (the
-    /// patch pass must be recorded before).
+    /// Records the update of blade model `model` (`BladeModel::id`; Verlet needs the
+    /// buffers' Verlet states bound when this pass was built), dispatched indirectly over
+    /// the patch pass's update list (the patch pass must be recorded before).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
+        model: u32,
     ) {
         if self.count == 0 {
             return;
@@ -469,7 +534,7 @@ impl UpdatePass {
             label: Some("sward.update"),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(&self.pipelines[(model as usize).min(2)]);
         pass.set_bind_group(0, &self.bind_group, &[]);
         let offset = std::mem::offset_of!(PatchDispatch, update) as u64;
         pass.dispatch_workgroups_indirect(&self.dispatch, offset);

@@ -25,6 +25,16 @@ const CEILING: Allowed = Allowed::closed(0.0, 100.0, "");
 const STIFFNESS_SCALE: Allowed = Allowed::closed(0.05, 4.0, "");
 const PRECISION_DISTANCE: Allowed = Allowed::closed(0.01, 100000.0, "m");
 const MAX_DT: Allowed = Allowed::open_closed(0.0, 1.0, "s");
+/// Verlet damping: 0 keeps every sway (the thesis), 100/s stops a blade within a step.
+const DAMPING: Allowed = Allowed::closed(0.0, 100.0, "1/s");
+const WIND_GAIN: Allowed = Allowed::closed(0.0, 100.0, "");
+/// Eq. 11's y = Py − k1·Py² keeps rising along the blade (Py in [0, 1]) while k1 <= 0.5.
+const K1: Allowed = Allowed::closed(0.0, 0.5, "");
+const K2: Allowed = Allowed::closed(0.0, 2.0, "");
+const LAMBDA: Allowed = Allowed::closed(0.0, 1.0, "");
+/// Blade heights per m/s: 10 bends a blade flat in a 0.1 m/s breeze.
+const FORCE: Allowed = Allowed::closed(0.0, 10.0, "s/m");
+const CELL: Allowed = Allowed::closed(0.01, 1000.0, "m");
 
 /// The rules of every `physics` value.
 pub(super) const RULES: &[(&str, Rule)] = &[
@@ -48,6 +58,14 @@ pub(super) const RULES: &[(&str, Rule)] = &[
         "physics.hierarchy_precision_distance",
         Rule::Real(PRECISION_DISTANCE),
     ),
+    ("physics.model", Rule::Choice("Jahrmann, Verlet or Cwd")),
+    ("physics.verlet.damping", Rule::Real(DAMPING)),
+    ("physics.verlet.wind_gain", Rule::Real(WIND_GAIN)),
+    ("physics.cwd.k1", Rule::Real(K1)),
+    ("physics.cwd.k2", Rule::Real(K2)),
+    ("physics.cwd.lambda", Rule::Real(LAMBDA)),
+    ("physics.cwd.force", Rule::Real(FORCE)),
+    ("physics.cwd.cell_size", Rule::Real(CELL)),
 ];
 
 pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
@@ -83,12 +101,33 @@ pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
         p.stiffness_scale,
         STIFFNESS_SCALE,
     )?;
-    check.real("physics.max_dt", p.max_dt, MAX_DT)
+    check.real("physics.max_dt", p.max_dt, MAX_DT)?;
+    check.real("physics.verlet.damping", p.verlet.damping, DAMPING)?;
+    check.real("physics.verlet.wind_gain", p.verlet.wind_gain, WIND_GAIN)?;
+    check.real("physics.cwd.k1", p.cwd.k1, K1)?;
+    check.real("physics.cwd.k2", p.cwd.k2, K2)?;
+    check.real("physics.cwd.lambda", p.cwd.lambda, LAMBDA)?;
+    check.real("physics.cwd.force", p.cwd.force, FORCE)?;
+    check.real("physics.cwd.cell_size", p.cwd.cell_size, CELL)
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::tests::rejected;
+
+    #[test]
+    fn model_parameters_are_bounded() {
+        assert_eq!(
+            rejected(|s| s.physics.cwd.k1 = 0.6),
+            "physics.cwd.k1 = 0.6 is out of range: allowed 0 <= k1 <= 0.5"
+        );
+        assert_eq!(
+            rejected(|s| s.physics.verlet.damping = f32::NAN),
+            "physics.verlet.damping = NaN is out of range: allowed 0 <= damping <= 100 1/s"
+        );
+        assert!(rejected(|s| s.physics.cwd.force = -1.0).contains("0 <= force <= 10 s/m"));
+        assert!(rejected(|s| s.physics.cwd.cell_size = 0.0).contains("cell_size"));
+    }
 
     #[test]
     fn forces_and_mass_are_bounded() {

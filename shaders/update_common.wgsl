@@ -1,0 +1,78 @@
+// What every blade-update pass shares (`update.wgsl` for Jahrmann's blade,
+// `update_verlet.wgsl` for the thesis's, `update_cwd.wgsl` for CWD-Sim's pose): the
+// bindings, the finite tests, and which blade an invocation steps.
+//!include common.wgsl
+//!include wind.wgsl
+//!include blade_pose.wgsl
+//!include wind_sample.wgsl
+//!include bvh_node.wgsl
+
+@group(0) @binding(0) var<uniform> params: SimParams;
+@group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
+@group(0) @binding(2) var<storage, read_write> states: array<BladeState>;
+// The colliders, then their hierarchy's nodes from BVH_NODE_BASE (`bvh_node.wgsl`).
+@group(0) @binding(3) var<storage, read> spheres: array<vec4<f32>>;
+// The fluid solver's velocity grid (one dummy cell when the fluid is off).
+@group(0) @binding(4) var<storage, read> wind_grid: array<vec2<f32>>;
+// The patch pass's lists (`cull.wgsl`): the update list [count, patch | THROTTLED?, ...]
+// starts at patch_count + 1.
+@group(0) @binding(5) var<storage, read> patch_lists: array<u32>;
+// The broad phase's list per patch: [count or SPHERES_ALL, sphere or (with the hierarchy)
+// node, ...].
+@group(0) @binding(6) var<storage, read> patch_spheres: array<u32>;
+// Blades reset to their rest pose because their new state was non-finite or absurd,
+// counted since the start (never cleared).
+@group(0) @binding(7) var<storage, read_write> resets: atomic<u32>;
+
+const THROTTLED: u32 = 0x80000000u;
+
+// Whether x is a finite number. A bit test, because a compiler may assume that NaN never
+// occurs and fold `x == x` away. The twin of `f32::is_finite`.
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn finite3(v: vec3<f32>) -> bool {
+    return finite(v.x) && finite(v.y) && finite(v.z);
+}
+
+// The blade an invocation steps: one per blade of each patch on the update list the patch
+// pass wrote. `ok` is false past the list's end or the field's.
+struct Slot {
+    i: u32,
+    patch_id: u32,
+    throttled: bool,
+    ok: bool,
+}
+
+fn blade_slot(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> Slot {
+    var s = Slot(0u, 0u, false, false);
+    let per_patch = params.patch_size / 64u;
+    let flat = wid.y * groups.x + wid.x;
+    let slot = flat / per_patch;
+    let list = params.patch_count + 1u;
+    if slot >= patch_lists[list] {
+        return s;
+    }
+    let entry = patch_lists[list + 1u + slot];
+    s.patch_id = entry & ~THROTTLED;
+    s.throttled = (entry & THROTTLED) != 0u;
+    s.i = s.patch_id * params.patch_size + (flat % per_patch) * 64u + lid;
+    s.ok = s.i < params.blade_count;
+    return s;
+}
+
+// The level at which a blade's walk of the hierarchy stops (`sim::bvh::depth_limit`).
+fn bvh_depth_limit(v0: vec3<f32>, throttled: bool) -> u32 {
+    return bvh_limit(distance(v0, params.bvh_camera.xyz), params.bvh_camera.w, params.bvh_info.z, throttled);
+}
+
+// The rest pose from the blade's immutable data: the rest tip (straight up when that is not
+// finite) through the validation. The twin of `reference::rest_curve`.
+fn rest_curve(v0: vec3<f32>, rest: vec3<f32>, up: vec3<f32>, height: f32) -> array<vec3<f32>, 2> {
+    var tip = rest;
+    if !finite3(tip) {
+        tip = v0 + up * height;
+    }
+    return validate(v0, tip, up, height);
+}

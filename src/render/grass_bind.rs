@@ -1,0 +1,104 @@
+//! The grass draw's bind groups: the frame, the blades, the visible lists, the cull
+//! uniforms, the level, the cull's counts, and for the blade models the update's uniforms,
+//! the wind grid (CWD-Sim's blades bend in the vertex shader) and the Verlet states (the
+//! thesis's blades are cubic). Rebuilt when the wind grid or the Verlet states change.
+
+use super::draw::read_storage;
+use crate::sim::update::{uniform_entry, BladeBuffers};
+
+/// What the grass groups bind besides the model's buffers, kept to rebuild them.
+pub struct GrassBindings {
+    pub layout: wgpu::BindGroupLayout,
+    frame: wgpu::Buffer,
+    blades: wgpu::Buffer,
+    visible: wgpu::Buffer,
+    cull_params: wgpu::Buffer,
+    cull_output: wgpu::Buffer,
+    /// Per group: its level uniform and the region of the visible list it binds (offset,
+    /// size; `None`: to the end).
+    levels: Vec<(wgpu::Buffer, u64, Option<u64>)>,
+}
+
+/// The buffers the blade models add to the grass draw.
+#[derive(Clone, Copy)]
+pub struct ModelBuffers<'a> {
+    /// The update's `SimParams` (the model, CWD-Sim's parameters, the wind's).
+    pub sim_params: &'a wgpu::Buffer,
+    pub wind_grid: &'a wgpu::Buffer,
+    pub verlet: &'a wgpu::Buffer,
+}
+
+fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+impl GrassBindings {
+    pub fn new(
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        buffers: &BladeBuffers,
+        cull_params: &wgpu::Buffer,
+        cull_output: &wgpu::Buffer,
+        levels: Vec<(wgpu::Buffer, u64, Option<u64>)>,
+    ) -> Self {
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let vertex = wgpu::ShaderStages::VERTEX;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.draw.grass_layout"),
+            entries: &[
+                uniform_entry(0, vf),
+                read_storage(1, vertex),
+                read_storage(2, vertex),
+                uniform_entry(3, vertex),
+                uniform_entry(4, vertex),
+                read_storage(5, vertex),
+                uniform_entry(6, vertex),
+                read_storage(7, vertex),
+                read_storage(8, vertex),
+            ],
+        });
+        Self {
+            layout,
+            frame: frame.clone(),
+            blades: buffers.blades.clone(),
+            visible: buffers.visible.clone(),
+            cull_params: cull_params.clone(),
+            cull_output: cull_output.clone(),
+            levels,
+        }
+    }
+
+    /// One group per level (or one for all with multi-draw).
+    pub fn groups(&self, device: &wgpu::Device, model: ModelBuffers) -> Vec<wgpu::BindGroup> {
+        self.levels
+            .iter()
+            .map(|(level, offset, size)| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("sward.draw.grass_group"),
+                    layout: &self.layout,
+                    entries: &[
+                        whole(0, &self.frame),
+                        whole(1, &self.blades),
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                                buffer: &self.visible,
+                                offset: *offset,
+                                size: size.and_then(wgpu::BufferSize::new),
+                            }),
+                        },
+                        whole(3, &self.cull_params),
+                        whole(4, level),
+                        whole(5, &self.cull_output),
+                        whole(6, model.sim_params),
+                        whole(7, model.wind_grid),
+                        whole(8, model.verlet),
+                    ],
+                })
+            })
+            .collect()
+    }
+}
