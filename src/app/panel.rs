@@ -97,7 +97,7 @@ pub fn panel(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 editor_section(ui, app);
                 scene_section(ui, app, gpu);
                 field_section(ui, app, gpu);
-                physics_section(ui, app);
+                physics_section(ui, app, gpu);
                 wind_section(ui, app, gpu);
                 culling_section(ui, app);
                 rendering_section(ui, app);
@@ -296,8 +296,9 @@ fn field_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     });
 }
 
-fn physics_section(ui: &mut Ui, app: &mut AppState) {
+fn physics_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     egui::CollapsingHeader::new("Physics").show(ui, |ui| {
+        super::panel_models::model_controls(ui, app, gpu);
         let p = &mut app.renderer.scene.physics;
         ui.add(egui::Slider::new(&mut p.gravity_acceleration, 0.0..=30.0).text("gravity m/s²"));
         ui.add(egui::Slider::new(&mut p.mass, 0.0..=1.0).text("mass"));

@@ -123,3 +123,106 @@ pub fn centreline_length(
     }
     len
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PAPER: [f32; 4] = [0.05, 0.1, 0.2, 0.1];
+    const UP: Vec3 = Vec3::Y;
+    const FRONT: Vec3 = Vec3::Z;
+
+    #[test]
+    fn windless_blade_is_eq_11() {
+        let h = 0.8;
+        for k in 0..=10 {
+            let v = k as f32 / 10.0;
+            let (p, _) = point(Vec3::ZERO, UP, FRONT, h, Vec3::ZERO, v, PAPER);
+            let expected = Vec3::new(0.0, h * (v - 0.05 * v * v), h * 0.1 * v * v);
+            assert!(p.distance(expected) < 1e-6, "v = {v}: {p} vs {expected}");
+        }
+    }
+
+    /// The tangent is the derivative of the point (the vertex shader's normal uses it).
+    #[test]
+    fn tangent_is_the_derivative() {
+        let wind = Vec3::new(3.0, 0.0, -1.0);
+        for k in 1..20 {
+            let v = k as f32 / 20.0;
+            let e = 1e-3;
+            let (a, _) = point(Vec3::ZERO, UP, FRONT, 1.0, wind, v - e, PAPER);
+            let (b, _) = point(Vec3::ZERO, UP, FRONT, 1.0, wind, v + e, PAPER);
+            let (_, t) = point(Vec3::ZERO, UP, FRONT, 1.0, wind, v, PAPER);
+            let numeric = (b - a) / (2.0 * e);
+            assert!(numeric.distance(t) < 1e-2, "v = {v}: {t} vs {numeric}");
+        }
+    }
+
+    /// Continuous in the force: a change ΔV of the wind moves no vertex further than
+    /// 2 (1 − λ) F h |ΔV| (the translation is (1 − λ) F h P'y² (V_t, −|V_t|) with P'y <= 1).
+    #[test]
+    fn deformation_is_continuous_in_the_force() {
+        let h = 0.9;
+        let lipschitz = 2.0 * (1.0 - PAPER[2]) * PAPER[3] * h;
+        let mut seed = 7u32;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        for _ in 0..500 {
+            let w = Vec3::new(rnd() * 6.0, 0.0, rnd() * 6.0);
+            let dw = Vec3::new(rnd(), 0.0, rnd()) * 0.01;
+            for k in 0..=8 {
+                let v = k as f32 / 8.0;
+                let (a, _) = point(Vec3::ZERO, UP, FRONT, h, w, v, PAPER);
+                let (b, _) = point(Vec3::ZERO, UP, FRONT, h, w + dw, v, PAPER);
+                assert!(
+                    a.distance(b) <= lipschitz * dw.length() * 1.0001 + 1e-6,
+                    "wind {w} + {dw}, v = {v}: moved {}",
+                    a.distance(b)
+                );
+            }
+        }
+    }
+
+    /// The length change is bounded by the translation's own length: the centre line of the
+    /// wind term is (1 − λ) F h P'y² (V_t, −|V_t|), at most √2 s h P'y(1)² long with
+    /// s = (1 − λ) F |V|, so |L(V) − L(0)| <= √2 s h q(1)² while no vertex touches the
+    /// ground. Measured over winds from calm to the edge of the ground.
+    #[test]
+    fn length_change_is_bounded() {
+        let h = 1.0;
+        let q1 = 1.0 - PAPER[0];
+        let rest = centreline_length(Vec3::ZERO, UP, FRONT, h, Vec3::ZERO, PAPER, 400);
+        let mut worst = 0.0f32;
+        for k in 0..=40 {
+            let speed = k as f32 * 0.25;
+            let s = (1.0 - PAPER[2]) * PAPER[3] * speed;
+            // Beyond s q(1) >= 1 the tip reaches the ground plane.
+            if s * q1 >= 1.0 {
+                break;
+            }
+            let wind = Vec3::new(0.6, 0.0, 0.8) * speed;
+            let len = centreline_length(Vec3::ZERO, UP, FRONT, h, wind, PAPER, 400);
+            let bound = 2f32.sqrt() * s * h * q1 * q1;
+            worst = worst.max((len - rest).abs() / bound.max(1e-9));
+            assert!(
+                (len - rest).abs() <= bound + 1e-4,
+                "|V| = {speed}: length {len} vs {rest}, bound {bound}"
+            );
+        }
+        assert!(
+            worst > 0.1,
+            "the test must reach the bound's order ({worst})"
+        );
+    }
+
+    #[test]
+    fn no_vertex_goes_below_the_ground() {
+        let wind = Vec3::new(40.0, 0.0, 0.0);
+        for k in 0..=20 {
+            let (p, _) = point(Vec3::ZERO, UP, FRONT, 1.0, wind, k as f32 / 20.0, PAPER);
+            assert!(p.y >= 0.0, "{p}");
+        }
+    }
+}

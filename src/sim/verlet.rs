@@ -130,8 +130,8 @@ pub fn step(
     let mut o: Chain = [v0, xyz(st.o1_x), xyz(st.o2_y), xyz(st.o3_z)];
     let mut dt_prev = st.p2_dt[3];
     let moved = v0 - Vec3::new(st.o1_x[3], st.o2_y[3], st.o3_z[3]);
-    // `!(x > 0)` also catches NaN, as in WGSL.
-    if !(dt_prev > 0.0) || moved.length() > 0.5 * height {
+    // NaN too, as `!(x > 0)` in WGSL.
+    if dt_prev.is_nan() || dt_prev <= 0.0 || moved.length() > 0.5 * height {
         p = rest;
         o = rest;
         dt_prev = dt;
@@ -247,4 +247,84 @@ pub fn update_all(
 pub fn cubic(p: &[Vec3; 4], t: f32) -> Vec3 {
     let u = 1.0 - t;
     p[0] * (u * u * u) + p[1] * (3.0 * t * u * u) + p[2] * (3.0 * t * t * u) + p[3] * (t * t * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Whatever the points, the constraint leaves segments of exactly `l` (to rounding)
+        /// and nothing below the root's ground plane.
+        #[test]
+        fn constraint_keeps_length_and_ground(
+            pts in proptest::collection::vec((-2.0f32..2.0, -2.0f32..2.0, -2.0f32..2.0), 3),
+            l in 0.01f32..1.0,
+        ) {
+            let up = Vec3::Y;
+            let mut c: Chain = [
+                Vec3::ZERO,
+                Vec3::from(pts[0]),
+                Vec3::from(pts[1]),
+                Vec3::from(pts[2]),
+            ];
+            constrain(&mut c, up, Vec3::Z, l);
+            for k in 1..4 {
+                prop_assert!((c[k].distance(c[k - 1]) - l).abs() <= 1e-5 * l.max(1.0));
+                prop_assert!(c[k].y >= -1e-6);
+            }
+        }
+    }
+
+    /// Without forces a blade at rest stays at rest.
+    #[test]
+    fn rest_is_at_rest() {
+        let v0 = Vec3::new(0.3, 0.0, -0.2);
+        let (v1, v2) = super::super::reference::rest_pose(v0, Vec3::Y, Vec3::Z, 0.6, 0.3);
+        let mut blade = Blade {
+            v0_dir: [v0.x, v0.y, v0.z, 0.0],
+            v1_height: [v1.x, v1.y, v1.z, 0.6],
+            v2_width: [v2.x, v2.y, v2.z, 0.04],
+            up_stiffness: [0.0, 1.0, 0.0, 9.0],
+        };
+        let mut state = BladeState {
+            rest_eta: [v2.x, v2.y, v2.z, 0.0],
+        };
+        let mut verlet = VerletState::default();
+        let params = SimParams {
+            dt: 1.0 / 30.0,
+            stiffness_scale: 1.0,
+            model: [1.0, 3.0, 1.0, 1.0],
+            ..Default::default()
+        };
+        let zero = [[0.0f32; 2]];
+        let grid = WindGrid { velocity: &zero };
+        step(
+            &mut blade,
+            &mut state,
+            &mut verlet,
+            &params,
+            &[],
+            &grid,
+            &[],
+        );
+        let first = control_points(&blade, &verlet);
+        for _ in 0..100 {
+            step(
+                &mut blade,
+                &mut state,
+                &mut verlet,
+                &params,
+                &[],
+                &grid,
+                &[],
+            );
+        }
+        let last = control_points(&blade, &verlet);
+        for k in 0..4 {
+            assert!(first[k].distance(last[k]) < 1e-5, "point {k}");
+        }
+        assert!(owned(&verlet, v0));
+    }
 }

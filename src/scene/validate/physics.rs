@@ -123,7 +123,7 @@ mod tests {
         );
         assert_eq!(
             rejected(|s| s.physics.verlet.damping = f32::NAN),
-            "physics.verlet.damping = NaN is out of range: allowed 0 <= damping <= 100 1/s"
+            "physics.verlet.damping = NaN is not a finite number: allowed 0 <= damping <= 100 1/s"
         );
         assert!(rejected(|s| s.physics.cwd.force = -1.0).contains("0 <= force <= 10 s/m"));
         assert!(rejected(|s| s.physics.cwd.cell_size = 0.0).contains("cell_size"));
