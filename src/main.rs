@@ -208,6 +208,11 @@ enum Command {
         /// blades' final state.
         #[arg(long, value_name = "COUNTS")]
         colliders: Option<String>,
+        /// Time the three blade models (Jahrmann, Verlet, Cwd: `physics.model`) on the
+        /// same scene and frames: GPU ms and ns per blade of the physics and of the grass
+        /// draw, and GPU bytes per blade.
+        #[arg(long)]
+        models: bool,
     },
 }
 
@@ -409,6 +414,7 @@ fn main() -> ExitCode {
             trace,
             pressure_solvers,
             colliders,
+            models,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -422,6 +428,7 @@ fn main() -> ExitCode {
             b.sets = overrides.insert(o).sets();
             b.flight = flight;
             b.trace = trace;
+            b.models = models;
             b
         })
         .and_then(|mut b| {

@@ -463,3 +463,40 @@ fn pressure_solvers_run_on_the_same_frames() {
         "{text}"
     );
 }
+
+/// `--models` times the three blade models on the same frames: each steps and draws
+/// blades, Verlet takes its 64-byte state on top, and the ratios are to Jahrmann's.
+#[test]
+fn models_are_timed_side_by_side() {
+    let r = bench_json(&[
+        "--frames", "2", "--warmup", "1", "--size", "64x36", "--models",
+    ]);
+    let models = r["models"].as_array().expect("models");
+    let names: Vec<&str> = models
+        .iter()
+        .map(|m| m["model"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["Jahrmann", "Verlet", "Cwd"]);
+    for m in models {
+        assert!(f(m, &["stepped_blades"]) > 0.0, "{m}");
+        assert!(f(m, &["drawn_blades"]) > 0.0, "{m}");
+        if r["timestamps"].as_bool() == Some(true) {
+            assert!(f(m, &["physics_ms"]) > 0.0, "{m}");
+            assert!(f(m, &["ns_per_drawn_blade"]) > 0.0, "{m}");
+        }
+    }
+    assert_eq!(
+        u(&models[1], &["bytes_per_blade"]),
+        u(&models[0], &["bytes_per_blade"]) + 64
+    );
+    assert_eq!(
+        u(&models[2], &["bytes_per_blade"]),
+        u(&models[0], &["bytes_per_blade"])
+    );
+    if r["timestamps"].as_bool() == Some(true) {
+        assert_eq!(f(&models[0], &["physics_over_jahrmann"]), 1.0);
+    }
+    let out = sward(&["bench", "--models", "--colliders", "10", "--scene", SCENE]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--models times the blade models alone"));
+}

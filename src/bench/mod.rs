@@ -40,6 +40,7 @@ use measure::measure;
 pub mod colliders;
 pub mod flight;
 mod measure;
+pub mod models;
 pub mod pressure;
 mod table;
 
@@ -88,6 +89,9 @@ pub struct BenchOptions {
     /// `--colliders 100,1000,10000`: time the collisions against that many spheres, flat
     /// and through the hierarchy, instead of the three configurations (empty: not asked).
     pub colliders: Vec<usize>,
+    /// `--models`: time the three blade models on the same frames instead of the three
+    /// configurations.
+    pub models: bool,
 }
 
 impl BenchOptions {
@@ -119,6 +123,7 @@ impl BenchOptions {
             trace: None,
             pressure_solvers: Vec::new(),
             colliders: Vec::new(),
+            models: false,
         })
     }
 
@@ -705,6 +710,9 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if o.models {
+        return print_report(o.json, &models::run_model_bench(o)?, models::format_models);
+    }
     if !o.colliders.is_empty() {
         return print_report(
             o.json,
