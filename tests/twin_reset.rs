@@ -81,7 +81,6 @@ fn corrupted_blades_reset_to_their_rest_pose_on_gpu_and_cpu() {
     // Gravity and wind on, no colliders: every sound blade leaves its rest pose at once.
     let scene = Scene {
         colliders: Vec::new(),
-        models: false,
         ..Default::default()
     };
     let session = Session::new(scene, Some(1024), Some(&gpu)).expect("field");
@@ -141,7 +140,6 @@ fn a_non_finite_force_resets_every_blade_every_step() {
     let gpu = common::gpu();
     let mut scene = Scene {
         colliders: Vec::new(),
-        models: false,
         ..Default::default()
     };
     // An infinite gravity makes the force NaN (0 · ∞ in the direction's zero components).
@@ -181,7 +179,6 @@ fn a_blade_whose_rest_tip_is_lost_stands_straight_up() {
     let gpu = common::gpu();
     let scene = Scene {
         colliders: Vec::new(),
-        models: false,
         ..Default::default()
     };
     let session = Session::new(scene, Some(256), Some(&gpu)).expect("field");
