@@ -50,6 +50,9 @@ struct SimParams {
     model: vec4<f32>,
     // CWD-Sim's k1, k2, lambda, F.
     cwd: vec4<f32>,
+    // Propagation grid: corner x, z, cell size, att; cells per side (0: off), generations.
+    propagation: vec4<f32>,
+    propagation_info: vec4<u32>,
 }
 
 // The Verlet blade's state beside the blade (`sim::layout::VerletState`): P2, the cubic's

@@ -130,6 +130,8 @@ fn main(
     // (v1 follows v2), then collide; the length correction after a push can pull a point
     // back into the sphere, so collide + validate repeats until nothing is pushed.
     var corrected = validate(v0, v2, up, height);
+    // The push the colliders gave the tip: the propagation's ancestors.
+    var pushed = vec3<f32>(0.0);
     if params.collisions != 0u {
         let limit = bvh_depth_limit(v0, slot.throttled);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
@@ -138,6 +140,7 @@ fn main(
                 break;
             }
             eta += c.w;
+            pushed += c.xyz - corrected[1];
             corrected = validate(v0, c.xyz, up, height);
         }
     }
@@ -149,8 +152,10 @@ fn main(
     if !sound {
         corrected = rest_curve(v0, rest, up, height);
         eta = 0.0;
-        atomicAdd(&resets, 1u);
+        pushed = vec3<f32>(0.0);
+        count_reset();
     }
+    splat_push(v0, pushed);
     blades[i].v1_height = vec4<f32>(corrected[0], height);
     blades[i].v2_width = vec4<f32>(corrected[1], blade.v2_width.w);
     states[i].rest_eta.w = eta;

@@ -6,6 +6,7 @@
 //!include blade_pose.wgsl
 //!include wind_sample.wgsl
 //!include bvh_node.wgsl
+//!include update_slot.wgsl
 
 @group(0) @binding(0) var<uniform> params: SimParams;
 @group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
@@ -21,10 +22,9 @@
 // node, ...].
 @group(0) @binding(6) var<storage, read> patch_spheres: array<u32>;
 // Blades reset to their rest pose because their new state was non-finite or absurd,
-// counted since the start (never cleared).
-@group(0) @binding(7) var<storage, read_write> resets: atomic<u32>;
-
-const THROTTLED: u32 = 0x80000000u;
+// counted since the start (never cleared); then the collision pushes of this step per cell
+// of the propagation grid (`propagate.wgsl`).
+@group(0) @binding(7) var<storage, read_write> out: UpdateOut;
 
 // Whether x is a finite number. A bit test, because a compiler may assume that NaN never
 // occurs and fold `x == x` away. The twin of `f32::is_finite`.
@@ -36,30 +36,25 @@ fn finite3(v: vec3<f32>) -> bool {
     return finite(v.x) && finite(v.y) && finite(v.z);
 }
 
-// The blade an invocation steps: one per blade of each patch on the update list the patch
-// pass wrote. `ok` is false past the list's end or the field's.
-struct Slot {
-    i: u32,
-    patch_id: u32,
-    throttled: bool,
-    ok: bool,
+fn count_reset() {
+    atomicAdd(&out.resets, 1u);
 }
 
-fn blade_slot(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> Slot {
-    var s = Slot(0u, 0u, false, false);
-    let per_patch = params.patch_size / 64u;
-    let flat = wid.y * groups.x + wid.x;
-    let slot = flat / per_patch;
-    let list = params.patch_count + 1u;
-    if slot >= patch_lists[list] {
-        return s;
+// Adds the collision push `d` a blade rooted at v0 received this step to its cell of the
+// propagation grid (fixed point, so that the sums do not depend on the atomics' order).
+// The twin of `propagation::Splat::add`.
+fn splat_push(v0: vec3<f32>, d: vec3<f32>) {
+    if params.propagation_info.x == 0u || (d.x == 0.0 && d.z == 0.0) {
+        return;
     }
-    let entry = patch_lists[list + 1u + slot];
-    s.patch_id = entry & ~THROTTLED;
-    s.throttled = (entry & THROTTLED) != 0u;
-    s.i = s.patch_id * params.patch_size + (flat % per_patch) * 64u + lid;
-    s.ok = s.i < params.blade_count;
-    return s;
+    let c = propagation_cell(v0);
+    if c < 0 {
+        return;
+    }
+    let k = 3u * u32(c);
+    atomicAdd(&out.splat[k], push_fixed(d.x));
+    atomicAdd(&out.splat[k + 1u], push_fixed(d.z));
+    atomicAdd(&out.splat[k + 2u], 1);
 }
 
 // The level at which a blade's walk of the hierarchy stops (`sim::bvh::depth_limit`).

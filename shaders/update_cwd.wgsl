@@ -34,7 +34,7 @@ fn main(
     if !(finite3(v1) && finite3(v2)) {
         v1 = v0 + up * (0.5 * height);
         v2 = v0 + up * height;
-        atomicAdd(&resets, 1u);
+        count_reset();
     }
     blades[i].v1_height = vec4<f32>(v1, height);
     blades[i].v2_width = vec4<f32>(v2, blade.v2_width.w);

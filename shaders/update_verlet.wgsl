@@ -168,6 +168,7 @@ fn main(
     }
     let decayed = eta - params.collision_decay * dt;
     eta = max(decayed, 0.0);
+    var pushed = vec3<f32>(0.0);
     if params.collisions != 0u {
         let limit = bvh_depth_limit(v0, slot.throttled);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
@@ -177,6 +178,7 @@ fn main(
                 break;
             }
             eta += contact.added;
+            pushed += contact.p3 - p[3];
             p[1] = contact.p1;
             p[2] = contact.p2;
             p[3] = contact.p3;
@@ -191,8 +193,10 @@ fn main(
         p = rest;
         o = rest;
         eta = 0.0;
-        atomicAdd(&resets, 1u);
+        pushed = vec3<f32>(0.0);
+        count_reset();
     }
+    splat_push(v0, pushed);
     blades[i].v1_height = vec4<f32>(p[1], height);
     blades[i].v2_width = vec4<f32>(p[3], blade.v2_width.w);
     states[i].rest_eta.w = eta;

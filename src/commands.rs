@@ -406,10 +406,22 @@ pub fn simulate_cpu_from(
                 .map(|w| w.velocity.as_slice())
                 .unwrap_or(&zero),
         };
+        crate::sim::propagation::fill_params(
+            &mut params,
+            scene.physics.propagation.as_ref(),
+            glam::Vec3::from(scene.camera.eye),
+        );
+        let spec = crate::sim::propagation::GridSpec::from_params(&params);
+        let mut splat = spec.map(crate::sim::propagation::Splat::new);
         let resets = match scene.physics.model {
-            BladeModel::Jahrmann => {
-                reference::update_all(&mut blades, &mut states, &params, &spheres, &grid)
-            }
+            BladeModel::Jahrmann => reference::update_all_splat(
+                &mut blades,
+                &mut states,
+                &params,
+                &spheres,
+                &grid,
+                splat.as_mut(),
+            ),
             BladeModel::Verlet => crate::sim::verlet::update_all(
                 &mut blades,
                 &mut states,
@@ -417,10 +429,18 @@ pub fn simulate_cpu_from(
                 &params,
                 &spheres,
                 &grid,
+                splat.as_mut(),
             ),
             BladeModel::Cwd => crate::sim::cwd::pose_all(&mut blades, &mut states, &params, &grid),
         };
         blades_reset_nonfinite += u64::from(resets);
+        // The propagation follows the update, as on the GPU (Jahrmann's blades only).
+        if let (Some(splat), Some(spec)) = (&splat, &spec) {
+            let field = crate::sim::propagation::propagate(splat, &params);
+            if scene.physics.model == BladeModel::Jahrmann {
+                crate::sim::propagation::apply_all(&mut blades, &mut states, &field, spec, &params);
+            }
+        }
     }
     CpuRun {
         blades,

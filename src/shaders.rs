@@ -25,6 +25,11 @@ const FILES: &[(&str, &str)] = &[
     ),
     ("cwd.wgsl", include_str!("../shaders/cwd.wgsl")),
     (
+        "update_slot.wgsl",
+        include_str!("../shaders/update_slot.wgsl"),
+    ),
+    ("propagate.wgsl", include_str!("../shaders/propagate.wgsl")),
+    (
         "blade_pose.wgsl",
         include_str!("../shaders/blade_pose.wgsl"),
     ),
@@ -118,6 +123,7 @@ const FILES: &[(&str, &str)] = &[
 
 /// The entry files, one per pass (the others are only included).
 pub const ENTRY_FILES: &[&str] = &[
+    "propagate.wgsl",
     "update.wgsl",
     "update_verlet.wgsl",
     "update_cwd.wgsl",

@@ -4,7 +4,7 @@
 //! thesis's blades are cubic). Rebuilt when the wind grid or the Verlet states change.
 
 use super::draw::read_storage;
-use crate::sim::update::{uniform_entry, BladeBuffers};
+use crate::sim::update::{uniform_entry, whole, BladeBuffers};
 
 /// What the grass groups bind besides the model's buffers, kept to rebuild them.
 pub struct GrassBindings {
@@ -26,13 +26,6 @@ pub struct ModelBuffers<'a> {
     pub sim_params: &'a wgpu::Buffer,
     pub wind_grid: &'a wgpu::Buffer,
     pub verlet: &'a wgpu::Buffer,
-}
-
-fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
 }
 
 impl GrassBindings {

@@ -129,6 +129,8 @@ pub struct Renderer {
     bvh: Vec<crate::sim::bvh::BvhNode>,
     /// The grass of moving objects, carried with them (`None` when none moves).
     carried: Option<carried::CarriedGrass>,
+    /// Grass-to-grass propagation (`physics.propagation`), once turned on.
+    propagation: Option<crate::sim::propagation_pass::PropagationPass>,
     /// When set, culling runs from this camera instead of the drawing one ("freeze the
     /// culling camera" in the panel: fly out and look at what the frozen view keeps).
     pub cull_camera: Option<CameraView>,
@@ -300,6 +302,7 @@ impl Renderer {
             packings: Vec::new(),
             bvh: Vec::new(),
             carried,
+            propagation: None,
             display_aspect: None,
             cull_camera: None,
             format,
@@ -315,6 +318,7 @@ impl Renderer {
         };
         r.upload_colliders(gpu);
         r.sync_billboards(gpu);
+        r.apply_propagation(gpu)?;
         if let Some(t) = &mut r.tiles {
             let eye = CameraView::from_scene(&r.scene.camera).eye;
             t.fill(gpu, eye.x, eye.z)?;
@@ -463,10 +467,29 @@ impl Renderer {
         );
         let model = self.stepped_model().id();
         params.model[0] = model as f32;
-        self.update.prepare(&gpu.queue, &params);
-        timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
-            self.update.encode(e, cs(q), model)
+        // The propagation runs while its grid matches the scene's (`apply_propagation`).
+        let propagation = self.scene.physics.propagation.as_ref().filter(|p| {
+            self.propagation
+                .as_ref()
+                .is_some_and(|q| q.n == crate::sim::propagation::cells_per_side(p))
         });
+        crate::sim::propagation::fill_params(&mut params, propagation, eye);
+        self.update.prepare(&gpu.queue, &params);
+        if let (Some(pass), Some(p)) = (&self.propagation, propagation) {
+            pass.clear(encoder);
+            timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
+                self.update.encode(e, cs(q), model)
+            });
+            pass.encode(
+                encoder,
+                p.generations,
+                model == crate::scene::BladeModel::Jahrmann.id(),
+            );
+        } else {
+            timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
+                self.update.encode(e, cs(q), model)
+            });
+        }
     }
 
     /// Cull uniforms for a camera and viewport; `hiz` describes the depth pyramid (zeros:

@@ -70,6 +70,30 @@ impl Renderer {
         Ok(())
     }
 
+    /// Makes the grass-to-grass propagation's buffers and passes match the scene's
+    /// `physics.propagation` (built the first time it is turned on, rebuilt when its grid
+    /// changes size). An adapter that cannot hold the grid says so; nothing changes then.
+    pub fn apply_propagation(&mut self, gpu: &Gpu) -> Result<()> {
+        let Some(p) = self.scene.physics.propagation.clone() else {
+            return Ok(());
+        };
+        let n = crate::sim::propagation::cells_per_side(&p);
+        if self.propagation.as_ref().is_some_and(|q| q.n == n) {
+            return Ok(());
+        }
+        let reallocated = self.buffers.ensure_splat(gpu, n)?;
+        if reallocated {
+            self.rebind_update(gpu);
+        }
+        self.propagation = Some(crate::sim::propagation_pass::PropagationPass::new(
+            gpu,
+            &self.buffers,
+            self.update.params_buffer(),
+            &p,
+        )?);
+        Ok(())
+    }
+
     /// Rebuilds the update pass and the grass draw's bindings over the current wind grid
     /// and Verlet states.
     fn rebind_update(&mut self, gpu: &Gpu) {
@@ -79,6 +103,19 @@ impl Renderer {
             .map(|f| f.velocity())
             .unwrap_or(&self._dummy_grid);
         self.update = UpdatePass::new(gpu, &self.buffers, grid);
+        // The propagation binds the update's uniforms: rebuilt over the new ones.
+        if let (Some(prop), Some(p)) = (&self.propagation, &self.scene.physics.propagation) {
+            if let Ok(pass) = crate::sim::propagation_pass::PropagationPass::new(
+                gpu,
+                &self.buffers,
+                self.update.params_buffer(),
+                p,
+            ) {
+                if pass.n == prop.n {
+                    self.propagation = Some(pass);
+                }
+            }
+        }
         self.draw.bind_model(
             &gpu.device,
             ModelBuffers {

@@ -270,6 +270,43 @@ pub struct Physics {
     pub verlet: VerletParams,
     /// The parameters of the `Cwd` model.
     pub cwd: CwdParams,
+    /// Qiu et al.'s grass-to-grass propagation (§5.2): a blade pressed by a collider
+    /// passes part of its bending to its neighbours, generation by generation. `None`: off.
+    pub propagation: Option<Propagation>,
+}
+
+/// Grass-to-grass propagation (Qiu et al. §5.2, Eq. 4) over a grid of cells around the
+/// camera: the pushes the colliders gave the blades of a cell this step (their mean, the
+/// "force vector" of the ancestors) pass to the adjacent cells they point at, split into
+/// their x and z parts and scaled by `att` per generation, while a cell's force exceeds
+/// `threshold`; the blades of the reached cells are pushed by their cell's force, as if by
+/// a collider. The trail grows wider and softer than the object.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Propagation {
+    /// The decay factor att of Eq. 4, in [0, 1].
+    pub att: f32,
+    /// The threshold L: a cell whose force (metres of push per step) is below it is in
+    /// termination status and passes nothing on.
+    pub threshold: f32,
+    /// Most generations of children per step.
+    pub generations: u32,
+    /// Side of a cell in metres (about the spacing of the blades).
+    pub cell_size: f32,
+    /// Side of the square grid around the camera, in metres.
+    pub extent: f32,
+}
+
+impl Default for Propagation {
+    fn default() -> Self {
+        Self {
+            att: 0.6,
+            threshold: 0.002,
+            generations: 6,
+            cell_size: 0.08,
+            extent: 24.0,
+        }
+    }
 }
 
 /// The blade model: how a blade's shape follows the forces.
@@ -382,6 +419,7 @@ impl Default for Physics {
             model: BladeModel::Jahrmann,
             verlet: VerletParams::default(),
             cwd: CwdParams::default(),
+            propagation: None,
         }
     }
 }

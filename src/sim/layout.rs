@@ -127,6 +127,11 @@ pub struct SimParams {
     pub model: [f32; 4],
     /// CWD-Sim's k1, k2, λ and F (Eq. 11–13).
     pub cwd: [f32; 4],
+    /// Grass-to-grass propagation's grid (`sim::propagation`): the x, z of its corner, the
+    /// cell size, att.
+    pub propagation: [f32; 4],
+    /// Propagation: cells per side (0: off), generations, unused, unused.
+    pub propagation_info: [u32; 4],
 }
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.
@@ -341,7 +346,7 @@ const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 const _: () = assert!(std::mem::size_of::<BladeState>() == 16);
 const _: () = assert!(std::mem::size_of::<VerletState>() == 64);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
-const _: () = assert!(std::mem::size_of::<SimParams>() == 256);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 288);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
 const _: () = assert!(std::mem::size_of::<CullCounters>() == 192 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.

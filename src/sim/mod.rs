@@ -11,6 +11,8 @@ pub mod fluid;
 pub mod health;
 pub mod layout;
 pub mod params;
+pub mod propagation;
+pub mod propagation_pass;
 pub mod reference;
 pub mod tiles;
 pub mod update;

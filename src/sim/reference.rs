@@ -363,6 +363,19 @@ fn step_blade(
     grid: &WindGrid,
     nodes: &[BvhNode],
 ) -> bool {
+    step_blade_push(blade, state, params, spheres, grid, nodes).0
+}
+
+/// [`step_blade`], also returning the collision push the tip received this step (zero
+/// after a reset): what the grass-to-grass propagation splats (`sim::propagation`).
+fn step_blade_push(
+    blade: &mut Blade,
+    state: &mut BladeState,
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+    grid: &WindGrid,
+    nodes: &[BvhNode],
+) -> (bool, Vec3) {
     let v0 = v4(blade.v0_dir).xyz();
     let angle = blade.v0_dir[3];
     let height = blade.v1_height[3];
@@ -374,7 +387,7 @@ fn step_blade(
     let dt = params.dt;
     // A blade the tile generation removed (height 0) is not stepped.
     if height <= 0.0 {
-        return false;
+        return (false, Vec3::ZERO);
     }
     let (_, front) = blade_frame(up, angle);
 
@@ -415,6 +428,7 @@ fn step_blade(
     // (v1 follows v2), then collide; the length correction after a push can pull a point
     // back into the sphere, so collide + validate repeats until nothing is pushed.
     let (mut v1, mut v2) = validate(v0, v2, up, height);
+    let mut pushed = Vec3::ZERO;
     if params.collisions != 0 {
         let hierarchy = blade_hierarchy(nodes, params, v0, height);
         for _ in 0..COLLISION_ROUNDS {
@@ -423,6 +437,7 @@ fn step_blade(
                 break;
             }
             eta += added;
+            pushed += cv2 - v2;
             (v1, v2) = validate(v0, cv2, up, height);
         }
     }
@@ -436,11 +451,12 @@ fn step_blade(
     if !sound {
         (v1, v2) = rest_curve(v0, rest, up, height);
         eta = 0.0;
+        pushed = Vec3::ZERO;
     }
     blade.v1_height = [v1.x, v1.y, v1.z, height];
     blade.v2_width = [v2.x, v2.y, v2.z, blade.v2_width[3]];
     state.rest_eta[3] = eta;
-    !sound
+    (!sound, pushed)
 }
 
 /// Runs one update step over every blade; returns how many were reset to their rest pose
@@ -452,10 +468,27 @@ pub fn update_all(
     spheres: &[[f32; 4]],
     grid: &WindGrid,
 ) -> u32 {
+    update_all_splat(blades, states, params, spheres, grid, None)
+}
+
+/// [`update_all`], adding every blade's collision push to `splat` (the grass-to-grass
+/// propagation's ancestors) when one is given.
+pub fn update_all_splat(
+    blades: &mut [Blade],
+    states: &mut [BladeState],
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+    grid: &WindGrid,
+    mut splat: Option<&mut super::propagation::Splat>,
+) -> u32 {
     let nodes = hierarchy_of(params, spheres);
     let mut resets = 0;
     for (b, s) in blades.iter_mut().zip(states.iter_mut()) {
-        resets += step_blade(b, s, params, spheres, grid, &nodes) as u32;
+        let (reset, pushed) = step_blade_push(b, s, params, spheres, grid, &nodes);
+        resets += reset as u32;
+        if let Some(splat) = splat.as_deref_mut() {
+            splat.add(v4(b.v0_dir).truncate(), pushed);
+        }
     }
     resets
 }

@@ -250,6 +250,34 @@ impl BladeBuffers {
         Ok(true)
     }
 
+    /// Makes the update's output (the reset counter) hold the propagation's splat for a grid
+    /// of `n` cells per side; true when it reallocated (the passes that bind it must be
+    /// rebuilt). The reset count so far is carried over.
+    pub fn ensure_splat(&mut self, gpu: &Gpu, n: u32) -> Result<bool> {
+        let bytes = super::propagation_pass::update_out_bytes(n);
+        if self.resets.size() >= bytes {
+            return Ok(false);
+        }
+        gpu.check_storage("the propagation grid's pushes", bytes)?;
+        let resets = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.update.resets"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sward.update.resets_copy"),
+            });
+        encoder.copy_buffer_to_buffer(&self.resets, 0, &resets, 0, 4);
+        gpu.queue.submit([encoder.finish()]);
+        self.resets = resets;
+        Ok(true)
+    }
+
     /// Reads the Verlet states back (empty when none were allocated).
     pub fn read_verlet(&self, gpu: &Gpu) -> Result<Vec<VerletState>> {
         if !self.has_verlet || self.count == 0 {
@@ -404,6 +432,14 @@ pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::Bind
             min_binding_size: None,
         },
         count: None,
+    }
+}
+
+/// A bind group entry binding the whole of `buffer`.
+pub fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
     }
 }
 

@@ -106,9 +106,22 @@ pub fn step(
     grid: &WindGrid,
     nodes: &[BvhNode],
 ) -> bool {
+    step_push(blade, state, verlet, params, spheres, grid, nodes).0
+}
+
+/// [`step`], also returning the collision push the tip P3 received (zero after a reset).
+pub fn step_push(
+    blade: &mut Blade,
+    state: &mut BladeState,
+    verlet: &mut VerletState,
+    params: &SimParams,
+    spheres: &[[f32; 4]],
+    grid: &WindGrid,
+    nodes: &[BvhNode],
+) -> (bool, Vec3) {
     let height = blade.v1_height[3];
     if height <= 0.0 {
-        return false;
+        return (false, Vec3::ZERO);
     }
     let v0 = v4(blade.v0_dir).truncate();
     let up = v4(blade.up_stiffness).truncate();
@@ -179,6 +192,7 @@ pub fn step(
     }
     let decayed = eta - params.collision_decay * dt;
     eta = decayed.max(0.0);
+    let mut pushed = Vec3::ZERO;
     if params.collisions != 0 {
         let hierarchy = blade_hierarchy(nodes, params, v0, height);
         let gain = params.collision_gain;
@@ -194,6 +208,7 @@ pub fn step(
                 break;
             }
             eta += added;
+            pushed += p3 - p[3];
             (p[1], p[2], p[3]) = (p1, p2, p3);
             constrain(&mut p, up, front, l);
         }
@@ -209,6 +224,7 @@ pub fn step(
         p = rest;
         o = rest;
         eta = 0.0;
+        pushed = Vec3::ZERO;
     }
     blade.v1_height = [p[1].x, p[1].y, p[1].z, height];
     blade.v2_width = [p[3].x, p[3].y, p[3].z, blade.v2_width[3]];
@@ -219,10 +235,11 @@ pub fn step(
         o2_y: [o[2].x, o[2].y, o[2].z, v0.y],
         o3_z: [o[3].x, o[3].y, o[3].z, v0.z],
     };
-    !sound
+    (!sound, pushed)
 }
 
-/// One step over every blade; returns how many were reset.
+/// One step over every blade, the pushes added to `splat` when given; returns how many
+/// were reset.
 pub fn update_all(
     blades: &mut [Blade],
     states: &mut [BladeState],
@@ -230,6 +247,7 @@ pub fn update_all(
     params: &SimParams,
     spheres: &[[f32; 4]],
     grid: &WindGrid,
+    mut splat: Option<&mut super::propagation::Splat>,
 ) -> u32 {
     let nodes = hierarchy_of(params, spheres);
     let mut resets = 0;
@@ -238,7 +256,11 @@ pub fn update_all(
         .zip(states.iter_mut())
         .zip(verlet.iter_mut())
     {
-        resets += step(b, s, v, params, spheres, grid, &nodes) as u32;
+        let (reset, pushed) = step_push(b, s, v, params, spheres, grid, &nodes);
+        resets += reset as u32;
+        if let Some(splat) = splat.as_deref_mut() {
+            splat.add(v4(b.v0_dir).truncate(), pushed);
+        }
     }
     resets
 }

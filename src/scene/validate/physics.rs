@@ -5,7 +5,7 @@
 //! wind of the same order, times Δt ≤ 1 s; the validation of the update then pulls the tip
 //! back to the blade's length, dividing by a height of at least 1 cm.
 
-use super::allowed::{Allowed, Rule};
+use super::allowed::{Allowed, Integers, Rule};
 use super::objects::POSITION;
 use super::{tuple3, Checker};
 use crate::error::Result;
@@ -35,6 +35,14 @@ const LAMBDA: Allowed = Allowed::closed(0.0, 1.0, "");
 /// Blade heights per m/s: 10 bends a blade flat in a 0.1 m/s breeze.
 const FORCE: Allowed = Allowed::closed(0.0, 10.0, "s/m");
 const CELL: Allowed = Allowed::closed(0.01, 1000.0, "m");
+const ATT: Allowed = Allowed::closed(0.0, 1.0, "");
+const THRESHOLD: Allowed = Allowed::closed(0.0, 1.0, "m");
+use crate::sim::propagation::MAX_GENERATIONS;
+const GENERATIONS: Integers = Integers::new(1, MAX_GENERATIONS as u64, "");
+const PROPAGATION_CELL: Allowed = Allowed::closed(0.01, 10.0, "m");
+const PROPAGATION_EXTENT: Allowed = Allowed::closed(0.1, 1000.0, "m");
+/// Cells per side of the propagation grid at most: 2048² cells of 28 bytes are 112 MiB.
+const MAX_PROPAGATION_CELLS: u32 = 2048;
 
 /// The rules of every `physics` value.
 pub(super) const RULES: &[(&str, Rule)] = &[
@@ -66,6 +74,20 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("physics.cwd.lambda", Rule::Real(LAMBDA)),
     ("physics.cwd.force", Rule::Real(FORCE)),
     ("physics.cwd.cell_size", Rule::Real(CELL)),
+    ("physics.propagation.att", Rule::Real(ATT)),
+    ("physics.propagation.threshold", Rule::Real(THRESHOLD)),
+    (
+        "physics.propagation.generations",
+        Rule::Integer(GENERATIONS),
+    ),
+    (
+        "physics.propagation.cell_size",
+        Rule::Real(PROPAGATION_CELL),
+    ),
+    (
+        "physics.propagation.extent",
+        Rule::Text("0.1 <= extent <= 1000 m, at most 2048 cells per side (extent / cell_size)"),
+    ),
 ];
 
 pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
@@ -108,7 +130,35 @@ pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     check.real("physics.cwd.k2", p.cwd.k2, K2)?;
     check.real("physics.cwd.lambda", p.cwd.lambda, LAMBDA)?;
     check.real("physics.cwd.force", p.cwd.force, FORCE)?;
-    check.real("physics.cwd.cell_size", p.cwd.cell_size, CELL)
+    check.real("physics.cwd.cell_size", p.cwd.cell_size, CELL)?;
+    if let Some(q) = &p.propagation {
+        check.real("physics.propagation.att", q.att, ATT)?;
+        check.real("physics.propagation.threshold", q.threshold, THRESHOLD)?;
+        check.integer(
+            "physics.propagation.generations",
+            q.generations,
+            GENERATIONS,
+        )?;
+        check.real(
+            "physics.propagation.cell_size",
+            q.cell_size,
+            PROPAGATION_CELL,
+        )?;
+        check.real("physics.propagation.extent", q.extent, PROPAGATION_EXTENT)?;
+        let cells = (q.extent / q.cell_size).ceil();
+        if cells > MAX_PROPAGATION_CELLS as f32 {
+            return Err(check.error(
+                "physics.propagation.extent",
+                format!(
+                    "physics.propagation.extent = {} is out of range: allowed at most \
+                     {MAX_PROPAGATION_CELLS} cells per side, and extent / cell_size = {} / {} \
+                     is {cells}",
+                    q.extent, q.extent, q.cell_size
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
