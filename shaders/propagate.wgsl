@@ -125,7 +125,7 @@ fn apply(
         return;
     }
     let f = field[u32(c)];
-    if f.z < 1.0 {
+    if f.z < 1.0 || (f.x == 0.0 && f.y == 0.0) {
         return;
     }
     let up = blade.up_stiffness.xyz;

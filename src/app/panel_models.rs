@@ -1,6 +1,7 @@
 //! The panel's "Blade model" controls inside the Physics section: which paper's blade the
 //! update steps and the draw bends (`physics.model`), and that model's parameters. The
-//! Verlet states are allocated the first time Verlet is picked.
+//! Verlet states are allocated the first time Verlet is picked; and the grass-to-grass
+//! propagation (`physics.propagation`).
 
 use egui::Ui;
 
@@ -43,6 +44,43 @@ pub fn model_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                     .text("cell m (no fluid)"),
             );
             ui.label("no state: no collisions, no trails");
+        }
+    }
+}
+
+/// Qiu et al.'s grass-to-grass propagation (`physics.propagation`): on/off and its
+/// parameters; the grid is (re)built when it is turned on or changes size.
+pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
+    let p = &mut app.renderer.scene.physics;
+    let mut on = p.propagation.is_some();
+    let before = p.propagation.clone();
+    ui.checkbox(&mut on, "grass-to-grass propagation (Qiu Eq. 4)");
+    if on != p.propagation.is_some() {
+        p.propagation = on.then(crate::scene::Propagation::default);
+    }
+    if let Some(q) = &mut p.propagation {
+        ui.add(egui::Slider::new(&mut q.att, 0.0..=1.0).text("att (decay)"));
+        ui.add(
+            egui::Slider::new(&mut q.threshold, 0.0..=0.05)
+                .logarithmic(true)
+                .text("threshold L m"),
+        );
+        ui.add(
+            egui::Slider::new(
+                &mut q.generations,
+                1..=crate::sim::propagation::MAX_GENERATIONS,
+            )
+            .text("generations"),
+        );
+        ui.add(egui::Slider::new(&mut q.cell_size, 0.02..=0.5).text("cell m"));
+        ui.add(egui::Slider::new(&mut q.extent, 2.0..=64.0).text("grid m"));
+        // The scene file's limit: at most 2048 cells per side.
+        q.cell_size = q.cell_size.max(q.extent / 2048.0);
+    }
+    if app.renderer.scene.physics.propagation != before {
+        if let Err(e) = app.renderer.apply_propagation(gpu) {
+            app.status = Some(Status::Error(format!("propagation not changed: {e}")));
+            app.renderer.scene.physics.propagation = before;
         }
     }
 }

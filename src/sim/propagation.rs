@@ -217,7 +217,7 @@ pub fn apply(
         return;
     };
     let f = field[c];
-    if f[2] < 1.0 {
+    if f[2] < 1.0 || (f[0] == 0.0 && f[1] == 0.0) {
         return;
     }
     let up = v4(blade.up_stiffness).truncate();
@@ -244,5 +244,89 @@ pub fn apply_all(
 ) {
     for (b, s) in blades.iter_mut().zip(states.iter_mut()) {
         apply(b, s, field, spec, params);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(n: u32) -> GridSpec {
+        GridSpec {
+            origin: Vec2::ZERO,
+            cell: 1.0,
+            n,
+        }
+    }
+
+    fn centre(i: u32, j: u32) -> Vec3 {
+        Vec3::new(i as f32 + 0.5, 0.0, j as f32 + 0.5)
+    }
+
+    /// Eq. 4 generation by generation: an ancestor pushing +x passes att·F to the next
+    /// cell in x, att²·F to the one after, and stops at the threshold; nothing goes back
+    /// or sideways (the force has no z part).
+    #[test]
+    fn force_decays_by_att_along_its_direction_and_stops_at_the_threshold() {
+        let s = spec(9);
+        let mut splat = Splat::new(s);
+        // Two blades of cell (2, 4) pushed 0.1 m and 0.3 m along +x: the mean is 0.2.
+        splat.add(centre(2, 4), Vec3::new(0.1, 0.0, 0.0));
+        splat.add(centre(2, 4), Vec3::new(0.3, 0.0, 0.0));
+        let mut field = init(&splat);
+        let att = 0.5;
+        let threshold = 0.03;
+        for g in 1..=8 {
+            generation(&mut field, s.n, g, att, threshold);
+        }
+        let at = |i: usize, j: usize| field[j * 9 + i];
+        assert!((at(2, 4)[0] - 0.2).abs() < 1e-6 && at(2, 4)[2] == 0.0);
+        assert!((at(3, 4)[0] - 0.1).abs() < 1e-6 && at(3, 4)[2] == 1.0);
+        assert!((at(4, 4)[0] - 0.05).abs() < 1e-6 && at(4, 4)[2] == 2.0);
+        // 0.05 > L: one more child with 0.025, which is below L and passes nothing on.
+        assert!((at(5, 4)[0] - 0.025).abs() < 1e-6 && at(5, 4)[2] == 3.0);
+        assert_eq!(at(6, 4)[2], UNREACHED);
+        assert_eq!(at(1, 4)[2], UNREACHED, "no propagation against the force");
+        assert_eq!(at(2, 5)[2], UNREACHED, "no z part, no child in z");
+    }
+
+    /// A child is reached once: a later generation never adds to it (Definition 7), and
+    /// two parents pointing at one cell both count (Eq. 4's sum).
+    #[test]
+    fn children_sum_their_parents_once() {
+        let s = spec(5);
+        let mut splat = Splat::new(s);
+        splat.add(centre(1, 2), Vec3::new(0.2, 0.0, 0.0));
+        splat.add(centre(2, 1), Vec3::new(0.0, 0.0, 0.4));
+        let mut field = init(&splat);
+        generation(&mut field, 5, 1, 0.5, 0.0);
+        let c = field[2 * 5 + 2];
+        assert_eq!(c[2], 1.0);
+        assert!(
+            (c[0] - 0.1).abs() < 1e-6 && (c[1] - 0.2).abs() < 1e-6,
+            "{c:?}"
+        );
+        let before = field[2 * 5 + 2];
+        generation(&mut field, 5, 2, 0.5, 0.0);
+        assert_eq!(field[2 * 5 + 2], before);
+    }
+
+    #[test]
+    fn cells_outside_the_grid_are_ignored() {
+        let s = spec(4);
+        assert_eq!(s.cell_of(Vec3::new(-0.1, 0.0, 1.0)), None);
+        assert_eq!(s.cell_of(Vec3::new(4.0, 0.0, 1.0)), None);
+        assert_eq!(s.cell_of(Vec3::new(3.9, 0.0, 0.0)), Some(3));
+        let mut splat = Splat::new(s);
+        splat.add(Vec3::new(10.0, 0.0, 10.0), Vec3::X);
+        assert!(splat.sums.iter().all(|c| *c == [0; 3]));
+    }
+
+    #[test]
+    fn fixed_point_rounds_and_clamps() {
+        assert_eq!(fixed(1e-6), 1);
+        assert_eq!(fixed(-2.5e-6), -2);
+        assert_eq!(fixed(5.0), 1_000_000);
+        assert_eq!(fixed(f32::NAN), 0);
     }
 }

@@ -62,7 +62,7 @@ impl BladeBuffers {
             + SPHERE_BUFFER_BYTES
             + 8
             + std::mem::size_of::<PatchDispatch>() as u64
-            + 4
+            + super::propagation_pass::update_out_bytes(0)
     }
 
     /// Uploads a generated field after checking that it fits the device.
@@ -206,9 +206,11 @@ impl BladeBuffers {
             usage: storage,
             mapped_at_creation: false,
         });
+        // The reset counter, then the propagation's splat (one unused cell until
+        // `ensure_splat` grows it).
         let resets = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.update.resets"),
-            size: 4,
+            size: super::propagation_pass::update_out_bytes(0),
             usage: storage,
             mapped_at_creation: false,
         });
