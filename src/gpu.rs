@@ -56,9 +56,24 @@ fn describe_info(info: &wgpu::AdapterInfo) -> String {
 impl Gpu {
     /// Opens the adapter `choice` names. The error lists the adapters that exist and says
     /// what to install when there are none.
+    ///
+    /// The native backends (Vulkan, Metal, DX12) are tried first and OpenGL only when none
+    /// of their adapters matches: starting the GL backend loads EGL, which on a machine with
+    /// Mesa's EGL but no DRI driver prints an error line on stderr although a Vulkan adapter
+    /// is there. `WGPU_BACKEND` still narrows both.
     pub fn new(choice: &AdapterChoice) -> Result<Gpu> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env;
+        let native = descriptor().backends & !wgpu::Backends::GL;
+        if !native.is_empty() {
+            let mut d = descriptor();
+            d.backends = native;
+            let instance = wgpu::Instance::new(d);
+            let adapters = pollster::block_on(instance.enumerate_adapters(native));
+            if let Ok(adapter) = pick(adapters, choice) {
+                return Self::from_adapter(instance, adapter);
+            }
+        }
+        let instance = wgpu::Instance::new(descriptor());
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         let adapter = pick(adapters, choice)?;
         Self::from_adapter(instance, adapter)

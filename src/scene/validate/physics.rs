@@ -74,6 +74,13 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("physics.cwd.lambda", Rule::Real(LAMBDA)),
     ("physics.cwd.force", Rule::Real(FORCE)),
     ("physics.cwd.cell_size", Rule::Real(CELL)),
+    (
+        "physics.propagation",
+        Rule::Text(
+            "None or Some((att: .., threshold: .., generations: .., cell_size: .., extent: ..)), \
+             each part optional",
+        ),
+    ),
     ("physics.propagation.att", Rule::Real(ATT)),
     ("physics.propagation.threshold", Rule::Real(THRESHOLD)),
     (
