@@ -302,11 +302,12 @@ impl BladeJson {
 
 #[derive(Serialize)]
 struct Dump {
-    /// The blade model the run stepped (`physics.model`).
-    model: &'static str,
     initial: Vec<BladeJson>,
     #[serde(rename = "final")]
     last: Vec<BladeJson>,
+    /// The blade model the run stepped (`physics.model`), after the blades so that the
+    /// dump still opens with `initial`.
+    model: &'static str,
 }
 
 fn to_json(blades: &[Blade], states: &[BladeState]) -> Vec<BladeJson> {

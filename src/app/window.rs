@@ -378,7 +378,7 @@ impl Running {
         let raw = self.egui_state.take_egui_input(&self.window);
         let app = &mut self.app;
         let gpu = &self.gpu;
-        let out = self
+        let mut out = self
             .egui_state
             .egui_ctx()
             .run_ui(raw, |ui| panel(ui, app, gpu));
@@ -445,6 +445,8 @@ impl Running {
         for id in &out.textures_delta.free {
             self.egui_renderer.free_texture(id);
         }
+        // Applied above: epaint asserts (in debug builds) that no delta is dropped unhandled.
+        out.textures_delta.clear();
         self.gpu
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
