@@ -29,6 +29,8 @@
 @group(0) @binding(6) var<uniform> params: SimParams;
 @group(0) @binding(7) var<storage, read> wind_grid: array<vec2<f32>>;
 @group(0) @binding(8) var<storage, read> verlet: array<VerletState>;
+// The blades' states: η for the trail colour view.
+@group(0) @binding(9) var<storage, read> states: array<BladeState>;
 
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
@@ -238,6 +240,9 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     } else if mode == 2u {
         let patch_id = index / max(u32(frame.debug.w), 1u);
         out.tint = vec4<f32>(hash01(patch_id * 7u + 1u), hash01(patch_id * 13u + 5u), hash01(patch_id * 29u + 11u), 2.0);
+    } else if mode == 3u {
+        // The trail view: η through the same green-to-red ramp as the levels.
+        out.tint = vec4<f32>(clamp(states[index].rest_eta.w, 0.0, 1.0), 0.0, 0.0, 1.0);
     }
     return out;
 }

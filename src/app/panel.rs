@@ -537,11 +537,17 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
         }
         ui.horizontal(|ui| {
             ui.label("colour");
-            for m in [ColorMode::Natural, ColorMode::Lod, ColorMode::Patch] {
+            for m in [
+                ColorMode::Natural,
+                ColorMode::Lod,
+                ColorMode::Patch,
+                ColorMode::Trail,
+            ] {
                 let name = match m {
                     ColorMode::Natural => "natural",
                     ColorMode::Lod => "by LOD",
                     ColorMode::Patch => "by patch",
+                    ColorMode::Trail => "by trail (η)",
                 };
                 ui.selectable_value(&mut r.color_mode, m, name);
             }

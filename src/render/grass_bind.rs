@@ -1,7 +1,7 @@
 //! The grass draw's bind groups: the frame, the blades, the visible lists, the cull
 //! uniforms, the level, the cull's counts, and for the blade models the update's uniforms,
 //! the wind grid (CWD-Sim's blades bend in the vertex shader) and the Verlet states (the
-//! thesis's blades are cubic). Rebuilt when the wind grid or the Verlet states change.
+//! thesis's blades are cubic), and the blade states (η, for the trail colour view). Rebuilt when the wind grid or the Verlet states change.
 
 use super::draw::read_storage;
 use crate::sim::update::{uniform_entry, whole, BladeBuffers};
@@ -11,6 +11,7 @@ pub struct GrassBindings {
     pub layout: wgpu::BindGroupLayout,
     frame: wgpu::Buffer,
     blades: wgpu::Buffer,
+    states: wgpu::Buffer,
     visible: wgpu::Buffer,
     cull_params: wgpu::Buffer,
     cull_output: wgpu::Buffer,
@@ -51,12 +52,14 @@ impl GrassBindings {
                 uniform_entry(6, vertex),
                 read_storage(7, vertex),
                 read_storage(8, vertex),
+                read_storage(9, vertex),
             ],
         });
         Self {
             layout,
             frame: frame.clone(),
             blades: buffers.blades.clone(),
+            states: buffers.states.clone(),
             visible: buffers.visible.clone(),
             cull_params: cull_params.clone(),
             cull_output: cull_output.clone(),
@@ -89,6 +92,7 @@ impl GrassBindings {
                         whole(6, model.sim_params),
                         whole(7, model.wind_grid),
                         whole(8, model.verlet),
+                        whole(9, &self.states),
                     ],
                 })
             })

@@ -599,6 +599,9 @@ pub enum ColorMode {
     Lod,
     /// One colour per patch (the unit of patch culling).
     Patch,
+    /// The collision strength η of each blade (Eq. 2): green untouched, through yellow to
+    /// red at η >= 1 (a full trail), so that trails and their width can be seen.
+    Trail,
 }
 
 impl ColorMode {
@@ -608,6 +611,7 @@ impl ColorMode {
             ColorMode::Natural => 0,
             ColorMode::Lod => 1,
             ColorMode::Patch => 2,
+            ColorMode::Trail => 3,
         }
     }
 }

@@ -61,7 +61,7 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("render.width_span_px", Rule::Real(WIDTH_PIXELS)),
     (
         "render.color_mode",
-        Rule::Choice("one of Natural, Lod, Patch"),
+        Rule::Choice("one of Natural, Lod, Patch, Trail"),
     ),
     ("render.wireframe", Rule::Bool),
     (
