@@ -225,3 +225,15 @@ fn hash01(x: u32) -> f32 {
     h = (h >> 22u) ^ h;
     return f32(h) / 4294967296.0;
 }
+
+// A 32-bit integer hash (PCG's output permutation, Jarzynski & Olano 2020); the twin of
+// `field::noise::hash32`.
+fn hash32(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn rotl17(x: u32) -> u32 {
+    return (x << 17u) | (x >> 15u);
+}

@@ -13,6 +13,7 @@
 //!include wind.wgsl
 //!include wind_sample.wgsl
 //!include cwd.wgsl
+//!include clumps.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
@@ -31,6 +32,8 @@
 @group(0) @binding(8) var<storage, read> verlet: array<VerletState>;
 // The blades' states: η for the trail colour view.
 @group(0) @binding(9) var<storage, read> states: array<BladeState>;
+// The field's species and clumps: each blade's colour and shape from its root.
+@group(0) @binding(10) var<uniform> traits: FieldTraits;
 
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
@@ -42,6 +45,9 @@ struct VertexOut {
     @location(3) @interpolate(flat) tint: vec4<f32>,
     // CWD-Sim's Eq. 14 brightness of this vertex (used when frame.debug.y = 1).
     @location(4) shade: f32,
+    // The species' colour (w = 1; w = 0: sward's own palette) and the clump's brightness.
+    @location(5) @interpolate(flat) species_color: vec4<f32>,
+    @location(6) @interpolate(flat) clump_light: f32,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -115,6 +121,12 @@ fn centre_line(blade: Blade, index: u32, v: f32) -> CwdPoint {
     return CwdPoint(a + v * (b - a), b - a);
 }
 
+// The blade's shape: its species' when the field lists species, else the field's.
+fn blade_shape(blade: Blade) -> u32 {
+    let s = traits.species[species_of(blade.v0_dir.x, blade.v0_dir.z)];
+    return select(u32(frame.shape.x), u32(s.attrs.w), s.color.w > 0.5);
+}
+
 // The vertex at (u, v) of a blade: Eq. 21-24.
 fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
     let half_width = 0.5 * blade.v2_width.w;
@@ -133,7 +145,7 @@ fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
     let n = normalize(cross(t0, t1));
 
     // The dandelion's teeth follow the full mesh's rows at every level.
-    var t = shape_t(u32(frame.shape.x), u, v, frame.shape.y, frame.shape.z);
+    var t = shape_t(blade_shape(blade), u, v, frame.shape.y, frame.shape.z);
     // Eq. 24: thin far blades become quads so their tips do not break into pixel noise.
     // The paper prints t(1 - Phi) + u Phi^2; we blend linearly, which meets the same two
     // limits (Phi = 0: the shape, Phi = 1: the quad) without the dip in between.
@@ -233,6 +245,11 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     let s = frame.self_shadow;
     out.shade = clamp(dot(point.p - v0, up) / h - bend * s.z + s.w, s.x, s.y);
     out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
+    out.species_color = traits.species[species_of(v0.x, v0.z)].color;
+    out.clump_light = 1.0;
+    if traits.clumps.x > 0.0 {
+        out.clump_light = 1.0 + traits.clumps.w * (clump_of(v0.x, v0.z).tint - 0.5);
+    }
     // Debug colours: the level of detail (with the morph towards the next), or the patch.
     let mode = u32(frame.debug.x);
     if mode == 1u {
@@ -277,6 +294,11 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let dry = vec3<f32>(0.32, 0.40, 0.09);
     let deep = vec3<f32>(0.05, 0.22, 0.04);
     var albedo = mix(mix(fresh, deep, in.tint.y * 0.7), dry, in.tint.x * in.tint.x * 0.8);
+    if in.species_color.w > 0.5 {
+        // The species' colour, each blade a little lighter or darker.
+        albedo = in.species_color.rgb * mix(0.8, 1.2, in.tint.y);
+    }
+    albedo *= in.clump_light;
     albedo = mix(albedo * 0.55, albedo * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
     // Self-shadow: the base sits in the shade of its neighbours. sward's own darkens along
     // the blade's length; CWD-Sim's Eq. 14 follows the deformed height and the bend.

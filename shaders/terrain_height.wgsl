@@ -2,6 +2,7 @@
 // (src/field/terrain.rs, src/field/noise.rs). Included by the terrain draw and by the
 // probe kernel that tests it against the CPU. Binds group 0, bindings 1 (parameters) and
 // 2 (the height grid of a Png terrain; a dummy otherwise).
+//!include common.wgsl
 
 struct TerrainParams {
     // The camera's view-projection for positions relative to the eye.
@@ -27,17 +28,7 @@ struct TerrainParams {
 @group(0) @binding(1) var<uniform> terrain: TerrainParams;
 @group(0) @binding(2) var<storage, read> terrain_grid: array<f32>;
 
-// Twin of `noise::hash32` (PCG output permutation).
-fn hash32(x: u32) -> u32 {
-    let state = x * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
-fn rotl17(x: u32) -> u32 {
-    return (x << 17u) | (x >> 15u);
-}
-
+// The value in [-1, 1] at a lattice point: the twin of `noise::lattice`.
 fn lattice(seed: u32, ix: i32, iz: i32) -> f32 {
     let h = hash32(seed ^ hash32(bitcast<u32>(ix) ^ rotl17(hash32(bitcast<u32>(iz)))));
     return f32(h >> 8u) * (2.0 / 16777216.0) - 1.0;

@@ -6,6 +6,7 @@
 //!include common.wgsl
 //!include terrain_height.wgsl
 //!include blade_pose.wgsl
+//!include clumps.wgsl
 
 struct GenParams {
     // Patch side in quanta (1/1024 m), patches per tile side, blades per patch, per tile.
@@ -37,6 +38,8 @@ struct Job {
 @group(0) @binding(7) var<storage, read_write> states: array<BladeState>;
 @group(0) @binding(8) var<storage, read_write> patches: array<PatchBox>;
 @group(0) @binding(9) var<storage, read_write> seen: array<u32>;
+// The field's species and clumps (the same buffer as `gen`, from byte 256).
+@group(0) @binding(10) var<uniform> traits: FieldTraits;
 
 const FLAG_DENSITY: u32 = 1u;
 const FLAG_BOUNDED: u32 = 2u;
@@ -147,11 +150,13 @@ fn make_blade(tx: i32, tz: i32, i: u32) -> Blade {
             return out;
         }
     }
-    let angle = f32(draw(h0, 3u) >> 8u) * (TAU * UNIT);
-    let height = max(gen.sizes.x + gen.sizes.y * unit(h0, 4u), MIN_HEIGHT);
-    let width = gen.sizes.z + gen.sizes.w * unit(h0, 5u);
-    let stiffness = gen.attrs.x + gen.attrs.y * unit(h0, 6u);
-    let bend = gen.attrs.z + gen.attrs.w * unit(h0, 7u);
+    // The species' ranges and the clump's facing and lean.
+    let t = blade_traits(x, z, f32(draw(h0, 3u) >> 8u) * (TAU * UNIT), gen.attrs.z + gen.attrs.w * unit(h0, 7u), vec3<f32>(unit(h0, 4u), unit(h0, 5u), unit(h0, 6u)));
+    let angle = t.angle;
+    let height = max(t.height, MIN_HEIGHT);
+    let width = t.width;
+    let stiffness = t.stiffness;
+    let bend = t.bend;
     let ground = terrain_height(vec2<f32>(x, z));
     let v0 = vec3<f32>(x, ground.x, z);
     let up = normalize(vec3<f32>(-ground.y, 1.0, -ground.z));

@@ -29,6 +29,7 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/update_slot.wgsl"),
     ),
     ("propagate.wgsl", include_str!("../shaders/propagate.wgsl")),
+    ("clumps.wgsl", include_str!("../shaders/clumps.wgsl")),
     (
         "blade_pose.wgsl",
         include_str!("../shaders/blade_pose.wgsl"),

@@ -205,3 +205,25 @@ fn memory_follows_the_radius_not_the_terrain() {
     let wider = bytes(64.0, 18.0);
     assert!(wider.0 > 2 * small.0, "{wider:?} vs {small:?}");
 }
+
+/// Species and clumps (issue 15, point 5) in streamed tiles: the kernel draws each blade's
+/// species and clump from its root exactly as the twin does.
+#[test]
+fn gpu_tiles_with_species_and_clumps_match_the_twin() {
+    let mut s = scene();
+    s.field.species = vec![
+        sward::scene::Species {
+            share: 2.0,
+            ..Default::default()
+        },
+        sward::scene::Species {
+            share: 1.0,
+            height: sward::scene::Range::new(0.9, 1.2),
+            color: (0.4, 0.4, 0.1),
+            shape: sward::scene::Shape::Quadratic,
+            ..Default::default()
+        },
+    ];
+    s.field.clumps = Some(sward::scene::Clumps::default());
+    fly(s, None);
+}

@@ -3,6 +3,7 @@
 //! sized, compact patches whose blades are sorted so that neighbours have close indices.
 //! Everything is seeded: the same scene gives bit-identical buffers on every run.
 
+pub mod clumps;
 mod density;
 pub(crate) mod grid;
 mod noise;

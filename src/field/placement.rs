@@ -187,19 +187,29 @@ struct BladeDraw {
 /// Blades smaller than this many per thread are not worth a thread.
 const BLADES_PER_THREAD: usize = 8192;
 
-/// Blades at the given roots, with random attributes from the field's ranges, each in its
-/// rest pose on the terrain.
+/// Blades at the given roots, with random attributes from their species' ranges (the
+/// field's own without species) and their clump's facing and lean, each in its rest pose
+/// on the terrain.
 pub fn make_blades(roots: &[Vec2], terrain: &HeightField, field: &Field) -> Vec<Blade> {
     let mut rng = Rng::new(field.seed, STREAM_ATTRIBUTES);
+    let traits = super::clumps::FieldTraits::from_field(field);
     let draws: Vec<BladeDraw> = roots
         .iter()
-        .map(|&root| BladeDraw {
-            root,
-            angle: rng.f32() * std::f32::consts::TAU,
-            height: field.height.lerp(rng.f32()).max(MIN_HEIGHT),
-            width: field.width.lerp(rng.f32()),
-            stiffness: field.stiffness.lerp(rng.f32()),
-            bend: field.bend.lerp(rng.f32()).to_radians(),
+        .map(|&root| {
+            let angle = rng.f32() * std::f32::consts::TAU;
+            let sizes = [rng.f32(), rng.f32(), rng.f32()];
+            let bend = field.bend.lerp(rng.f32()).to_radians();
+            // The species' ranges and the clump's facing and lean.
+            let (angle, height, width, stiffness, bend) =
+                super::clumps::blade_traits(&traits, root.x, root.y, angle, bend, sizes);
+            BladeDraw {
+                root,
+                angle,
+                height: height.max(MIN_HEIGHT),
+                width,
+                stiffness,
+                bend,
+            }
         })
         .collect();
     let mut blades = vec![Blade::default(); draws.len()];

@@ -344,6 +344,7 @@ impl DrawPass {
         format: wgpu::TextureFormat,
         samples: u32,
         model: ModelBuffers,
+        traits: &crate::field::clumps::FieldTraits,
     ) -> Self {
         let device = &gpu.device;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -393,7 +394,15 @@ impl DrawPass {
                 (level_buffer, offset, size)
             })
             .collect();
-        let grass = GrassBindings::new(device, &frame, buffers, cull_params, cull_output, levels);
+        let grass = GrassBindings::new(
+            device,
+            &frame,
+            buffers,
+            cull_params,
+            cull_output,
+            levels,
+            traits,
+        );
         let grass_groups = grass.groups(device, model);
         let spheres_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.draw.spheres_group"),

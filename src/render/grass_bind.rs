@@ -15,6 +15,8 @@ pub struct GrassBindings {
     visible: wgpu::Buffer,
     cull_params: wgpu::Buffer,
     cull_output: wgpu::Buffer,
+    /// The field's species and clumps (`FieldTraits`).
+    traits: wgpu::Buffer,
     /// Per group: its level uniform and the region of the visible list it binds (offset,
     /// size; `None`: to the end).
     levels: Vec<(wgpu::Buffer, u64, Option<u64>)>,
@@ -37,6 +39,7 @@ impl GrassBindings {
         cull_params: &wgpu::Buffer,
         cull_output: &wgpu::Buffer,
         levels: Vec<(wgpu::Buffer, u64, Option<u64>)>,
+        traits: &crate::field::clumps::FieldTraits,
     ) -> Self {
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let vertex = wgpu::ShaderStages::VERTEX;
@@ -53,10 +56,20 @@ impl GrassBindings {
                 read_storage(7, vertex),
                 read_storage(8, vertex),
                 read_storage(9, vertex),
+                uniform_entry(10, vf),
             ],
         });
+        let traits = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("sward.draw.field_traits"),
+                contents: bytemuck::bytes_of(traits),
+                usage: wgpu::BufferUsages::UNIFORM,
+            },
+        );
         Self {
             layout,
+            traits,
             frame: frame.clone(),
             blades: buffers.blades.clone(),
             states: buffers.states.clone(),
@@ -93,6 +106,7 @@ impl GrassBindings {
                         whole(7, model.wind_grid),
                         whole(8, model.verlet),
                         whole(9, &self.states),
+                        whole(10, &self.traits),
                     ],
                 })
             })

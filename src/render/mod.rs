@@ -271,6 +271,7 @@ impl Renderer {
                 wind_grid: grid,
                 verlet: &buffers.verlet,
             },
+            &crate::field::clumps::FieldTraits::from_field(&scene.field),
         );
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(

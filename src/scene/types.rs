@@ -172,6 +172,66 @@ pub struct Field {
     /// on the GPU as the camera moves, so the grass goes on as far as the terrain does.
     /// 0: the whole field is generated at start (the papers' scenes).
     pub tile_size: f32,
+    /// Species the field mixes (at most 8), each with its share of the blades; empty: one
+    /// species with the field's own height, width, stiffness, shape and colour.
+    pub species: Vec<Species>,
+    /// Blades grow in clumps whose members face and lean together and share a tint (as in
+    /// Ghost of Tsushima); a clump is one species. `None`: no clumps.
+    pub clumps: Option<Clumps>,
+}
+
+/// One species of grass in a mixed field.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Species {
+    /// Relative share of the blades (the shares are normalised).
+    pub share: f32,
+    pub height: Range,
+    pub width: Range,
+    pub stiffness: Range,
+    /// Base colour (linear RGB, 0..1) at mid-height.
+    pub color: (f32, f32, f32),
+    pub shape: Shape,
+}
+
+impl Default for Species {
+    fn default() -> Self {
+        let f = Field::default();
+        Self {
+            share: 1.0,
+            height: f.height,
+            width: f.width,
+            stiffness: f.stiffness,
+            color: (0.16, 0.36, 0.07),
+            shape: f.shape,
+        }
+    }
+}
+
+/// Clumps: a jittered grid of clump centres; a blade belongs to the nearest.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Clumps {
+    /// Spacing of the clump centres in metres.
+    pub size: f32,
+    /// How far a blade turns to face its clump's direction: 0 its own, 1 the clump's.
+    pub align: f32,
+    /// Extra lean of the whole clump towards its direction, in degrees.
+    pub lean: f32,
+    /// Brightness variation between clumps: each clump's colour is scaled within
+    /// 1 ± variation / 2.
+    pub color_variation: f32,
+}
+
+impl Default for Clumps {
+    fn default() -> Self {
+        Self {
+            size: 0.6,
+            align: 0.7,
+            lean: 12.0,
+            color_variation: 0.35,
+        }
+    }
 }
 
 impl Default for Field {
@@ -190,6 +250,8 @@ impl Default for Field {
             segments: 6,
             seed: 1,
             tile_size: 0.0,
+            species: Vec::new(),
+            clumps: None,
         }
     }
 }

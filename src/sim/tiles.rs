@@ -75,6 +75,7 @@ impl TileGenPass {
                 compute_storage_entry(7, false),
                 compute_storage_entry(8, false),
                 compute_storage_entry(9, false),
+                uniform_entry(10, c),
             ],
         });
         let terrain_params = terrain_gpu::params_buffer(device, "sward.tile_gen.terrain");
@@ -117,6 +118,16 @@ impl TileGenPass {
                 entry(7, &buffers.states),
                 entry(8, &buffers.patches),
                 entry(9, &buffers.seen),
+                wgpu::BindGroupEntry {
+                    binding: 10,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &params,
+                        offset: crate::field::tiles::TRAITS_OFFSET,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<
+                            crate::field::clumps::FieldTraits,
+                        >() as u64),
+                    }),
+                },
             ],
         });
         let module = shaders::module(device, "tile_gen.wgsl");

@@ -55,9 +55,17 @@ pub struct GenParams {
     pub map: [u32; 4],
     /// Half the terrain side (bounded grass), the density map's square side, unused ×2.
     pub extent: [f32; 4],
+    /// Up to the 256-byte uniform offset alignment: the traits are bound on their own.
+    pub _pad: [[u32; 4]; 10],
+    /// The field's species and clumps (`traits` in `tile_gen.wgsl`, bound at
+    /// [`TRAITS_OFFSET`] of the same buffer).
+    pub traits: crate::field::clumps::FieldTraits,
 }
 
-const _: () = assert!(std::mem::size_of::<GenParams>() == 96);
+/// Byte offset of [`GenParams::traits`]: a multiple of the uniform offset alignment.
+pub const TRAITS_OFFSET: u64 = 256;
+
+const _: () = assert!(std::mem::offset_of!(GenParams, traits) == TRAITS_OFFSET as usize);
 
 impl GenParams {
     /// The uniforms for `field` cut by `layout`, with a density map of `map` texels.
@@ -114,6 +122,8 @@ impl GenParams {
             ],
             map: [mw, mh, flags, 0],
             extent: [layout.bounds.unwrap_or(0.0), msize, 0.0, 0.0],
+            _pad: [[0; 4]; 10],
+            traits: crate::field::clumps::FieldTraits::from_field(field),
         }
     }
 }
@@ -212,14 +222,23 @@ fn draw_blade(
             }
         }
     }
+    // The species' ranges and the clump's facing and lean (`blade_traits`).
+    let (angle, height, width, stiffness, bend) = crate::field::clumps::blade_traits(
+        &p.traits,
+        x,
+        z,
+        (r(3) >> 8) as f32 * (std::f32::consts::TAU * UNIT),
+        p.attrs[2] + p.attrs[3] * u(7),
+        [u(4), u(5), u(6)],
+    );
     Some(Draw {
         x,
         z,
-        angle: (r(3) >> 8) as f32 * (std::f32::consts::TAU * UNIT),
-        height: (p.sizes[0] + p.sizes[1] * u(4)).max(MIN_HEIGHT),
-        width: p.sizes[2] + p.sizes[3] * u(5),
-        stiffness: p.attrs[0] + p.attrs[1] * u(6),
-        bend: p.attrs[2] + p.attrs[3] * u(7),
+        angle,
+        height: height.max(MIN_HEIGHT),
+        width,
+        stiffness,
+        bend,
     })
 }
 

@@ -16,6 +16,7 @@ mod residency;
 
 pub use generate::{
     empty_patch, generate_pool, generate_tile, patch_box, tile_key, GenParams, TileBlades,
+    TRAITS_OFFSET,
 };
 pub use residency::{TileJob, TileResidency, MAX_RELEASES};
 

@@ -30,6 +30,12 @@ const PATCH_SIZE_TEXT: &str =
 const SEGMENTS: Integers = Integers::new(1, 16, "");
 const TILE_SIZE: Allowed = Allowed::closed(0.5, 1000.0, "m");
 const TILE_SIZE_TEXT: &str = "0 (the whole field generated at start) or 0.5 <= tile_size <= 1000 m";
+const SHARE: Allowed = Allowed::open_closed(0.0, 1000.0, "");
+const COLOR: Allowed = Allowed::closed(0.0, 1.0, "");
+const CLUMP_SIZE: Allowed = Allowed::closed(0.05, 100.0, "m");
+const LEAN: Allowed = Allowed::closed(-60.0, 60.0, "degrees");
+const SPECIES_TEXT: &str = "a list of at most 8 species: [(share: .., height: .., width: .., \
+     stiffness: .., color: (r, g, b), shape: ..), ...]";
 
 /// The rules of every `terrain` and `field` value.
 pub(super) const RULES: &[(&str, Rule)] = &[
@@ -69,6 +75,24 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("field.segments", Rule::Integer(SEGMENTS)),
     ("field.seed", Rule::Integer(SEED)),
     ("field.tile_size", Rule::Text(TILE_SIZE_TEXT)),
+    ("field.species", Rule::Text(SPECIES_TEXT)),
+    ("field.species[].share", Rule::Real(SHARE)),
+    ("field.species[].height", Rule::Range(HEIGHT)),
+    ("field.species[].width", Rule::Range(WIDTH)),
+    ("field.species[].stiffness", Rule::Range(STIFFNESS)),
+    ("field.species[].color", Rule::Vector(COLOR)),
+    (
+        "field.species[].shape",
+        Rule::Choice("one of Quad, Triangle, Quadratic, TriangleTip, Dandelion"),
+    ),
+    (
+        "field.clumps",
+        Rule::Text("None or Some((size: .., align: .., lean: .., color_variation: ..))"),
+    ),
+    ("field.clumps.size", Rule::Real(CLUMP_SIZE)),
+    ("field.clumps.align", Rule::Real(FRACTION)),
+    ("field.clumps.lean", Rule::Real(LEAN)),
+    ("field.clumps.color_variation", Rule::Real(FRACTION)),
 ];
 
 pub(super) fn terrain(check: &Checker, terrain: &mut Terrain) -> Result<()> {
@@ -126,6 +150,43 @@ pub(super) fn field(check: &Checker, prefix: &str, field: &Field) -> Result<()> 
             &name,
             format!("{name} = {tile} is out of range: allowed {TILE_SIZE_TEXT}"),
         ));
+    }
+    if field.species.len() > crate::field::clumps::MAX_SPECIES {
+        let name = at("species");
+        return Err(check.error(
+            &name,
+            format!(
+                "{name} has {} species: allowed {SPECIES_TEXT}",
+                field.species.len()
+            ),
+        ));
+    }
+    for (k, sp) in field.species.iter().enumerate() {
+        let at = |name: &str| format!("{prefix}.species[{k}].{name}");
+        check.real(&at("share"), sp.share, SHARE)?;
+        check.range(&at("height"), sp.height, HEIGHT)?;
+        check.range(&at("width"), sp.width, WIDTH)?;
+        check.range(&at("stiffness"), sp.stiffness, STIFFNESS)?;
+        check.vector(&at("color"), &[sp.color.0, sp.color.1, sp.color.2], COLOR)?;
+    }
+    if let Some(c) = &field.clumps {
+        check.real(&at("clumps.size"), c.size, CLUMP_SIZE)?;
+        check.real(&at("clumps.align"), c.align, FRACTION)?;
+        check.real(&at("clumps.lean"), c.lean, LEAN)?;
+        check.real(&at("clumps.color_variation"), c.color_variation, FRACTION)?;
+        // The lean adds to the bend: the sum must stay a lean, not a fold.
+        let most = field.bend.max + c.lean;
+        if most > 90.0 {
+            let name = at("clumps.lean");
+            return Err(check.error(
+                &name,
+                format!(
+                    "{name} = {} is out of range: bend.max + lean must stay <= 90 degrees \
+                     (bend.max is {})",
+                    c.lean, field.bend.max
+                ),
+            ));
+        }
     }
     Ok(())
 }

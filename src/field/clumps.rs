@@ -1,0 +1,177 @@
+//! Species and clumps (issue 15, point 5): which species a blade is and which clump it
+//! grows in, as pure functions of its root, so that the field generators (the CPU's
+//! `placement::make_blades`, the tile kernel `shaders/tile_gen.wgsl` and its twin) and the
+//! grass shader (colour and shape) agree without storing anything per blade. The WGSL twin
+//! is `shaders/clumps.wgsl`.
+//!
+//! Clumps are the cells of a jittered grid (`clumps.size` apart); a blade belongs to the
+//! nearest centre (a Voronoi cell, as Ghost of Tsushima's clumps). A clump has a direction
+//! its blades turn towards (by `align`) and lean towards (`lean` degrees more bend), a
+//! brightness, and one species, drawn by the species' shares. Without clumps each blade
+//! draws its species from a hash of its root.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::noise::hash32;
+use crate::scene::Field;
+
+/// Species a field mixes at most.
+pub const MAX_SPECIES: usize = 8;
+const UNIT: f32 = 1.0 / 16_777_216.0;
+const SALT_ANGLE: u32 = 0x68bc_21eb;
+const SALT_TINT: u32 = 0x02e5_be93;
+const SALT_SPECIES: u32 = 0x1b87_3593;
+
+/// One species as the shaders read it (`Species` in `clumps.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct SpeciesGpu {
+    /// Height min, span; width min, span (m).
+    pub sizes: [f32; 4],
+    /// Stiffness min, span; the cumulative share up to this species (the last is 1); the
+    /// shape id.
+    pub attrs: [f32; 4],
+    /// Linear RGB; w: 1 = this colour, 0 = sward's own grass palette.
+    pub color: [f32; 4],
+}
+
+/// The field's species and clumps (`FieldTraits` in `clumps.wgsl`), a uniform of the tile
+/// kernel and of the grass draw.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct FieldTraits {
+    /// Clump spacing (0: no clumps), align, lean (radians), colour variation.
+    pub clumps: [f32; 4],
+    /// Species count (at least 1), the seed, unused x2.
+    pub info: [u32; 4],
+    pub species: [SpeciesGpu; MAX_SPECIES],
+}
+
+const _: () = assert!(std::mem::size_of::<FieldTraits>() == 32 + 48 * MAX_SPECIES);
+
+impl FieldTraits {
+    /// The traits of `field`: its species (or one made of its own ranges, shape and the
+    /// default palette) and its clumps.
+    pub fn from_field(field: &Field) -> Self {
+        let mut t = FieldTraits::default();
+        let range = |r: crate::scene::Range| [r.min, r.max - r.min];
+        if field.species.is_empty() {
+            let [h0, h1] = range(field.height);
+            let [w0, w1] = range(field.width);
+            let [s0, s1] = range(field.stiffness);
+            t.species[0] = SpeciesGpu {
+                sizes: [h0, h1, w0, w1],
+                attrs: [s0, s1, 1.0, field.shape.id() as f32],
+                color: [0.0; 4],
+            };
+            t.info[0] = 1;
+        } else {
+            let n = field.species.len().min(MAX_SPECIES);
+            let total: f32 = field.species[..n].iter().map(|s| s.share).sum();
+            let mut acc = 0.0;
+            for (k, s) in field.species[..n].iter().enumerate() {
+                acc += s.share;
+                let [h0, h1] = range(s.height);
+                let [w0, w1] = range(s.width);
+                let [s0, s1] = range(s.stiffness);
+                let cum = if k + 1 == n { 1.0 } else { acc / total };
+                t.species[k] = SpeciesGpu {
+                    sizes: [h0, h1, w0, w1],
+                    attrs: [s0, s1, cum, s.shape.id() as f32],
+                    color: [s.color.0, s.color.1, s.color.2, 1.0],
+                };
+            }
+            t.info[0] = n as u32;
+        }
+        t.info[1] = hash32(field.seed as u32 ^ hash32((field.seed >> 32) as u32 ^ 0x51ed_270b));
+        if let Some(c) = &field.clumps {
+            t.clumps = [c.size, c.align, c.lean.to_radians(), c.color_variation];
+        }
+        t
+    }
+
+    pub fn has_clumps(&self) -> bool {
+        self.clumps[0] > 0.0
+    }
+}
+
+/// The clump a root belongs to: its hash, direction (radians) and brightness draw in [0, 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clump {
+    pub hash: u32,
+    pub angle: f32,
+    pub tint: f32,
+}
+
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 * UNIT
+}
+
+fn cell_hash(seed: u32, cx: i32, cz: i32) -> u32 {
+    hash32(seed ^ hash32((cx as u32) ^ hash32(cz as u32).rotate_left(17)))
+}
+
+/// The clump of the root (x, z) (`clump_of` in WGSL). Needs clumps on.
+pub fn clump_of(t: &FieldTraits, x: f32, z: f32) -> Clump {
+    let size = t.clumps[0];
+    let gx = (x / size).floor() as i32;
+    let gz = (z / size).floor() as i32;
+    let mut best = f32::INFINITY;
+    let mut best_hash = 0;
+    for dz in -1..=1 {
+        for dx in -1..=1 {
+            let (cx, cz) = (gx.wrapping_add(dx), gz.wrapping_add(dz));
+            let h = cell_hash(t.info[1], cx, cz);
+            let px = (cx as f32 + unit(h)) * size;
+            let pz = (cz as f32 + unit(hash32(h))) * size;
+            let d = (px - x) * (px - x) + (pz - z) * (pz - z);
+            if d < best {
+                best = d;
+                best_hash = h;
+            }
+        }
+    }
+    Clump {
+        hash: best_hash,
+        angle: unit(hash32(best_hash ^ SALT_ANGLE)) * std::f32::consts::TAU,
+        tint: unit(hash32(best_hash ^ SALT_TINT)),
+    }
+}
+
+/// The species of the root (x, z) (`species_of` in WGSL): the clump's, else the root's own.
+pub fn species_of(t: &FieldTraits, x: f32, z: f32) -> usize {
+    let n = t.info[0].clamp(1, MAX_SPECIES as u32) as usize;
+    if n == 1 {
+        return 0;
+    }
+    let h = if t.has_clumps() {
+        hash32(clump_of(t, x, z).hash ^ SALT_SPECIES)
+    } else {
+        hash32(t.info[1] ^ hash32(x.to_bits() ^ hash32(z.to_bits()).rotate_left(17)))
+    };
+    let u = unit(h);
+    (0..n).find(|&k| u < t.species[k].attrs[2]).unwrap_or(n - 1)
+}
+
+/// A blade's attributes from its root and its uniform draws (`blade_traits` in WGSL):
+/// the species' ranges, and with clumps the facing turned towards the clump's direction by
+/// `align` and the bend grown by `lean`. Returns (angle, height, width, stiffness, bend).
+pub fn blade_traits(
+    t: &FieldTraits,
+    x: f32,
+    z: f32,
+    angle: f32,
+    bend: f32,
+    draws: [f32; 3],
+) -> (f32, f32, f32, f32, f32) {
+    let s = &t.species[species_of(t, x, z)];
+    let height = s.sizes[0] + s.sizes[1] * draws[0];
+    let width = s.sizes[2] + s.sizes[3] * draws[1];
+    let stiffness = s.attrs[0] + s.attrs[1] * draws[2];
+    if !t.has_clumps() {
+        return (angle, height, width, stiffness, bend);
+    }
+    let c = clump_of(t, x, z);
+    let turned = c.angle + (angle - std::f32::consts::PI) * (1.0 - t.clumps[1]);
+    (turned, height, width, stiffness, bend + t.clumps[2])
+}
