@@ -290,6 +290,7 @@ fn field_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 ))
             }
         };
+        super::panel_models::species_controls(ui, &mut app.field_draft);
         if ui.button("Regenerate").clicked() {
             app.regenerate(gpu);
         }

@@ -1,7 +1,7 @@
 //! The panel's "Blade model" controls inside the Physics section: which paper's blade the
 //! update steps and the draw bends (`physics.model`), and that model's parameters. The
 //! Verlet states are allocated the first time Verlet is picked; and the grass-to-grass
-//! propagation (`physics.propagation`).
+//! propagation (`physics.propagation`); the field's species and clumps.
 
 use egui::Ui;
 
@@ -82,5 +82,48 @@ pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
             app.status = Some(Status::Error(format!("propagation not changed: {e}")));
             app.renderer.scene.physics.propagation = before;
         }
+    }
+}
+
+/// The field draft's species and clumps (applied by the Field section's Regenerate): each
+/// species' share and colour, adding and removing species, and the clumps' settings.
+pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
+    ui.label("species (empty: the field's own ranges)");
+    let mut remove = None;
+    for (k, s) in f.species.iter_mut().enumerate() {
+        ui.horizontal(|ui| {
+            ui.label(format!("{k}: {:?}", s.shape));
+            ui.add(egui::Slider::new(&mut s.share, 0.01..=10.0).text("share"));
+            let mut c = [s.color.0, s.color.1, s.color.2];
+            if ui.color_edit_button_rgb(&mut c).changed() {
+                s.color = (c[0], c[1], c[2]);
+            }
+            if ui.small_button("✕").clicked() {
+                remove = Some(k);
+            }
+        });
+    }
+    if let Some(k) = remove {
+        f.species.remove(k);
+    }
+    if f.species.len() < crate::field::clumps::MAX_SPECIES && ui.button("add species").clicked() {
+        f.species.push(crate::scene::Species {
+            height: f.height,
+            width: f.width,
+            stiffness: f.stiffness,
+            shape: f.shape,
+            ..Default::default()
+        });
+    }
+    let mut on = f.clumps.is_some();
+    ui.checkbox(&mut on, "clumps");
+    if on != f.clumps.is_some() {
+        f.clumps = on.then(crate::scene::Clumps::default);
+    }
+    if let Some(c) = &mut f.clumps {
+        ui.add(egui::Slider::new(&mut c.size, 0.05..=5.0).text("clump size m"));
+        ui.add(egui::Slider::new(&mut c.align, 0.0..=1.0).text("align"));
+        ui.add(egui::Slider::new(&mut c.lean, -30.0..=30.0).text("lean °"));
+        ui.add(egui::Slider::new(&mut c.color_variation, 0.0..=1.0).text("colour variation"));
     }
 }
