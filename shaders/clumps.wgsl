@@ -19,7 +19,17 @@ struct FieldTraits {
     // Species count, seed.
     info: vec4<u32>,
     species: array<Species, 8>,
+    // Flowers: share of blades (0: none), stem height min, span, head radius.
+    flowers: vec4<f32>,
+    // Flowers: kind count.
+    flower_info: vec4<u32>,
+    // Per kind: petal RGB + petal count, centre RGB.
+    flower_kinds: array<vec4<f32>, 8>,
 }
+
+const STEM_WIDTH: f32 = 0.006;
+const SALT_FLOWER: u32 = 0x7feb352du;
+const SALT_KIND: u32 = 0x846ca68bu;
 
 const CLUMP_UNIT: f32 = 1.0 / 16777216.0;
 const SALT_ANGLE: u32 = 0x68bc21ebu;
@@ -82,6 +92,21 @@ fn species_of(x: f32, z: f32) -> u32 {
     return n - 1u;
 }
 
+fn root_hash(x: f32, z: f32, salt: u32) -> u32 {
+    return hash32(traits.info.y ^ salt ^ hash32(bitcast<u32>(x) ^ rotl17(hash32(bitcast<u32>(z)))));
+}
+
+// Whether the blade rooted at (x, z) is a flower stem (`clumps::is_flower`).
+fn is_flower(x: f32, z: f32) -> bool {
+    return traits.flowers.x > 0.0 && clump_unit(root_hash(x, z, SALT_FLOWER)) < traits.flowers.x;
+}
+
+// The kind of the flower rooted at (x, z) (`clumps::flower_kind`).
+fn flower_kind(x: f32, z: f32) -> u32 {
+    let n = clamp(traits.flower_info.x, 1u, 4u);
+    return root_hash(x, z, SALT_KIND) % n;
+}
+
 struct BladeTraits {
     angle: f32,
     height: f32,
@@ -96,6 +121,11 @@ struct BladeTraits {
 fn blade_traits(x: f32, z: f32, angle: f32, bend: f32, draws: vec3<f32>) -> BladeTraits {
     let s = traits.species[species_of(x, z)];
     var t = BladeTraits(angle, s.sizes.x + s.sizes.y * draws.x, s.sizes.z + s.sizes.w * draws.y, s.attrs.x + s.attrs.y * draws.z, bend);
+    // A flower stem: the flowers' height, thin.
+    if is_flower(x, z) {
+        t.height = traits.flowers.y + traits.flowers.z * draws.x;
+        t.width = STEM_WIDTH;
+    }
     if traits.clumps.x > 0.0 {
         let c = clump_of(x, z);
         t.angle = c.angle + (angle - 0.5 * TAU) * (1.0 - traits.clumps.y);

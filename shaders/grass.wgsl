@@ -48,6 +48,13 @@ struct VertexOut {
     // The species' colour (w = 1; w = 0: sward's own palette) and the clump's brightness.
     @location(5) @interpolate(flat) species_color: vec4<f32>,
     @location(6) @interpolate(flat) clump_light: f32,
+    // Flower heads: x 1 on the head's card (interpolated: the wedge between the stem and the
+    // card reads below 0.5), -1 for a far flower drawn as a coloured stem; y, z: the card's
+    // coordinates in [-1, 1].
+    @location(7) card: vec3<f32>,
+    // The flower's petal colour and petal count, and its centre colour.
+    @location(8) @interpolate(flat) petals: vec4<f32>,
+    @location(9) @interpolate(flat) centre: vec4<f32>,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -210,11 +217,31 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     let v0 = blade.v0_dir.xyz;
     let row = vid / 3u;
     let u = f32(vid % 3u) * 0.5;
-    let v = f32(row) / f32(rows);
+    var v = f32(row) / f32(rows);
+    // A flower (thesis §3.3): with 3 rows or more, the top two rows are its head, a card
+    // facing up at the stem's tip, and the stem takes the rows below; coarser, the stem is
+    // drawn with the head's colour at its top.
+    let flower = is_flower(v0.x, v0.z);
+    let head = flower && rows >= 3u;
+    var card = vec3<f32>(0.0);
+    if head {
+        v = min(f32(row) / f32(rows - 2u), 1.0);
+    } else if flower {
+        card.x = -1.0;
+    }
     var point = blade_point(blade, index, u, v);
+    if head && row >= rows - 1u {
+        let frame_axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
+        let a = (u - 0.5) * 2.0;
+        let b = select(-1.0, 1.0, row == rows);
+        let size = traits.flowers.w;
+        point.p = point.p + size * (frame_axes[0] * a + frame_axes[1] * b);
+        point.n = blade.up_stiffness.xyz;
+        card = vec3<f32>(1.0, a, b);
+    }
 
     let h_px = projected_height(v0, blade.v1_height.w, cull);
-    let morph = morph_factor(level, h_px);
+    let morph = select(morph_factor(level, h_px), 0.0, flower);
     if morph > 0.0 {
         // The coarser rows around this one, in exact integer arithmetic so rows the two
         // levels share are recognised and left alone.
@@ -236,6 +263,12 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     out.world = point.p;
     out.normal = point.n;
     out.uv = vec2<f32>(u, v);
+    out.card = card;
+    if flower {
+        let k = flower_kind(v0.x, v0.z);
+        out.petals = traits.flower_kinds[2u * k];
+        out.centre = traits.flower_kinds[2u * k + 1u];
+    }
     // Eq. 14: the vertex's height above the root after the deformation (in blade heights)
     // minus the blade's bend times c1 (0 upright, 1 pressed flat: how far the tip has sunk
     // from its full height), plus c2, clamped to [m_min, m_max].
@@ -289,6 +322,21 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     if in.tint.w > 0.5 {
         return vec4<f32>(debug_color(in.tint, n, sun, v), 1.0);
     }
+    // A flower head: petals around a centre, cut out of the card (a procedural texture:
+    // the petal edge swings with the angle, petal_count lobes).
+    if in.card.x > 0.5 {
+        let r = length(in.card.yz);
+        let theta = atan2(in.card.z, in.card.y);
+        let edge = 0.45 + 0.55 * abs(cos(0.5 * in.petals.w * theta));
+        if r > edge {
+            discard;
+        }
+        var c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
+        let light = AMBIENT_COLOR * 0.9 + SUN_COLOR * (abs(dot(n, sun)) * 1.2);
+        var color = c * light;
+        color = apply_fog(color, in.world, frame);
+        return vec4<f32>(tonemap(color), 1.0);
+    }
     // Per-blade colour between fresh and dry-ish green, lighter towards the tip.
     let fresh = vec3<f32>(0.10, 0.34, 0.05);
     let dry = vec3<f32>(0.32, 0.40, 0.09);
@@ -299,6 +347,10 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         albedo = in.species_color.rgb * mix(0.8, 1.2, in.tint.y);
     }
     albedo *= in.clump_light;
+    if in.card.x < -0.5 && v > 0.6 {
+        // A far flower: its head's colour at the top of the stem.
+        albedo = in.petals.rgb;
+    }
     albedo = mix(albedo * 0.55, albedo * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
     // Self-shadow: the base sits in the shade of its neighbours. sward's own darkens along
     // the blade's length; CWD-Sim's Eq. 14 follows the deformed height and the bend.

@@ -206,8 +206,8 @@ fn memory_follows_the_radius_not_the_terrain() {
     assert!(wider.0 > 2 * small.0, "{wider:?} vs {small:?}");
 }
 
-/// Species and clumps (issue 15, point 5) in streamed tiles: the kernel draws each blade's
-/// species and clump from its root exactly as the twin does.
+/// Species, clumps and flowers (issue 15, points 4 and 5) in streamed tiles: the kernel
+/// draws each blade's species, clump and flower stem from its root exactly as the twin does.
 #[test]
 fn gpu_tiles_with_species_and_clumps_match_the_twin() {
     let mut s = scene();
@@ -225,5 +225,9 @@ fn gpu_tiles_with_species_and_clumps_match_the_twin() {
         },
     ];
     s.field.clumps = Some(sward::scene::Clumps::default());
+    s.field.flowers = Some(sward::scene::Flowers {
+        fraction: 0.1,
+        ..Default::default()
+    });
     fly(s, None);
 }

@@ -9,6 +9,10 @@
 //! its blades turn towards (by `align`) and lean towards (`lean` degrees more bend), a
 //! brightness, and one species, drawn by the species' shares. Without clumps each blade
 //! draws its species from a hash of its root.
+//!
+//! Flowers (thesis §3.3–3.4) are blades too: a hash of the root makes `flowers.fraction`
+//! of them thin stems of the flowers' height, and the grass draw puts a head of one of the
+//! kinds at their tip.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -45,9 +49,24 @@ pub struct FieldTraits {
     /// Species count (at least 1), the seed, unused x2.
     pub info: [u32; 4],
     pub species: [SpeciesGpu; MAX_SPECIES],
+    /// Flowers: the share of blades (0: none), stem height min and span, head radius.
+    pub flowers: [f32; 4],
+    /// Flowers: kind count, unused x3.
+    pub flower_info: [u32; 4],
+    /// Per kind: petal RGB and petal count, then centre RGB and 0.
+    pub flower_kinds: [[f32; 4]; 2 * MAX_FLOWER_KINDS],
 }
 
-const _: () = assert!(std::mem::size_of::<FieldTraits>() == 32 + 48 * MAX_SPECIES);
+/// Kinds of flower a field has at most.
+pub const MAX_FLOWER_KINDS: usize = 4;
+/// Width of a flower stem (m).
+pub const STEM_WIDTH: f32 = 0.006;
+const SALT_FLOWER: u32 = 0x7feb_352d;
+const SALT_KIND: u32 = 0x846c_a68b;
+
+const _: () = assert!(
+    std::mem::size_of::<FieldTraits>() == 32 + 48 * MAX_SPECIES + 32 + 32 * MAX_FLOWER_KINDS
+);
 
 impl FieldTraits {
     /// The traits of `field`: its species (or one made of its own ranges, shape and the
@@ -86,6 +105,21 @@ impl FieldTraits {
         t.info[1] = hash32(field.seed as u32 ^ hash32((field.seed >> 32) as u32 ^ 0x51ed_270b));
         if let Some(c) = &field.clumps {
             t.clumps = [c.size, c.align, c.lean.to_radians(), c.color_variation];
+        }
+        if let Some(f) = field.flowers.as_ref().filter(|f| !f.kinds.is_empty()) {
+            t.flowers = [
+                f.fraction,
+                f.height.min,
+                f.height.max - f.height.min,
+                f.head_size,
+            ];
+            let n = f.kinds.len().min(MAX_FLOWER_KINDS);
+            t.flower_info[0] = n as u32;
+            for (k, kind) in f.kinds[..n].iter().enumerate() {
+                let (p, c) = (kind.petals, kind.centre);
+                t.flower_kinds[2 * k] = [p.0, p.1, p.2, kind.petal_count as f32];
+                t.flower_kinds[2 * k + 1] = [c.0, c.1, c.2, 0.0];
+            }
         }
         t
     }
@@ -153,6 +187,21 @@ pub fn species_of(t: &FieldTraits, x: f32, z: f32) -> usize {
     (0..n).find(|&k| u < t.species[k].attrs[2]).unwrap_or(n - 1)
 }
 
+fn root_hash(t: &FieldTraits, x: f32, z: f32, salt: u32) -> u32 {
+    hash32(t.info[1] ^ salt ^ hash32(x.to_bits() ^ hash32(z.to_bits()).rotate_left(17)))
+}
+
+/// Whether the blade rooted at (x, z) is a flower stem (`is_flower` in WGSL).
+pub fn is_flower(t: &FieldTraits, x: f32, z: f32) -> bool {
+    t.flowers[0] > 0.0 && unit(root_hash(t, x, z, SALT_FLOWER)) < t.flowers[0]
+}
+
+/// The kind of the flower rooted at (x, z) (`flower_kind` in WGSL).
+pub fn flower_kind(t: &FieldTraits, x: f32, z: f32) -> usize {
+    let n = t.flower_info[0].clamp(1, MAX_FLOWER_KINDS as u32);
+    (root_hash(t, x, z, SALT_KIND) % n) as usize
+}
+
 /// A blade's attributes from its root and its uniform draws (`blade_traits` in WGSL):
 /// the species' ranges, and with clumps the facing turned towards the clump's direction by
 /// `align` and the bend grown by `lean`. Returns (angle, height, width, stiffness, bend).
@@ -165,9 +214,14 @@ pub fn blade_traits(
     draws: [f32; 3],
 ) -> (f32, f32, f32, f32, f32) {
     let s = &t.species[species_of(t, x, z)];
-    let height = s.sizes[0] + s.sizes[1] * draws[0];
-    let width = s.sizes[2] + s.sizes[3] * draws[1];
+    let mut height = s.sizes[0] + s.sizes[1] * draws[0];
+    let mut width = s.sizes[2] + s.sizes[3] * draws[1];
     let stiffness = s.attrs[0] + s.attrs[1] * draws[2];
+    // A flower stem: the flowers' height, thin.
+    if is_flower(t, x, z) {
+        height = t.flowers[1] + t.flowers[2] * draws[0];
+        width = STEM_WIDTH;
+    }
     if !t.has_clumps() {
         return (angle, height, width, stiffness, bend);
     }

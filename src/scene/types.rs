@@ -178,6 +178,70 @@ pub struct Field {
     /// Blades grow in clumps whose members face and lean together and share a tint (as in
     /// Ghost of Tsushima); a clump is one species. `None`: no clumps.
     pub clumps: Option<Clumps>,
+    /// Flowers among the grass (Zhang's thesis §3.3–3.4): a share of the blades become
+    /// flower stems, simulated and pressed like any blade, with a head drawn at the tip.
+    pub flowers: Option<Flowers>,
+}
+
+/// Flowers: which blades are stems, how tall, and the kinds of head.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Flowers {
+    /// Share of the blades that are flowers (the terrain's density map thins them with the
+    /// grass).
+    pub fraction: f32,
+    /// Stem height in metres (the thesis sets heads at about 0.65 of the grass height:
+    /// choose it so the heads show among the blades).
+    pub height: Range,
+    /// Radius of a head in metres.
+    pub head_size: f32,
+    /// The kinds of flower (at most 4), each as likely.
+    pub kinds: Vec<FlowerKind>,
+}
+
+/// One kind of flower head.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct FlowerKind {
+    /// Petal colour (linear RGB, 0..1).
+    pub petals: (f32, f32, f32),
+    /// Colour of the head's centre.
+    pub centre: (f32, f32, f32),
+    /// Number of petals.
+    pub petal_count: u32,
+}
+
+impl Default for FlowerKind {
+    fn default() -> Self {
+        Self {
+            petals: (0.9, 0.9, 0.85),
+            centre: (0.9, 0.65, 0.1),
+            petal_count: 12,
+        }
+    }
+}
+
+impl Default for Flowers {
+    fn default() -> Self {
+        Self {
+            fraction: 0.02,
+            height: Range::new(0.45, 0.7),
+            head_size: 0.035,
+            kinds: vec![
+                FlowerKind::default(),
+                FlowerKind {
+                    petals: (0.95, 0.78, 0.08),
+                    centre: (0.8, 0.55, 0.05),
+                    petal_count: 5,
+                },
+                FlowerKind {
+                    petals: (0.55, 0.3, 0.8),
+                    centre: (0.95, 0.85, 0.3),
+                    petal_count: 6,
+                },
+            ],
+        }
+    }
 }
 
 /// One species of grass in a mixed field.
@@ -252,6 +316,7 @@ impl Default for Field {
             tile_size: 0.0,
             species: Vec::new(),
             clumps: None,
+            flowers: None,
         }
     }
 }

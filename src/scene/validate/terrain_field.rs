@@ -34,6 +34,10 @@ const SHARE: Allowed = Allowed::open_closed(0.0, 1000.0, "");
 const COLOR: Allowed = Allowed::closed(0.0, 1.0, "");
 const CLUMP_SIZE: Allowed = Allowed::closed(0.05, 100.0, "m");
 const LEAN: Allowed = Allowed::closed(-60.0, 60.0, "degrees");
+const HEAD_SIZE: Allowed = Allowed::closed(0.005, 0.5, "m");
+const PETALS: Integers = Integers::new(3, 16, "");
+const KINDS_TEXT: &str =
+    "a list of 1 to 4 kinds: [(petals: (r, g, b), centre: (r, g, b), petal_count: ..), ...]";
 const SPECIES_TEXT: &str = "a list of at most 8 species: [(share: .., height: .., width: .., \
      stiffness: .., color: (r, g, b), shape: ..), ...]";
 
@@ -93,6 +97,17 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("field.clumps.align", Rule::Real(FRACTION)),
     ("field.clumps.lean", Rule::Real(LEAN)),
     ("field.clumps.color_variation", Rule::Real(FRACTION)),
+    (
+        "field.flowers",
+        Rule::Text("None or Some((fraction: .., height: .., head_size: .., kinds: [..]))"),
+    ),
+    ("field.flowers.fraction", Rule::Real(FRACTION)),
+    ("field.flowers.height", Rule::Range(HEIGHT)),
+    ("field.flowers.head_size", Rule::Real(HEAD_SIZE)),
+    ("field.flowers.kinds", Rule::Text(KINDS_TEXT)),
+    ("field.flowers.kinds[].petals", Rule::Vector(COLOR)),
+    ("field.flowers.kinds[].centre", Rule::Vector(COLOR)),
+    ("field.flowers.kinds[].petal_count", Rule::Integer(PETALS)),
 ];
 
 pub(super) fn terrain(check: &Checker, terrain: &mut Terrain) -> Result<()> {
@@ -168,6 +183,23 @@ pub(super) fn field(check: &Checker, prefix: &str, field: &Field) -> Result<()> 
         check.range(&at("width"), sp.width, WIDTH)?;
         check.range(&at("stiffness"), sp.stiffness, STIFFNESS)?;
         check.vector(&at("color"), &[sp.color.0, sp.color.1, sp.color.2], COLOR)?;
+    }
+    if let Some(f) = &field.flowers {
+        check.real(&at("flowers.fraction"), f.fraction, FRACTION)?;
+        check.range(&at("flowers.height"), f.height, HEIGHT)?;
+        check.real(&at("flowers.head_size"), f.head_size, HEAD_SIZE)?;
+        let n = f.kinds.len();
+        if n == 0 || n > crate::field::clumps::MAX_FLOWER_KINDS {
+            let name = at("flowers.kinds");
+            return Err(check.error(&name, format!("{name} has {n} kinds: allowed {KINDS_TEXT}")));
+        }
+        for (k, kind) in f.kinds.iter().enumerate() {
+            let at = |name: &str| format!("{prefix}.flowers.kinds[{k}].{name}");
+            let (p, c) = (kind.petals, kind.centre);
+            check.vector(&at("petals"), &[p.0, p.1, p.2], COLOR)?;
+            check.vector(&at("centre"), &[c.0, c.1, c.2], COLOR)?;
+            check.integer(&at("petal_count"), kind.petal_count, PETALS)?;
+        }
     }
     if let Some(c) = &field.clumps {
         check.real(&at("clumps.size"), c.size, CLUMP_SIZE)?;
