@@ -120,6 +120,33 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
                 cover[i] = true;
             }
         }
+        // A flower among the blades (`field.flowers`): its head, a disc of its kind's
+        // petal colour around its centre colour, at the tip.
+        if let Some(f) = field.flowers.as_ref().filter(|f| !f.kinds.is_empty()) {
+            if r(7) < f.fraction {
+                let kind = &f.kinds[(r(8) * f.kinds.len() as f32) as usize % f.kinds.len()];
+                let radius = (f.head_size / card_w).max(1.5 / w as f32);
+                let (cx, cy) = (p2.x * w as f32, (1.0 - p2.y) * h as f32);
+                let rx = radius * w as f32;
+                // The head seen from the side: an ellipse half as tall as wide.
+                let ry = 0.5 * rx * aspect * h as f32 / w as f32;
+                for y in (cy - ry).floor() as i64..=(cy + ry).ceil() as i64 {
+                    for x in (cx - rx).floor() as i64..=(cx + rx).ceil() as i64 {
+                        if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                            continue;
+                        }
+                        let (dx, dy) = ((x as f32 - cx) / rx, (y as f32 - cy) / ry.max(1e-3));
+                        let d = (dx * dx + dy * dy).sqrt();
+                        if d <= 1.0 {
+                            let c = if d < 0.3 { kind.centre } else { kind.petals };
+                            let i = y as usize * w + x as usize;
+                            color[i] = [c.0, c.1, c.2];
+                            cover[i] = true;
+                        }
+                    }
+                }
+            }
+        }
     }
     // Down to texels: the mean colour of the covered supersamples, and the coverage.
     let mut rgba = vec![[0.0f32; 4]; (width * height) as usize];
@@ -255,5 +282,39 @@ pub fn match_mean(layers: &mut [Layer], target: [f32; 3]) {
                 t[k] *= gain[k];
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The far level includes the flowers: a field with flowers puts its kinds' petal
+    /// colours into the tufts, a field without none.
+    #[test]
+    fn flowers_reach_the_atlas() {
+        let purple = |field: &Field| {
+            (0..VARIANTS)
+                .map(|v| render_layer(field, (1.0, 0.6), v))
+                .map(|l| {
+                    l.rgba
+                        .iter()
+                        .filter(|p| p[3] > 0.5 && p[2] > p[1] + 0.1 && p[0] > p[1])
+                        .count()
+                })
+                .sum::<usize>()
+        };
+        let mut field = Field::default();
+        assert_eq!(purple(&field), 0);
+        field.flowers = Some(crate::scene::Flowers {
+            fraction: 0.3,
+            kinds: vec![crate::scene::FlowerKind {
+                petals: (0.55, 0.3, 0.8),
+                ..Default::default()
+            }],
+            ..Default::default()
+        });
+        let n = purple(&field);
+        assert!(n > 10, "{n} purple texels");
     }
 }
