@@ -87,6 +87,32 @@ pub fn far_grass_albedo() -> Vec3 {
     (base * 0.55).lerp(base * 1.25 + Vec3::new(0.03, 0.04, 0.0), v)
 }
 
+/// The far ground's colour for `field`: the mean of its species' colours by share (each
+/// with the along-the-blade shading of [`far_grass_albedo`]; sward's own palette for a
+/// field without species), with its flowers' petals mixed in by the share of the ground
+/// their heads cover seen from above (blades per m² × fraction × π r², at most a half).
+pub fn far_albedo(field: &crate::scene::Field) -> Vec3 {
+    let shade = |a: Vec3| (a * 0.55).lerp(a * 1.25 + Vec3::new(0.03, 0.04, 0.0), 0.625);
+    let mut albedo = if field.species.is_empty() {
+        far_grass_albedo()
+    } else {
+        let total: f32 = field.species.iter().map(|s| s.share).sum();
+        field
+            .species
+            .iter()
+            .map(|s| shade(Vec3::from(s.color)) * (s.share / total.max(1e-6)))
+            .sum()
+    };
+    if let Some(f) = field.flowers.as_ref().filter(|f| !f.kinds.is_empty()) {
+        let petals: Vec3 =
+            f.kinds.iter().map(|k| Vec3::from(k.petals)).sum::<Vec3>() / f.kinds.len() as f32;
+        let cover = (field.density * f.fraction * std::f32::consts::PI * f.head_size * f.head_size)
+            .clamp(0.0, 0.5);
+        albedo = albedo.lerp(petals, cover);
+    }
+    albedo
+}
+
 /// Distances over which the ground turns from soil to grass colour: from a quarter of the
 /// culling distance to the culling distance. Blades thin out with distance (distance
 /// culling, Jahrmann & Wimmer Section 4.3) and go sub-pixel; the ground takes over the
@@ -406,5 +432,38 @@ mod tests {
         );
         // Green dominates.
         assert!(closed.y > closed.x && closed.y > closed.z);
+    }
+
+    /// The far colour follows the field: its own palette without species, the species'
+    /// colours by share, and the flowers' petals by the ground their heads cover.
+    #[test]
+    fn far_colour_includes_species_and_flowers() {
+        let mut field = crate::scene::Field::default();
+        assert_eq!(far_albedo(&field), far_grass_albedo());
+        field.species = vec![crate::scene::Species {
+            color: (0.5, 0.4, 0.1),
+            ..Default::default()
+        }];
+        let straw = far_albedo(&field);
+        assert!(straw.x > far_grass_albedo().x * 1.5, "{straw}");
+        field.flowers = Some(crate::scene::Flowers {
+            fraction: 0.2,
+            head_size: 0.05,
+            kinds: vec![crate::scene::FlowerKind {
+                petals: (0.6, 0.2, 0.9),
+                ..Default::default()
+            }],
+            ..Default::default()
+        });
+        // 80 blades/m² × 0.2 × π 0.05² ≈ 0.126 of the ground is petals.
+        let flowered = far_albedo(&field);
+        let expected = straw.lerp(
+            Vec3::new(0.6, 0.2, 0.9),
+            80.0 * 0.2 * std::f32::consts::PI * 0.0025,
+        );
+        assert!(
+            (flowered - expected).abs().max_element() < 1e-5,
+            "{flowered} {expected}"
+        );
     }
 }

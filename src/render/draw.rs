@@ -537,6 +537,11 @@ impl DrawPass {
         self.terrain_pass.height_buffers()
     }
 
+    /// The far ground's grass colour (`clipmap::far_albedo` of the field).
+    pub fn set_far_albedo(&mut self, albedo: glam::Vec3) {
+        self.terrain_pass.grass_albedo = albedo;
+    }
+
     /// Says whether blades grow past the terrain square (see `TerrainPass::grass_everywhere`).
     pub fn set_grass_everywhere(&mut self, everywhere: bool) {
         self.terrain_pass.grass_everywhere = everywhere;

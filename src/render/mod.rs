@@ -281,6 +281,7 @@ impl Renderer {
         }
         let mut draw = draw;
         draw.set_grass_everywhere(tiles.is_some() && terrain.unbounded);
+        draw.set_far_albedo(clipmap::far_albedo(&scene.field));
         let mut r = Self {
             buffers,
             update,

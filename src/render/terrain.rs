@@ -34,6 +34,8 @@ pub struct TerrainPass {
     /// Blades grow past the terrain square too (a streamed field on an unbounded terrain):
     /// the ground there is shaded like the ground under the near blades.
     pub grass_everywhere: bool,
+    /// The far ground's grass colour (`clipmap::far_albedo` of the field).
+    pub grass_albedo: glam::Vec3,
     /// What `prepare` placed: the variant each level draws, and the level count.
     drawn: Cell<([u8; MAX_LEVELS], u32)>,
 }
@@ -204,6 +206,7 @@ impl TerrainPass {
             has_density: density.is_some(),
             blend,
             grass_everywhere: false,
+            grass_albedo: super::clipmap::far_grass_albedo(),
             drawn: Cell::new(([0; MAX_LEVELS], 0)),
         }
     }
@@ -230,6 +233,7 @@ impl TerrainPass {
         );
         u.view_proj_relative = camera.view_proj_relative(aspect).to_cols_array_2d();
         u.grid[3] = u32::from(self.grass_everywhere);
+        u.grass_albedo = self.grass_albedo.extend(0.0).into();
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let levels = u.info[3].min(MAX_LEVELS as u32);
         let mut variants = [0u8; MAX_LEVELS];

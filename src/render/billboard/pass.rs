@@ -88,7 +88,7 @@ impl BillboardPass {
         // far level read as one field (the tufts keep their variation around it).
         atlas::match_mean(
             &mut layers,
-            crate::render::clipmap::far_grass_albedo().into(),
+            crate::render::clipmap::far_albedo(field).into(),
         );
         let mean_albedo = atlas::mean_color(&layers);
         let atlas_tex = upload_atlas(gpu, &layers);
