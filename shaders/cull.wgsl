@@ -67,6 +67,8 @@ struct PatchDispatch {
 
 const TEST_PATCH: u32 = 1u;
 const TEST_ORIENTATION: u32 = 2u;
+// `field::clumps::STEM_WIDTH`: the width that marks a flower's stem.
+const FLOWER_STEM_WIDTH: f32 = 0.006;
 const TEST_FRUSTUM: u32 = 4u;
 const TEST_DISTANCE: u32 = 8u;
 const TEST_OCCLUSION: u32 = 16u;
@@ -491,7 +493,9 @@ fn early_tests(i: u32, blade: Blade) -> bool {
     let v2 = blade.v2_width.xyz;
     let up = blade.up_stiffness.xyz;
     let camera = params.camera_pos.xyz;
-    if (params.tests & TEST_ORIENTATION) != 0u {
+    // A flower's stem (STEM_WIDTH wide, `field::clumps`) carries a head that faces up: no
+    // side of it is edge-on, so the orientation test spares it.
+    if (params.tests & TEST_ORIENTATION) != 0u && blade.v2_width.w != FLOWER_STEM_WIDTH {
         let width_dir = blade_frame(up, blade.v0_dir.w)[0];
         let to_blade = v0 - camera;
         var view_dir = vec3<f32>(0.0);

@@ -73,3 +73,26 @@ fn shared_constants_match_rust() {
     assert_eq!(value("SPHERE_WORDS"), (MAX_SPHERES / 32) as u64);
     assert_eq!(value("BVH_NODE_BASE"), BVH_NODE_BASE as u64);
 }
+
+/// The flower stem's width is written in three places (the generators' `STEM_WIDTH`, the
+/// WGSL twin, and the cull that spares stems from the orientation test): one value.
+#[test]
+fn flower_stem_width_matches_rust() {
+    let value = |file: &str, name: &str| -> f32 {
+        let src = source(file);
+        let line = src
+            .lines()
+            .find(|l| l.starts_with(&format!("const {name}: f32 = ")))
+            .unwrap_or_else(|| panic!("{file} has no const {name}"));
+        line.rsplit('=')
+            .next()
+            .unwrap()
+            .trim()
+            .trim_end_matches(';')
+            .parse()
+            .expect("a number")
+    };
+    let rust = sward::field::clumps::STEM_WIDTH;
+    assert_eq!(value("clumps.wgsl", "STEM_WIDTH"), rust);
+    assert_eq!(value("cull.wgsl", "FLOWER_STEM_WIDTH"), rust);
+}

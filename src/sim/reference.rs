@@ -867,7 +867,10 @@ pub fn cull_blade(
     let v2 = v4(blade.v2_width).xyz();
     let up = v4(blade.up_stiffness).xyz();
     let camera = v4(params.camera_pos).xyz();
-    if params.tests & TEST_ORIENTATION != 0 {
+    // A flower's stem (`field::clumps::STEM_WIDTH` wide) carries a head that faces up: no
+    // side of it is edge-on, so the orientation test spares it.
+    let flower = blade.v2_width[3] == crate::field::clumps::STEM_WIDTH;
+    if params.tests & TEST_ORIENTATION != 0 && !flower {
         // Eq. 17: the view direction against the blade's width direction.
         let (width_dir, _) = blade_frame(up, blade.v0_dir[3]);
         let view_dir = (v0 - camera).normalize_or_zero();
