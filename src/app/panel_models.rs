@@ -1,7 +1,7 @@
 //! The panel's "Blade model" controls inside the Physics section: which paper's blade the
 //! update steps and the draw bends (`physics.model`), and that model's parameters. The
 //! Verlet states are allocated the first time Verlet is picked; and the grass-to-grass
-//! propagation (`physics.propagation`); the field's species and clumps.
+//! propagation (`physics.propagation`); the field's species, clumps and flowers.
 
 use egui::Ui;
 
@@ -85,8 +85,9 @@ pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     }
 }
 
-/// The field draft's species and clumps (applied by the Field section's Regenerate): each
-/// species' share and colour, adding and removing species, and the clumps' settings.
+/// The field draft's species, clumps and flowers (applied by the Field section's
+/// Regenerate): each species' share and colour, adding and removing species, the clumps'
+/// settings, and the flowers' share, head size and kinds' colours.
 pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
     ui.label("species (empty: the field's own ranges)");
     let mut remove = None;
@@ -125,5 +126,27 @@ pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
         ui.add(egui::Slider::new(&mut c.align, 0.0..=1.0).text("align"));
         ui.add(egui::Slider::new(&mut c.lean, -30.0..=30.0).text("lean °"));
         ui.add(egui::Slider::new(&mut c.color_variation, 0.0..=1.0).text("colour variation"));
+    }
+    let mut flowers = f.flowers.is_some();
+    ui.checkbox(&mut flowers, "flowers");
+    if flowers != f.flowers.is_some() {
+        f.flowers = flowers.then(crate::scene::Flowers::default);
+    }
+    if let Some(fl) = &mut f.flowers {
+        ui.add(egui::Slider::new(&mut fl.fraction, 0.0..=0.3).text("share of blades"));
+        ui.add(egui::Slider::new(&mut fl.head_size, 0.01..=0.15).text("head radius m"));
+        for kind in &mut fl.kinds {
+            ui.horizontal(|ui| {
+                let mut p = [kind.petals.0, kind.petals.1, kind.petals.2];
+                if ui.color_edit_button_rgb(&mut p).changed() {
+                    kind.petals = (p[0], p[1], p[2]);
+                }
+                let mut c = [kind.centre.0, kind.centre.1, kind.centre.2];
+                if ui.color_edit_button_rgb(&mut c).changed() {
+                    kind.centre = (c[0], c[1], c[2]);
+                }
+                ui.add(egui::Slider::new(&mut kind.petal_count, 3..=16).text("petals"));
+            });
+        }
     }
 }
