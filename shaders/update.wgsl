@@ -97,14 +97,7 @@ fn main(
     // Eq. 3: recovery, weakened while the blade is crippled by collisions.
     let recovery = (rest - v2) * stiffness * max(1.0 - eta, 0.1);
     // Eq. 4: environmental gravity, direction and centre blended by t.
-    let gd = params.gravity_dir;
-    let gc = params.gravity_center;
-    let to_center = gc.xyz - v0;
-    var center_dir = vec3<f32>(0.0);
-    if length(to_center) > 1e-6 {
-        center_dir = normalize(to_center);
-    }
-    let g_env = params.mass * (gd.xyz * gd.w * (1.0 - params.gravity_blend) + center_dir * gc.w * params.gravity_blend);
+    let g_env = environmental_gravity(v0);
     // Eq. 5-6: front gravity.
     let gravity = g_env + 0.25 * length(g_env) * front;
     // Eq. 7-8: wind scaled by the alignment theta.

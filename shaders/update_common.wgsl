@@ -71,3 +71,17 @@ fn rest_curve(v0: vec3<f32>, rest: vec3<f32>, up: vec3<f32>, height: f32) -> arr
     }
     return validate(v0, tip, up, height);
 }
+
+// Eq. 4: the environmental gravity on a blade rooted at v0, direction and centre blended by
+// t, times the mass. Shared by every blade model; the twin of
+// `reference::environmental_gravity`.
+fn environmental_gravity(v0: vec3<f32>) -> vec3<f32> {
+    let gd = params.gravity_dir;
+    let gc = params.gravity_center;
+    let to_center = gc.xyz - v0;
+    var center_dir = vec3<f32>(0.0);
+    if length(to_center) > 1e-6 {
+        center_dir = normalize(to_center);
+    }
+    return params.mass * (gd.xyz * gd.w * (1.0 - params.gravity_blend) + center_dir * gc.w * params.gravity_blend);
+}

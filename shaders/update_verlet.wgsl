@@ -136,14 +136,7 @@ fn main(
     }
 
     // Eq. 4: environmental gravity, as Jahrmann's.
-    let gd = params.gravity_dir;
-    let gc = params.gravity_center;
-    let to_center = gc.xyz - v0;
-    var center_dir = vec3<f32>(0.0);
-    if length(to_center) > 1e-6 {
-        center_dir = normalize(to_center);
-    }
-    let g_env = params.mass * (gd.xyz * gd.w * (1.0 - params.gravity_blend) + center_dir * gc.w * params.gravity_blend);
+    let g_env = environmental_gravity(v0);
     // The wind at each control point, at its own height (§3.2.2), read once per step.
     var w = Chain(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
     for (var k = 1u; k < 4u; k++) {

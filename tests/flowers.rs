@@ -60,29 +60,7 @@ fn flowers_take_their_share_with_thin_stems_of_their_height() {
 /// flowers, and (almost) none without.
 #[test]
 fn heads_are_drawn_in_their_colours() {
-    let render = |s: Scene| {
-        let gpu = common::gpu();
-        let session = Session::new(s, None, Some(&gpu)).expect("field");
-        let mut r = sward::render::Renderer::from_session(
-            &gpu,
-            &session,
-            sward::render::target::COLOR_FORMAT,
-        )
-        .expect("renderer");
-        let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
-        let size = (160, 100);
-        let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        gpu.check_errors().expect("no GPU error");
-        target.read_image(&gpu).expect("image")
-    };
+    let render = |s: Scene| common::render_frame(s, (160, 100));
     let count = |img: &image::RgbaImage| {
         let mut c = [0usize; 3];
         // The lower 60 % of the picture: grass, no sky.

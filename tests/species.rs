@@ -140,30 +140,10 @@ fn clumps_share_species_and_facing() {
 #[test]
 fn species_colours_are_drawn() {
     let render = |s: Scene| {
-        let gpu = common::gpu();
         let mut s = s;
         s.camera.eye = (0.0, 1.6, 3.5);
         s.camera.target = (0.0, 0.2, 0.0);
-        let session = Session::new(s, None, Some(&gpu)).expect("field");
-        let mut r = sward::render::Renderer::from_session(
-            &gpu,
-            &session,
-            sward::render::target::COLOR_FORMAT,
-        )
-        .expect("renderer");
-        let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
-        let size = (128, 80);
-        let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        gpu.check_errors().expect("no GPU error");
-        target.read_image(&gpu).expect("image")
+        common::render_frame(s, (128, 80))
     };
     let straw = |img: &image::RgbaImage| {
         img.pixels()

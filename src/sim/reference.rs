@@ -331,6 +331,23 @@ pub fn blade_rest_pose(blade: &Blade, state: &BladeState) -> (Vec3, Vec3) {
     )
 }
 
+/// Eq. 4: the environmental gravity on a blade rooted at `v0`, direction and centre blended
+/// by t, times the mass (`environmental_gravity` in `update_common.wgsl`). Shared by every
+/// blade model's twin.
+pub fn environmental_gravity(params: &SimParams, v0: Vec3) -> Vec3 {
+    let gd = v4(params.gravity_dir);
+    let gc = v4(params.gravity_center);
+    let to_center = gc.xyz() - v0;
+    let center_dir = if to_center.length() > 1e-6 {
+        to_center.normalize()
+    } else {
+        Vec3::ZERO
+    };
+    params.mass
+        * (gd.xyz() * gd.w * (1.0 - params.gravity_blend)
+            + center_dir * gc.w * params.gravity_blend)
+}
+
 /// One update step of one blade (Eq. 1–16 and the validation), the twin of `update.wgsl`.
 /// Returns true when the new state was non-finite or absurd and the blade was reset to
 /// its rest pose instead (see [`state_sound`]).
@@ -394,17 +411,7 @@ fn step_blade_push(
     // Eq. 3: recovery, weakened by the collision strength.
     let recovery = (rest - v2) * stiffness * (1.0 - eta).max(0.1);
     // Eq. 4: environmental gravity, direction and centre blended by t.
-    let gd = v4(params.gravity_dir);
-    let gc = v4(params.gravity_center);
-    let to_center = gc.xyz() - v0;
-    let center_dir = if to_center.length() > 1e-6 {
-        to_center.normalize()
-    } else {
-        Vec3::ZERO
-    };
-    let g_env = params.mass
-        * (gd.xyz() * gd.w * (1.0 - params.gravity_blend)
-            + center_dir * gc.w * params.gravity_blend);
+    let g_env = environmental_gravity(params, v0);
     // Eq. 5–6: front gravity.
     let gravity = g_env + 0.25 * g_env.length() * front;
     // Eq. 7–8: wind with the alignment θ.

@@ -155,17 +155,7 @@ pub fn step_push(
         o[3] += moved;
     }
 
-    let gd = v4(params.gravity_dir);
-    let gc = v4(params.gravity_center);
-    let to_center = gc.truncate() - v0;
-    let center_dir = if to_center.length() > 1e-6 {
-        to_center.normalize()
-    } else {
-        Vec3::ZERO
-    };
-    let g_env = params.mass
-        * (gd.truncate() * gd.w * (1.0 - params.gravity_blend)
-            + center_dir * gc.w * params.gravity_blend);
+    let g_env = super::reference::environmental_gravity(params, v0);
     let mut w = [Vec3::ZERO; 4];
     for k in 1..4 {
         w[k] = wind_at(p[k], (p[k] - v0).dot(up).max(0.0), params, grid) * params.model[3];

@@ -28,6 +28,26 @@ pub fn stepped(gpu: &Gpu, session: &Session, steps: u32, dt: f32) -> Renderer {
     r
 }
 
+/// One frame of `scene` (a whole-field session, one step of 1/30 s) from its camera, at
+/// `size`, read back.
+pub fn render_frame(scene: Scene, size: (u32, u32)) -> image::RgbaImage {
+    let gpu = gpu();
+    let session = Session::new(scene, None, Some(&gpu)).expect("field");
+    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
+    let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");
+    r.frame(
+        &gpu,
+        1.0 / 30.0,
+        &camera,
+        &target.color_view,
+        &target.depth_view,
+        size,
+    );
+    gpu.check_errors().expect("no GPU error");
+    target.read_image(&gpu).expect("image")
+}
+
 /// A scene with no forces at all: no gravity, no wind, no colliders.
 pub fn still_scene() -> Scene {
     let mut s = Scene::default();
