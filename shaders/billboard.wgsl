@@ -8,6 +8,7 @@
 // billboard bending). It fades in over the band where the blades thin out and out towards
 // the billboard radius: dithered (alpha test) or through alpha-to-coverage with MSAA.
 //!include common.wgsl
+//!include light.wgsl
 //!include terrain_height.wgsl
 //!include billboard_place.wgsl
 
@@ -73,9 +74,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let sun = frame.sun_dir.xyz;
     // The far ground's grass lighting (terrain.wgsl), so cards and ground read as one.
+    // The shadows of what stands between the card and the sun fall on it too.
+    let lit = sun_visibility(in.world);
     let diffuse = max(sun.y, 0.0);
     var color = tex.rgb
-        * (AMBIENT_COLOR * 0.9 * 0.85 + SUN_COLOR * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
-    color = apply_fog(color, in.world, frame);
+        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * lit * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+    color = fog(color, in.world);
     return vec4<f32>(tonemap(color), tex.a);
 }

@@ -184,40 +184,6 @@ fn blade_frame(up: vec3<f32>, angle: f32) -> array<vec3<f32>, 2> {
     return array<vec3<f32>, 2>(width_dir, front);
 }
 
-// Sky colour along a view direction: shared by the sky pass and the fog of every surface so
-// that distant grass fades into the horizon it stands against.
-fn sky_color(dir: vec3<f32>, sun: vec3<f32>) -> vec3<f32> {
-    let h = clamp(dir.y, -1.0, 1.0);
-    let zenith = vec3<f32>(0.22, 0.42, 0.78);
-    let horizon = vec3<f32>(0.70, 0.80, 0.90);
-    var c = mix(horizon, zenith, pow(max(h, 0.0), 0.55));
-    if h < 0.0 {
-        c = mix(horizon, vec3<f32>(0.45, 0.50, 0.45), min(-h * 3.0, 1.0));
-    }
-    let s = max(dot(dir, sun), 0.0);
-    c += vec3<f32>(1.0, 0.85, 0.6) * (pow(s, 600.0) * 4.0 + pow(s, 12.0) * 0.25);
-    return c;
-}
-
-// Colour of the sunlight and of the sky's ambient light.
-const SUN_COLOR: vec3<f32> = vec3<f32>(1.0, 0.93, 0.80);
-const AMBIENT_COLOR: vec3<f32> = vec3<f32>(0.36, 0.44, 0.55);
-
-// Blends a lit surface colour into the sky with distance (aerial perspective).
-fn apply_fog(color: vec3<f32>, world: vec3<f32>, frame: Frame) -> vec3<f32> {
-    let to_p = world - frame.camera_pos.xyz;
-    let dist = length(to_p);
-    let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));
-    return mix(color, sky_color(to_p / max(dist, 1e-4), frame.sun_dir.xyz), clamp(f, 0.0, 1.0));
-}
-
-// Filmic curve from linear radiance to display (the target is sRGB, which applies the
-// transfer function); keeps bright sky and sunlit tips from clipping to white.
-fn tonemap(c: vec3<f32>) -> vec3<f32> {
-    let x = c * 0.9;
-    return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), vec3<f32>(0.0), vec3<f32>(1.0));
-}
-
 // Integer hash -> [0, 1); used for per-blade colour variation (same value every frame).
 fn hash01(x: u32) -> f32 {
     var h = x * 747796405u + 2891336453u;

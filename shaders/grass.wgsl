@@ -10,6 +10,7 @@
 // linear interpolation between the coarser rows around it), so at the threshold the finer
 // mesh has the coarser one's shape and the switch moves nothing.
 //!include common.wgsl
+//!include light.wgsl
 //!include wind.wgsl
 //!include wind_sample.wgsl
 //!include cwd.wgsl
@@ -55,6 +56,12 @@ struct VertexOut {
     // The flower's petal colour and petal count, and its centre colour.
     @location(8) @interpolate(flat) petals: vec4<f32>,
     @location(9) @interpolate(flat) centre: vec4<f32>,
+    // The blade's width direction: the fragment bends the normal along it across the
+    // blade (the rounded normal).
+    @location(10) side: vec3<f32>,
+    // How far the blade is bent from its rest pose, in blade heights: the wind's gusts
+    // as they run over the field (the shading waves).
+    @location(11) @interpolate(flat) gust: f32,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -167,8 +174,8 @@ fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
     if frame.shape.w > 0.5 {
         p += half_width * n * (0.5 - abs(u - 0.5) * (1.0 - v));
     }
-    // Bend the shading normal across the width so the blade reads as rounded.
-    return BladePoint(p, normalize(n + t1 * (u - 0.5) * 1.2));
+    // The flat blade's normal: the fragment rounds it across the width.
+    return BladePoint(p, n);
 }
 
 // How far a blade drawn at `level` has morphed towards level + 1: 0 above the morph band,
@@ -185,6 +192,9 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
 fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
     // The slot in the visible list: the instance's batch, the blade in the batch.
     var level = draw_level.x;
+    // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade with
+    // the coarsest level's mesh, out to the radius.
+    let shadow_pass = frame.debug.z > 0.0;
     var rows = 1u;
     var slot = 0u;
     var rel = 0u;
@@ -194,11 +204,17 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
         let region = max(draw_level.y, 1u);
         level = min(inst * DRAW_BATCH / region, 2u);
         rows = max(cull.lod_segments[level], 1u);
+        if shadow_pass {
+            rows = max(cull.lod_segments[2], 1u);
+        }
         slot = inst * DRAW_BATCH + batch_vid / (3u * (rows + 1u));
         rel = slot - level * region;
     } else {
         // One draw per level, its region bound at an offset: slots count from 0.
         rows = max(cull.lod_segments[level], 1u);
+        if shadow_pass {
+            rows = max(cull.lod_segments[2], 1u);
+        }
         slot = inst * DRAW_BATCH + batch_vid / (3u * (rows + 1u));
         rel = slot;
     }
@@ -215,6 +231,11 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     let index = visible[slot];
     let blade = blades[index];
     let v0 = blade.v0_dir.xyz;
+    if shadow_pass && distance(v0, frame.camera_pos.xyz) > frame.debug.z {
+        var none: VertexOut;
+        none.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
+        return none;
+    }
     let row = vid / 3u;
     let u = f32(vid % 3u) * 0.5;
     var v = f32(row) / f32(rows);
@@ -241,7 +262,7 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     }
 
     let h_px = projected_height(v0, blade.v1_height.w, cull);
-    let morph = select(morph_factor(level, h_px), 0.0, flower);
+    let morph = select(morph_factor(level, h_px), 0.0, flower || shadow_pass);
     if morph > 0.0 {
         // The coarser rows around this one, in exact integer arithmetic so rows the two
         // levels share are recognised and left alone.
@@ -264,6 +285,9 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
     out.normal = point.n;
     out.uv = vec2<f32>(u, v);
     out.card = card;
+    out.side = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w)[0];
+    let rest_tip = states[index].rest_eta.xyz;
+    out.gust = length(blade.v2_width.xyz - rest_tip) / max(blade.v1_height.w, 1e-4);
     if flower {
         let k = flower_kind(v0.x, v0.z);
         out.petals = traits.flower_kinds[2u * k];
@@ -310,18 +334,22 @@ fn debug_color(tint: vec4<f32>, n: vec3<f32>, sun: vec3<f32>, v: f32) -> vec3<f3
 }
 
 @fragment
-fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let sun = frame.sun_dir.xyz;
     let to_eye = normalize(frame.camera_pos.xyz - in.world);
-    // Two-sided: light the side that faces the viewer.
-    var n = normalize(in.normal);
-    if !front {
-        n = -n;
+    let terms_a = light.shading_a;
+    let terms_b = light.shading_b;
+    // Two-sided: light the side that faces the viewer (by the normal itself: the mesh's
+    // winding does not say which side of a blade its normal points to).
+    var flat_n = normalize(in.normal);
+    if dot(flat_n, to_eye) < 0.0 {
+        flat_n = -flat_n;
     }
     let v = in.uv.y;
     if in.tint.w > 0.5 {
-        return vec4<f32>(debug_color(in.tint, n, sun, v), 1.0);
+        return vec4<f32>(debug_color(in.tint, flat_n, sun, v), 1.0);
     }
+    let lit = sun_visibility(in.world);
     // A flower head: petals around a centre, cut out of the card (a procedural texture:
     // the petal edge swings with the angle, petal_count lobes).
     if in.card.x > 0.5 {
@@ -331,45 +359,59 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         if r > edge {
             discard;
         }
-        var c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
-        let light = AMBIENT_COLOR * 0.9 + SUN_COLOR * (abs(dot(n, sun)) * 1.2);
-        var color = c * light;
-        color = apply_fog(color, in.world, frame);
-        return vec4<f32>(tonemap(color), 1.0);
+        let c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
+        let head_light = light.ambient.rgb * 0.9 + light.sun.rgb * (abs(dot(flat_n, sun)) * 0.9 * lit);
+        return vec4<f32>(tonemap(fog(c * head_light, in.world)), 1.0);
     }
-    // Per-blade colour between fresh and dry-ish green, lighter towards the tip.
+    // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
+    // both edges, so that a flat blade reads as curved.
+    let n = normalize(flat_n + in.side * (in.uv.x - 0.5) * 1.2 * terms_a.x);
+    // Colour variation: each blade between fresh, deep and dry-ish green (or its species'
+    // colour a little lighter or darker) and each clump its own brightness; at strength 0
+    // every blade has the mean colour.
+    let variation = terms_b.x;
     let fresh = vec3<f32>(0.10, 0.34, 0.05);
     let dry = vec3<f32>(0.32, 0.40, 0.09);
     let deep = vec3<f32>(0.05, 0.22, 0.04);
-    var albedo = mix(mix(fresh, deep, in.tint.y * 0.7), dry, in.tint.x * in.tint.x * 0.8);
+    let own = mix(mix(fresh, deep, in.tint.y * 0.7), dry, in.tint.x * in.tint.x * 0.8);
+    let mean = mix(mix(fresh, deep, 0.35), dry, 0.27);
+    var albedo = mix(mean, own, variation);
     if in.species_color.w > 0.5 {
-        // The species' colour, each blade a little lighter or darker.
-        albedo = in.species_color.rgb * mix(0.8, 1.2, in.tint.y);
+        albedo = in.species_color.rgb * mix(1.0, mix(0.8, 1.2, in.tint.y), variation);
     }
-    albedo *= in.clump_light;
+    albedo *= mix(1.0, in.clump_light, variation);
     if in.card.x < -0.5 && v > 0.6 {
         // A far flower: its head's colour at the top of the stem.
         albedo = in.petals.rgb;
     }
+    // Lighter towards the tip, where the blade is young and thin.
     albedo = mix(albedo * 0.55, albedo * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
-    // Self-shadow: the base sits in the shade of its neighbours. sward's own darkens along
-    // the blade's length; CWD-Sim's Eq. 14 follows the deformed height and the bend.
-    var ao = mix(0.3, 1.0, pow(v, 0.7));
+    // Shading waves: a blade the gusts bend away from its rest shows its paler, glossier
+    // side, so the gusts read as bright bands running over the field.
+    let wave = clamp(in.gust * 1.5, 0.0, 1.0) * terms_b.y;
+    albedo = mix(albedo, albedo * 1.7 + vec3<f32>(0.04, 0.05, 0.02), wave * 0.6);
+    // Ambient occlusion: light through the canopy falls off with the leaf area above the
+    // point (Beer-Lambert, terms_b.z m² of leaf per m² of ground), so the root is dark and
+    // a dense field darker. CWD-Sim's Eq. 14 replaces it where chosen; `Off` drops it.
+    var ao = mix(1.0, max(exp(-0.35 * terms_b.z * (1.0 - v)), 0.12), terms_a.w);
     let shadow_mode = u32(frame.debug.y);
     if shadow_mode == 1u {
         ao = in.shade;
     } else if shadow_mode == 2u {
         ao = 1.0;
     }
+    let sun_rgb = light.sun.rgb * lit;
     let diffuse = max(dot(n, sun), 0.0);
     // Translucency: sunlight shining through the blade towards the viewer.
-    let through = max(dot(-n, sun), 0.0) * pow(max(dot(-to_eye, sun), 0.0), 2.0);
-    let trans = through * 0.9 + max(dot(-n, sun), 0.0) * 0.25;
+    let behind = max(dot(-flat_n, sun), 0.0);
+    let through = behind * pow(max(dot(-to_eye, sun), 0.0), 2.0);
+    let trans = (through * 0.9 + behind * 0.25) * terms_a.y;
+    // Specular: the waxy blade's highlight, on the rounded normal.
     let h = normalize(sun + to_eye);
-    let spec = pow(max(dot(n, h), 0.0), 40.0) * 0.12 * v;
-    var color = albedo * (AMBIENT_COLOR * 0.9 * ao + SUN_COLOR * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
-        + albedo * vec3<f32>(1.0, 1.1, 0.4) * SUN_COLOR * trans * 1.4 * ao
-        + SUN_COLOR * spec;
-    color = apply_fog(color, in.world, frame);
+    let spec = pow(max(dot(n, h), 0.0), 12.0) * 0.22 * mix(0.3, 1.0, v) * terms_a.z;
+    var color = albedo * (light.ambient.rgb * 0.9 * ao + sun_rgb * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
+        + albedo * vec3<f32>(1.0, 1.1, 0.4) * sun_rgb * trans * 1.4 * ao
+        + sun_rgb * spec;
+    color = fog(color, in.world);
     return vec4<f32>(tonemap(color), 1.0);
 }

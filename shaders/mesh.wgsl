@@ -2,6 +2,7 @@
 // matrix, lit like the colliders (ambient from the sky, the sun, a soft highlight), fogged
 // and tone-mapped like everything else; also drawn depth-only into the occluder pass.
 //!include common.wgsl
+//!include light.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> object: MeshObject;
@@ -46,11 +47,12 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let sun = frame.sun_dir.xyz;
     let to_eye = normalize(frame.camera_pos.xyz - in.world);
     let albedo = object.color.rgb;
-    let diffuse = max(dot(n, sun), 0.0);
+    let lit = sun_visibility(in.world);
+    let diffuse = max(dot(n, sun), 0.0) * lit;
     let h = normalize(sun + to_eye);
-    let spec = pow(max(dot(n, h), 0.0), 40.0) * 0.15;
-    var color = albedo * (AMBIENT_COLOR * (0.5 + 0.5 * n.y) + SUN_COLOR * diffuse * 1.4)
-        + SUN_COLOR * spec;
-    color = apply_fog(color, in.world, frame);
+    let spec = pow(max(dot(n, h), 0.0), 40.0) * 0.15 * lit;
+    var color = albedo * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.4)
+        + light.sun.rgb * spec;
+    color = fog(color, in.world);
     return vec4<f32>(tonemap(color), 1.0);
 }

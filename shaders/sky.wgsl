@@ -1,6 +1,8 @@
 // Sky: one full-screen triangle drawn last, behind everything; the view ray of each pixel comes from the
-// inverse view-projection, the colour from `sky_color` (shared with the fog).
+// inverse view-projection, the colour from `sky_with_sun` (light.wgsl: Preetham's sky, whose
+// `sky_radiance` the fog shares).
 //!include common.wgsl
+//!include light.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
@@ -23,5 +25,5 @@ fn vs_main(@builtin(vertex_index) vid: u32) -> VertexOut {
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let far = frame.inv_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
     let dir = normalize(far.xyz / far.w - frame.camera_pos.xyz);
-    return vec4<f32>(tonemap(sky_color(dir, frame.sun_dir.xyz)), 1.0);
+    return vec4<f32>(tonemap(sky_with_sun(dir)), 1.0);
 }

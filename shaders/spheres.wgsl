@@ -1,6 +1,7 @@
 // Sphere colliders: a unit sphere mesh instanced once per collider, placed and scaled from
 // the same sphere buffer the blade update reads.
 //!include common.wgsl
+//!include light.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> spheres: array<vec4<f32>>;
@@ -37,10 +38,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // A beach-ball band so that the sphere reads as a ball, not a blob.
     let band = step(0.5, fract(atan2(in.local.z, in.local.x) / TAU * 4.0));
     let albedo = mix(vec3<f32>(0.75, 0.12, 0.08), vec3<f32>(0.85, 0.8, 0.7), band);
-    let diffuse = max(dot(n, sun), 0.0);
+    let lit = sun_visibility(in.world);
+    let diffuse = max(dot(n, sun), 0.0) * lit;
     let h = normalize(sun + to_eye);
-    let spec = pow(max(dot(n, h), 0.0), 60.0) * 0.5;
-    var color = albedo * (AMBIENT_COLOR * (0.5 + 0.5 * n.y) + SUN_COLOR * diffuse * 1.4) + SUN_COLOR * spec;
-    color = apply_fog(color, in.world, frame);
+    let spec = pow(max(dot(n, h), 0.0), 60.0) * 0.5 * lit;
+    var color = albedo * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.4) + light.sun.rgb * spec;
+    color = fog(color, in.world);
     return vec4<f32>(tonemap(color), 1.0);
 }

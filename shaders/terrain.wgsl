@@ -6,6 +6,7 @@
 // on both sides: no cracks. Lit by the sun and the sky; the colour blends from soil under
 // the near blades to the grass's own mean colour with distance, then into the fog.
 //!include common.wgsl
+//!include light.wgsl
 //!include terrain_height.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -67,6 +68,15 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32)
     return out;
 }
 
+// The terrain into a sun's shadow cascade (frame.view_proj is the cascade's): the same
+// clipmap around the camera, in world space.
+@vertex
+fn vs_shadow(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) -> @builtin(position) vec4<f32> {
+    let xz = clipmap_xz(vid, level, frame.camera_pos.xz);
+    let h = terrain_height(xz);
+    return frame.view_proj * vec4<f32>(xz.x, h.x, xz.y, 1.0);
+}
+
 fn value_noise(p: vec2<f32>) -> f32 {
     let i = floor(p);
     let f = fract(p);
@@ -100,13 +110,14 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let soil = vec3<f32>(0.13, 0.11, 0.06);
     let turf = vec3<f32>(0.06, 0.15, 0.03);
     let ground = mix(soil, turf, smoothstep(0.15, 0.55, patchy));
-    let diffuse = max(dot(n, sun), 0.0);
-    let near = ground * (AMBIENT_COLOR * (0.5 + 0.5 * n.y) + SUN_COLOR * diffuse * 1.5);
+    let lit = sun_visibility(in.world);
+    let diffuse = max(dot(n, sun), 0.0) * lit;
+    let near = ground * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.5);
     // The grass seen from afar: its mean albedo under the grass shader's lighting averaged
     // over blade azimuths and heights (`clipmap::FAR_GRASS_LIGHT`): ambient with the blades'
     // mean self-shadow, sun on blades that lean with the ground, a little translucency.
     let grass = terrain.grass_albedo.rgb
-        * (AMBIENT_COLOR * 0.9 * 0.85 + SUN_COLOR * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * (diffuse * 0.7 + 0.25 * lit * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):
@@ -119,6 +130,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
     var color = mix(near, grass, cover);
-    color = apply_fog(color, in.world, frame);
+    color = fog(color, in.world);
     return vec4<f32>(tonemap(color), 1.0);
 }

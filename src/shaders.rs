@@ -5,6 +5,7 @@
 /// Every WGSL file, by name, as shipped in `shaders/`.
 const FILES: &[(&str, &str)] = &[
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
+    ("light.wgsl", include_str!("../shaders/light.wgsl")),
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
     (

@@ -71,7 +71,7 @@ fn heads_are_drawn_in_their_colours() {
             let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
             if r > 170 && g > 170 && b > 150 {
                 c[0] += 1; // white petals
-            } else if r > 140 && r >= g && 2 * b < g {
+            } else if r > 140 && r >= g && g > b + 60 {
                 c[1] += 1; // yellow
             } else if b > g + 20 && r > g {
                 c[2] += 1; // purple

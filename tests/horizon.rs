@@ -19,36 +19,11 @@ const EYE: Vec3 = Vec3::new(0.0, 40.0, 60.0);
 /// A pixel within this many 8-bit steps of the sky colour in every channel is "sky".
 const SKY_TOLERANCE: f32 = 4.0;
 
-fn sky_color(dir: Vec3, sun: Vec3) -> Vec3 {
-    let h = dir.y.clamp(-1.0, 1.0);
-    let zenith = Vec3::new(0.22, 0.42, 0.78);
-    let horizon = Vec3::new(0.70, 0.80, 0.90);
-    let mut c = horizon.lerp(zenith, h.max(0.0).powf(0.55));
-    if h < 0.0 {
-        c = horizon.lerp(Vec3::new(0.45, 0.50, 0.45), (-h * 3.0).min(1.0));
-    }
-    let s = dir.dot(sun).max(0.0);
-    c + Vec3::new(1.0, 0.85, 0.6) * (s.powf(600.0) * 4.0 + s.powf(12.0) * 0.25)
-}
-
-fn tonemap(c: Vec3) -> Vec3 {
-    let x = c * 0.9;
-    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(Vec3::ZERO, Vec3::ONE)
-}
-
-fn srgb(v: f32) -> f32 {
-    let s = if v <= 0.003_130_8 {
-        v * 12.92
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    };
-    s * 255.0
-}
-
 struct View {
     image: image::RgbaImage,
     camera: CameraView,
     sun: Vec3,
+    scene: sward::scene::Scene,
     fog: f32,
     /// Height of the ground plane the sky test intersects the view rays with.
     ground_y: f32,
@@ -102,9 +77,10 @@ fn render_scene(file: &str, unbounded: bool, eye: Vec3, look_at: Vec3, ground_y:
     View {
         image,
         camera,
-        sun: Vec3::from(scene.render.sun_direction).normalize(),
+        sun: sward::render::light::sun::scene_sun(&scene),
         fog: sward::render::fog_distance(scene.terrain.size, scene.camera.far),
         ground_y,
+        scene,
     }
 }
 
@@ -122,8 +98,8 @@ fn sky_below_horizon(v: &View) -> (usize, usize) {
             continue;
         }
         ground += 1;
-        let want = tonemap(sky_color(dir, v.sun));
-        let is_sky = (0..3).all(|c| (f32::from(px[c]) - srgb(want[c])).abs() <= SKY_TOLERANCE);
+        let want = sward::render::light::sky_srgb(&v.scene, v.sun, dir);
+        let is_sky = (0..3).all(|c| (f32::from(px[c]) - f32::from(want[c])).abs() <= SKY_TOLERANCE);
         sky += usize::from(is_sky);
     }
     (ground, sky)

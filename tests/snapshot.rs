@@ -1,6 +1,7 @@
 //! Snapshot tests: 256 × 144 renders after 30 frames against committed references: the
 //! meadow of `tests/scenes/snapshot.ron` (`tests/snapshots/meadow_256x144.png`) and the
-//! grassy planet of `assets/scenes/planet.ron` without MSAA (`planet_256x144.png`). Passes when the mean
+//! grassy planet of `assets/scenes/planet.ron` without MSAA (`planet_256x144.png`), and the
+//! meadow at noon and at evening (`meadow_noon_256x144.png`, `meadow_evening_256x144.png`). Passes when the mean
 //! per-channel difference is under `MEAN_TOLERANCE` and at most `MAX_FAILING` of the pixels
 //! differ by more than `PIXEL_TOLERANCE` in some channel (`sward::compare`). On failure it writes `-actual`
 //! and `-diff` PNGs beside the reference. `UPDATE_SNAPSHOTS=1` rewrites the reference.
@@ -20,6 +21,28 @@ fn dir() -> PathBuf {
 #[test]
 fn meadow_render_matches_reference() {
     matches_reference(&dir().join("scenes/snapshot.ron"), &[], "meadow_256x144");
+}
+
+/// The meadow at noon and at evening (issue 16): the sun by the time of day, its shadows,
+/// Preetham's sky and the fog it colours.
+#[test]
+fn meadow_at_noon_matches_reference() {
+    let sets = ["light.time_of_day=Some(12.0)", "light.north=200"];
+    matches_reference(
+        &dir().join("scenes/snapshot.ron"),
+        &sets,
+        "meadow_noon_256x144",
+    );
+}
+
+#[test]
+fn meadow_at_evening_matches_reference() {
+    let sets = ["light.time_of_day=Some(19.0)", "light.north=200"];
+    matches_reference(
+        &dir().join("scenes/snapshot.ron"),
+        &sets,
+        "meadow_evening_256x144",
+    );
 }
 
 #[test]

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod editor;
 pub mod input;
 pub mod panel;
+mod panel_light;
 mod panel_models;
 pub mod picking;
 pub mod replay;

@@ -101,6 +101,8 @@ pub fn panel(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 wind_section(ui, app, gpu);
                 culling_section(ui, app);
                 rendering_section(ui, app);
+                let max_texture = gpu.device.limits().max_texture_dimension_2d;
+                super::panel_light::light_section(ui, app, max_texture);
                 camera_section(ui, app);
                 stats_section(ui, app);
             });

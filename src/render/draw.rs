@@ -110,9 +110,16 @@ pub(super) fn pipeline(
     spec: PipelineSpec,
 ) -> wgpu::RenderPipeline {
     let module = shaders::module(device, spec.shader);
+    // Lit passes read the sun, the sky and the shadow map at group 1.
+    let light = super::light::layout(device);
+    let groups: &[Option<&wgpu::BindGroupLayout>] = if spec.depth_only {
+        &[Some(spec.layout)]
+    } else {
+        &[Some(spec.layout), Some(&light)]
+    };
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(&format!("{}.layout", spec.label)),
-        bind_group_layouts: &[Some(spec.layout)],
+        bind_group_layouts: groups,
         immediate_size: 0,
     });
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -170,6 +177,53 @@ pub(super) fn pipeline(
     })
 }
 
+/// A shadow caster's pipeline: `entry` of `shader` into a single-sample depth map, both
+/// sides drawn, with a slope-scaled depth bias against acne on surfaces at grazing sun.
+pub(super) fn shadow_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    (shader, entry): (&str, &str),
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+) -> wgpu::RenderPipeline {
+    let module = shaders::module(device, shader);
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("{label}.layout")),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState {
+                constant: 2,
+                slope_scale: 1.5,
+                clamp: 0.0,
+            },
+        }),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// The render pipelines of the draw pass, for one colour format and sample count.
 struct Pipelines {
     samples: u32,
@@ -180,6 +234,10 @@ struct Pipelines {
     terrain_depth: wgpu::RenderPipeline,
     spheres_depth: wgpu::RenderPipeline,
     grass: wgpu::RenderPipeline,
+    /// The sun's shadow casters: terrain, colliders and the grass (coarsest level).
+    shadow_terrain: wgpu::RenderPipeline,
+    shadow_spheres: wgpu::RenderPipeline,
+    shadow_grass: wgpu::RenderPipeline,
     /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
     grass_lines: Option<wgpu::RenderPipeline>,
 }
@@ -312,6 +370,27 @@ impl Pipelines {
                 )
             });
 
+        let shadow_terrain = shadow_pipeline(
+            device,
+            "sward.light.shadow_terrain",
+            ("terrain.wgsl", "vs_shadow"),
+            terrain_layout,
+            &[],
+        );
+        let shadow_spheres = shadow_pipeline(
+            device,
+            "sward.light.shadow_spheres",
+            ("spheres.wgsl", "vs_main"),
+            spheres_layout,
+            &sphere_buffers,
+        );
+        let shadow_grass = shadow_pipeline(
+            device,
+            "sward.light.shadow_grass",
+            ("grass.wgsl", "vs_main"),
+            grass_layout,
+            &[],
+        );
         Self {
             samples,
             sky,
@@ -320,6 +399,9 @@ impl Pipelines {
             terrain_depth,
             spheres_depth,
             grass,
+            shadow_terrain,
+            shadow_spheres,
+            shadow_grass,
             grass_lines,
         }
     }
@@ -554,16 +636,11 @@ impl DrawPass {
             .prepare(queue, camera, w / h.max(1.0), fog);
     }
 
-    fn draw_terrain<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
+    fn draw_terrain(&self, pass: &mut wgpu::RenderPass<'_>) {
         self.terrain_pass.draw(pass);
     }
 
-    fn draw_spheres<'a>(
-        &'a self,
-        pass: &mut wgpu::RenderPass<'a>,
-        mesh: &'a Mesh,
-        spheres: &SphereDraw,
-    ) {
+    fn draw_spheres(&self, pass: &mut wgpu::RenderPass<'_>, mesh: &Mesh, spheres: &SphereDraw) {
         pass.set_bind_group(0, &self.spheres_group, &[]);
         pass.set_vertex_buffer(0, mesh.vertices.slice(..));
         pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -622,6 +699,7 @@ impl DrawPass {
         spheres: &SphereDraw,
         wireframe: bool,
         billboards: Option<&super::billboard::BillboardPass>,
+        light: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
         let depth_load = if depth_loaded {
@@ -636,6 +714,7 @@ impl DrawPass {
             (depth, depth_load),
             timestamps,
         );
+        pass.set_bind_group(1, light, &[]);
         if spheres.any_drawn() {
             pass.set_pipeline(&self.pipelines.spheres);
             self.draw_spheres(&mut pass, &self.sphere_mesh, spheres);
@@ -644,7 +723,7 @@ impl DrawPass {
             o.draw(&mut pass, false);
         }
 
-        self.draw_grass(&mut pass, indirect, 0, wireframe);
+        self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, 0);
         if let Some(b) = billboards {
             b.draw(&mut pass);
         }
@@ -661,19 +740,14 @@ impl DrawPass {
 
     /// The grass's level-of-detail draws whose arguments start at byte `offset` of
     /// `indirect` (one multi-draw, or one draw per level with its region bound).
-    fn draw_grass<'a>(
-        &'a self,
-        pass: &mut wgpu::RenderPass<'a>,
-        indirect: &'a wgpu::Buffer,
+    fn draw_grass(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipeline: &wgpu::RenderPipeline,
+        indirect: &wgpu::Buffer,
         offset: u64,
-        wireframe: bool,
     ) {
-        let p = &self.pipelines;
-        let grass = match (&p.grass_lines, wireframe) {
-            (Some(lines), true) => lines,
-            _ => &p.grass,
-        };
-        pass.set_pipeline(grass);
+        pass.set_pipeline(pipeline);
         pass.set_index_buffer(self.blade_indices.slice(..), wgpu::IndexFormat::Uint32);
         let stride = std::mem::size_of::<crate::sim::layout::DrawIndexedIndirect>() as u64;
         if let [all] = self.grass_groups.as_slice() {
@@ -687,9 +761,44 @@ impl DrawPass {
         }
     }
 
+    /// The grass's colour pipeline: filled, or as lines where asked and supported.
+    fn grass_pipeline(&self, wireframe: bool) -> &wgpu::RenderPipeline {
+        let p = &self.pipelines;
+        match (&p.grass_lines, wireframe) {
+            (Some(lines), true) => lines,
+            _ => &p.grass,
+        }
+    }
+
+    /// Records the sun's shadow casters into a cascade's pass (the frame buffer holds the
+    /// cascade's view): the colliders, the objects, the terrain, and with `grass_args` the
+    /// blades the cull kept, drawn with the coarsest level's mesh out to the frame's
+    /// shadow radius (`grass.wgsl`).
+    pub fn draw_casters(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        spheres: &SphereDraw,
+        grass_args: Option<&wgpu::Buffer>,
+    ) {
+        if spheres.any_drawn() {
+            // The colour pass's sphere: the shadow's outline is the drawn ball's.
+            pass.set_pipeline(&self.pipelines.shadow_spheres);
+            self.draw_spheres(pass, &self.sphere_mesh, spheres);
+        }
+        if let Some(o) = &self.objects {
+            o.draw_shadow(pass);
+        }
+        pass.set_pipeline(&self.pipelines.shadow_terrain);
+        self.draw_terrain(pass);
+        if let Some(args) = grass_args {
+            self.draw_grass(pass, &self.pipelines.shadow_grass, args, 0);
+        }
+    }
+
     /// Records the late grass draw of two-phase occlusion culling: the blades the late cull
     /// kept, over the frame the main draw left (colour and depth loaded). Needs
     /// multi-draw: the late lists start mid-region, at their draws' first instance.
+    #[allow(clippy::too_many_arguments)]
     pub fn encode_late(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -697,6 +806,7 @@ impl DrawPass {
         depth: &wgpu::TextureView,
         indirect: &wgpu::Buffer,
         wireframe: bool,
+        light: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites>,
     ) {
         let mut pass = colour_pass(
@@ -706,8 +816,9 @@ impl DrawPass {
             (depth, wgpu::LoadOp::Load),
             timestamps,
         );
+        pass.set_bind_group(1, light, &[]);
         let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
-        self.draw_grass(&mut pass, indirect, offset, wireframe);
+        self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, offset);
     }
 }
 

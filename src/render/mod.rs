@@ -14,6 +14,7 @@ pub mod draw;
 pub mod grass_bind;
 pub mod hiz;
 mod levels;
+pub mod light;
 pub mod mesh;
 pub mod msaa;
 pub mod objects;
@@ -158,6 +159,8 @@ pub struct Renderer {
     /// The multisampled colour + depth of the 3D passes (when `samples` > 1), sized to the
     /// last frame's target.
     msaa: Option<msaa::MsaaTarget>,
+    /// The sun, the sky and the sun's shadow maps (`light`).
+    light: light::LightPass,
 }
 
 impl Renderer {
@@ -279,6 +282,7 @@ impl Renderer {
                 gpu.info.name, buffers.count
             )));
         }
+        let light = light::LightPass::new(gpu, &scene)?;
         let mut draw = draw;
         draw.set_grass_everywhere(tiles.is_some() && terrain.unbounded);
         draw.set_far_albedo(clipmap::far_albedo(&scene.field));
@@ -317,6 +321,7 @@ impl Renderer {
             requested_samples,
             samples,
             msaa: None,
+            light,
         };
         r.upload_colliders(gpu);
         r.sync_billboards(gpu);
@@ -574,7 +579,7 @@ impl Renderer {
     /// Uniforms of the draw pass for a camera and viewport.
     pub fn frame_uniforms(&self, camera: &CameraView, width: u32, height: u32) -> FrameUniforms {
         let view_proj = camera.view_proj(self.aspect(width, height));
-        let sun = Vec3::from(self.scene.render.sun_direction).normalize_or(Vec3::Y);
+        let sun = light::sun::scene_sun(&self.scene);
         let f = &self.scene.field;
         FrameUniforms {
             view_proj: view_proj.to_cols_array_2d(),
@@ -607,6 +612,11 @@ impl Renderer {
             ],
             self_shadow: self.scene.render.self_shadow.uniforms().1,
         }
+    }
+
+    /// The sun, the sky and the shadow maps of the last frame.
+    pub fn light(&self) -> &light::LightPass {
+        &self.light
     }
 
     /// GPU memory held for the blades (blade, state, seen-flag, patch, sphere and
@@ -759,10 +769,19 @@ impl Renderer {
         let cp = self.cull_uniforms(&cull_camera, size, hiz);
         self.cull.prepare(&gpu.queue, &cp);
         self.last_cull = cp;
-        self.draw.prepare(
-            &gpu.queue,
-            &self.frame_uniforms(camera, size.0, size.1),
+        let frame = self.frame_uniforms(camera, size.0, size.1);
+        self.draw.prepare(&gpu.queue, &frame, camera);
+        let coarsest = crate::sim::layout::LOD_LEVELS - 1;
+        self.light.prepare(
+            gpu,
+            &self.scene,
             camera,
+            self.aspect(size.0, size.1),
+            &frame,
+            (
+                self.lod.index_count[coarsest],
+                self.lod.first_index[coarsest],
+            ),
         );
         self.sync_billboards(gpu);
         self.last_billboards = self.billboards.as_ref().map(|b| {
@@ -801,6 +820,19 @@ impl Renderer {
                 b.encode_cull(e, cs(q))
             });
         }
+        // The sun's shadow maps, after the cull (the grass casts with its visible lists)
+        // and before every pass that receives them.
+        if self.light.cascades() > 0 {
+            let spheres = self.sphere_draw();
+            let light = &self.light;
+            let draw = &self.draw;
+            let grass = light.grass_casts().then(|| light.grass_args());
+            timed(timer, encoder, timing::SHADOWS, |e, q| {
+                light.encode(e, draw.frame_buffer(), &self.cull.args, rs(q), |pass| {
+                    draw.draw_casters(pass, &spheres, grass)
+                })
+            });
+        }
         let wireframe = self.scene.render.wireframe;
         timed(timer, encoder, timing::DRAW, |e, q| {
             self.draw.encode(
@@ -812,6 +844,7 @@ impl Renderer {
                 &self.sphere_draw(),
                 wireframe,
                 self.billboards.as_ref(),
+                self.light.group(),
                 rs(q),
             )
         });
@@ -827,8 +860,15 @@ impl Renderer {
                 self.cull.encode_late(e, &self.buffers.dispatch, cs(q))
             });
             timed(timer, encoder, timing::LATE_DRAW, |e, q| {
-                self.draw
-                    .encode_late(e, color, depth, &self.cull.args, wireframe, rs(q))
+                self.draw.encode_late(
+                    e,
+                    color,
+                    depth,
+                    &self.cull.args,
+                    wireframe,
+                    self.light.group(),
+                    rs(q),
+                )
             });
         }
         if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {

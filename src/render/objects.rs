@@ -40,6 +40,8 @@ pub struct ObjectsPass {
     samples: u32,
     colour: wgpu::RenderPipeline,
     depth: wgpu::RenderPipeline,
+    /// Into the sun's shadow cascades.
+    shadow: wgpu::RenderPipeline,
 }
 
 const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
@@ -131,6 +133,14 @@ impl ObjectsPass {
             })
             .collect();
         let (colour, depth) = Self::pipelines(device, &layout, format, samples);
+        let buffers = vertex_layout();
+        let shadow = super::draw::shadow_pipeline(
+            device,
+            "sward.objects.shadow",
+            ("mesh.wgsl", "vs_main"),
+            &layout,
+            &buffers,
+        );
         Self {
             objects: gpu_objects,
             layout,
@@ -138,6 +148,7 @@ impl ObjectsPass {
             samples,
             colour,
             depth,
+            shadow,
         }
     }
 
@@ -185,8 +196,22 @@ impl ObjectsPass {
         self.objects.is_empty()
     }
 
+    /// Draws every object into a shadow cascade (the frame buffer holds its view).
+    pub fn draw_shadow(&self, pass: &mut wgpu::RenderPass<'_>) {
+        if self.objects.is_empty() {
+            return;
+        }
+        pass.set_pipeline(&self.shadow);
+        for o in &self.objects {
+            pass.set_bind_group(0, &o.group, &[]);
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.index_count, 0, 0..1);
+        }
+    }
+
     /// Draws every object lit (`depth_only` false) or into the depth only.
-    pub fn draw<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, depth_only: bool) {
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, depth_only: bool) {
         if self.objects.is_empty() {
             return;
         }

@@ -250,7 +250,7 @@ impl TerrainPass {
     }
 
     /// Draws every level (the pipeline is set by the caller).
-    pub fn draw<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         let (variants, levels) = self.drawn.get();

@@ -4,7 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
+mod light;
 mod wind;
+pub use light::*;
 pub use wind::*;
 
 /// A whole scene: what `sward render` / `sward simulate` load from a `.ron` file.
@@ -21,6 +23,8 @@ pub struct Scene {
     pub culling: Culling,
     pub camera: Camera,
     pub render: Render,
+    /// The sun, the sky, shadows, tone mapping and the blade shading terms.
+    pub light: Light,
     /// The file and text the scene was loaded from, for errors found after loading (an
     /// image that does not decode); never compared, never saved.
     #[serde(skip)]

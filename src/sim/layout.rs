@@ -324,11 +324,30 @@ pub struct FrameUniforms {
     /// x: w_min, y: w_span (0 = off), z: terrain size.
     pub width_correction: [f32; 4],
     /// x: blade colour mode (0 natural, 1 by level of detail, 2 by patch), y: self-shadow
-    /// mode (0 sward's height shading, 1 CWD-Sim Eq. 14, 2 off), z: unused, w: blades per
-    /// patch.
+    /// mode (0 sward's height shading, 1 CWD-Sim Eq. 14, 2 off), z: the shadow radius of
+    /// the grass in a cascade's shadow pass (0: a camera pass), w: blades per patch.
     pub debug: [f32; 4],
     /// CWD-Sim's Eq. 14 parameters: m_min, m_max, c1, c2.
     pub self_shadow: [f32; 4],
+}
+
+/// The light of the lit passes (`LightUniforms` in `shaders/light.wgsl`): the sun's
+/// cascades, its colour and the sky's, Preetham's coefficients, exposure and tone mapping,
+/// and the blade shading strengths (see the WGSL struct for each field).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct LightUniforms {
+    pub cascades: [[[f32; 4]; 4]; 4],
+    pub splits: [f32; 4],
+    pub texel_world: [f32; 4],
+    pub shadow: [f32; 4],
+    pub shadow_map: [f32; 4],
+    pub sun: [f32; 4],
+    pub ambient: [f32; 4],
+    pub sky: [f32; 4],
+    pub perez: [[f32; 4]; 5],
+    pub zenith: [f32; 4],
+    pub shading: [[f32; 4]; 2],
 }
 
 /// `draw_indexed_indirect` arguments, as wgpu reads them.
@@ -353,6 +372,7 @@ const _: () = assert!(std::mem::size_of::<CullCounters>() == 192 + MAX_SPHERES /
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
+const _: () = assert!(std::mem::size_of::<LightUniforms>() == 496);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
 /// GPU bytes per blade: the blade, its state, its slot in each level's visible-index list

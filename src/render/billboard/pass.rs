@@ -289,9 +289,11 @@ impl BillboardPass {
         samples: u32,
     ) -> wgpu::RenderPipeline {
         let module = shaders::module(device, "billboard.wgsl");
+        // Group 1: the sun, the sky and the shadow map (bound by the colour pass).
+        let light = crate::render::light::layout(device);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.billboard.pipeline_layout"),
-            bind_group_layouts: &[Some(bind_layout)],
+            bind_group_layouts: &[Some(bind_layout), Some(&light)],
             immediate_size: 0,
         });
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

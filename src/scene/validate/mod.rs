@@ -66,6 +66,7 @@
 //! | `render.sun_direction` | non-zero |
 //! | `render.width_min_px`, `width_span_px` | 0 – 1024 px |
 //! | `render.msaa` | one of 1, 2, 4, 8 samples (4 by default; the adapter may give fewer) |
+//! | `light` | time_of_day 0 – 24 h, latitude ±89°, day_of_year 1 – 366, turbidity 1.7 – 10, exposure ±16 stops; shadows: 1 – 4 cascades of 64 – 8192 texels, distance ≤ 10⁴ m; shading strengths 0 – 2 (see `light.rs`) |
 //!
 //! The same ranges, as data, are the `RULES` tables of the section modules ([`allowed_for`]
 //! reads them): parser errors and `--set` errors quote them, so each range is written once.
@@ -80,6 +81,7 @@
 //! errors are [`Error::Set`] naming the argument.
 
 mod allowed;
+mod light;
 pub(crate) mod locate;
 mod meshes;
 mod objects;
@@ -160,7 +162,8 @@ pub(crate) fn validate_with_sets(
     physics::physics(&check, &mut scene.physics)?;
     view::culling(&check, &scene.culling)?;
     view::camera(&check, &scene.camera)?;
-    view::render(&check, &mut scene.render)
+    view::render(&check, &mut scene.render)?;
+    light::light(&check, &scene.light)
 }
 
 /// The rule of the field at `path` (`colliders[2].radius`, `field.height.min`), if the
@@ -178,6 +181,7 @@ pub(crate) fn rule_for(path: &str) -> Option<Rule> {
         wind::RULES,
         physics::RULES,
         view::RULES,
+        light::RULES,
     ];
     let find = |p: &str| {
         tables

@@ -1,0 +1,498 @@
+//! Light (issue 16): the sun placed by the time of day ([`sun`]), Preetham's sky
+//! ([`sky`]), exposure and tone mapping ([`tone`]), and the sun's cascaded shadow maps
+//! ([`cascades`]): their uniforms, the depth map array, and the passes that draw the
+//! casters (terrain, objects, balls and colliders, and the grass at its coarsest level
+//! within a radius) into it before the colour passes read it.
+//!
+//! The casters are drawn by the colour passes' own vertex shaders: for each cascade the
+//! frame uniform buffer is overwritten (a buffer copy in the command stream) with a frame
+//! whose view-projection is the cascade's, and restored to the camera's before the colour
+//! passes. So no caster needs a second set of bind groups.
+
+pub mod cascades;
+pub mod sky;
+pub mod sun;
+pub mod tone;
+
+use glam::Vec3;
+
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::render::camera::CameraView;
+use crate::scene::{Scene, SkyModel};
+use crate::sim::layout::{DrawIndexedIndirect, FrameUniforms, LightUniforms, LOD_LEVELS};
+
+use super::draw::DEPTH_FORMAT;
+
+/// The sun and sky of the `Gradient` sky (sward's look before issue 16).
+const GRADIENT_SUN: Vec3 = Vec3::new(1.0, 0.93, 0.80);
+const GRADIENT_AMBIENT: Vec3 = Vec3::new(0.36, 0.44, 0.55);
+/// Where the shadows start to fade out, as a share of their distance.
+const FADE_START: f32 = 0.85;
+
+/// The light's bind group layout (group 1 of every lit pass): the uniforms, the shadow map
+/// array and its comparison sampler. wgpu deduplicates equal layouts, so each pipeline may
+/// build its own.
+pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sward.light.layout"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: stages,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: stages,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: stages,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                count: None,
+            },
+        ],
+    })
+}
+
+/// The shadow map: one depth layer per cascade.
+struct ShadowMap {
+    texture: wgpu::Texture,
+    resolution: u32,
+    layers: u32,
+    array: wgpu::TextureView,
+    layer_views: Vec<wgpu::TextureView>,
+}
+
+impl ShadowMap {
+    fn new(device: &wgpu::Device, resolution: u32, layers: u32) -> Self {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sward.light.shadow_map"),
+            size: wgpu::Extent3d {
+                width: resolution,
+                height: resolution,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let array = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("sward.light.shadow_map.array"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let layer_views = (0..layers)
+            .map(|k| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("sward.light.shadow_map.layer"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: k,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        Self {
+            texture,
+            resolution,
+            layers,
+            array,
+            layer_views,
+        }
+    }
+}
+
+/// The light's uniforms, shadow map and cascade frames.
+pub struct LightPass {
+    layout: wgpu::BindGroupLayout,
+    uniform: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    map: ShadowMap,
+    group: wgpu::BindGroup,
+    /// The camera's frame, then one frame per cascade: copied over the frame uniform
+    /// buffer around the shadow passes.
+    frames: wgpu::Buffer,
+    /// The grass's shadow draws: the cull's instance counts with the coarsest level's mesh.
+    grass_args: wgpu::Buffer,
+    /// What the last `prepare` computed.
+    last: LightUniforms,
+    cascades: u32,
+    grass_radius: f32,
+}
+
+const FRAME_BYTES: u64 = std::mem::size_of::<FrameUniforms>() as u64;
+const ARGS_BYTES: u64 = std::mem::size_of::<DrawIndexedIndirect>() as u64;
+
+/// Checks that the adapter holds the scene's shadow map before it is allocated.
+pub fn check_shadow_map(gpu: &Gpu, scene: &Scene) -> Result<()> {
+    let s = &scene.light.shadows;
+    if s.enabled {
+        gpu.check_texture(
+            "a shadow map (light.shadows.resolution)",
+            s.resolution,
+            s.resolution,
+        )?;
+    }
+    Ok(())
+}
+
+impl LightPass {
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self> {
+        check_shadow_map(gpu, scene)?;
+        let device = &gpu.device;
+        let layout = layout(device);
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.light.uniforms"),
+            size: std::mem::size_of::<LightUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sward.light.shadow_sampler"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let frames = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.light.cascade_frames"),
+            size: FRAME_BYTES * 5,
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let grass_args = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.light.grass_args"),
+            size: ARGS_BYTES * LOD_LEVELS as u64,
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let map = ShadowMap::new(device, 1, 1);
+        let group = Self::make_group(device, &layout, &uniform, &map, &sampler);
+        let mut pass = Self {
+            layout,
+            uniform,
+            sampler,
+            map,
+            group,
+            frames,
+            grass_args,
+            last: LightUniforms::default(),
+            cascades: 0,
+            grass_radius: 0.0,
+        };
+        pass.sync_map(device, scene);
+        Ok(pass)
+    }
+
+    fn make_group(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        uniform: &wgpu::Buffer,
+        map: &ShadowMap,
+        sampler: &wgpu::Sampler,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.light.group"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&map.array),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        })
+    }
+
+    /// Reallocates the map when the scene's shadows changed size or cascade count (the
+    /// panel); off, a 1-texel map keeps the group valid.
+    fn sync_map(&mut self, device: &wgpu::Device, scene: &Scene) {
+        let s = &scene.light.shadows;
+        let (res, layers) = if s.enabled {
+            let max = device.limits().max_texture_dimension_2d;
+            (s.resolution.min(max), s.cascades.clamp(1, 4))
+        } else {
+            (1, 1)
+        };
+        if (self.map.resolution, self.map.layers) != (res, layers) {
+            self.map = ShadowMap::new(device, res, layers);
+            self.group = Self::make_group(
+                device,
+                &self.layout,
+                &self.uniform,
+                &self.map,
+                &self.sampler,
+            );
+        }
+    }
+
+    /// The group every lit pass binds at 1.
+    pub fn group(&self) -> &wgpu::BindGroup {
+        &self.group
+    }
+
+    /// The uniforms of the last frame.
+    pub fn uniforms(&self) -> &LightUniforms {
+        &self.last
+    }
+
+    /// Cascade `k`'s depth map (row-major, `resolution`² values), read back (blocking).
+    pub fn read_cascade(&self, gpu: &Gpu, k: u32) -> Result<(u32, Vec<f32>)> {
+        let r = self.map.resolution;
+        let k = k.min(self.map.layers - 1);
+        let bytes = super::target::read_texels(
+            gpu,
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.map.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: 0, y: 0, z: k },
+                aspect: wgpu::TextureAspect::DepthOnly,
+            },
+            (r, r),
+            "sward.light.shadow_readback",
+        )?;
+        let depths = bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        Ok((r, depths))
+    }
+
+    /// Bytes of the shadow map.
+    pub fn gpu_bytes(&self) -> u64 {
+        let r = self.map.resolution as u64;
+        r * r * 4 * self.map.layers as u64
+    }
+
+    /// Computes the frame's light and writes its uniforms, the cascades' frames (from the
+    /// camera's `frame`) and the grass's shadow draw arguments (the coarsest level's mesh,
+    /// `lod` = its index count and first index). Returns the number of cascades to draw.
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        camera: &CameraView,
+        aspect: f32,
+        frame: &FrameUniforms,
+        lod: (u32, u32),
+    ) -> u32 {
+        self.sync_map(&gpu.device, scene);
+        let sun = Vec3::from_slice(&frame.sun_dir[..3]);
+        let l = &scene.light;
+        let mut u = uniforms(scene, sun);
+        let s = &l.shadows;
+        self.cascades = 0;
+        // No shadows with the sun below the horizon: nothing is lit to be shadowed.
+        if s.enabled && sun.y > 0.0 {
+            let cs = cascades::cascades(
+                camera,
+                aspect,
+                sun,
+                self.map.resolution,
+                s.distance,
+                self.map.layers,
+            );
+            let mut frames = vec![*frame];
+            for (k, c) in cs.iter().enumerate() {
+                u.cascades[k] = c.view_proj.to_cols_array_2d();
+                u.splits[k] = c.far;
+                u.texel_world[k] = c.texel;
+                let mut f = *frame;
+                f.view_proj = c.view_proj.to_cols_array_2d();
+                f.inv_view_proj = c.view_proj.inverse().to_cols_array_2d();
+                // No width correction in the sun's view, and the grass's shadow radius.
+                f.width_correction[1] = 0.0;
+                f.debug[2] = s.grass_radius.max(1e-3);
+                frames.push(f);
+            }
+            let last = cs.last().map_or(s.distance, |c| c.far);
+            u.shadow = [1.0, cs.len() as f32, s.softness, s.bias];
+            u.shadow_map = [
+                1.0 / self.map.resolution as f32,
+                self.map.resolution as f32,
+                last * FADE_START,
+                0.0,
+            ];
+            gpu.queue
+                .write_buffer(&self.frames, 0, bytemuck::cast_slice(&frames));
+            self.cascades = cs.len() as u32;
+            self.grass_radius = s.grass_radius;
+            let args: Vec<DrawIndexedIndirect> = (0..LOD_LEVELS)
+                .map(|_| DrawIndexedIndirect {
+                    index_count: lod.0,
+                    instance_count: 0,
+                    first_index: lod.1,
+                    base_vertex: 0,
+                    first_instance: 0,
+                })
+                .collect();
+            gpu.queue
+                .write_buffer(&self.grass_args, 0, bytemuck::cast_slice(&args));
+        }
+        gpu.queue
+            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
+        self.last = u;
+        self.cascades
+    }
+
+    /// The cascades drawn this frame (0: no shadows).
+    pub fn cascades(&self) -> u32 {
+        self.cascades
+    }
+
+    /// Whether the grass casts shadows this frame.
+    pub fn grass_casts(&self) -> bool {
+        self.cascades > 0 && self.grass_radius > 0.0
+    }
+
+    /// The grass's shadow draw arguments.
+    pub fn grass_args(&self) -> &wgpu::Buffer {
+        &self.grass_args
+    }
+
+    /// Records the shadow passes: for each cascade, its frame over `frame_buffer`, then
+    /// `draw` records the casters into the cascade's layer; at the end the camera's frame
+    /// is put back. `cull_args` are the cull's draw arguments, whose instance counts the
+    /// grass's shadow draws take.
+    pub fn encode<F>(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame_buffer: &wgpu::Buffer,
+        cull_args: &wgpu::Buffer,
+        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+        mut draw: F,
+    ) where
+        F: FnMut(&mut wgpu::RenderPass<'_>),
+    {
+        if self.cascades == 0 {
+            return;
+        }
+        if self.grass_casts() {
+            for k in 0..LOD_LEVELS as u64 {
+                for field in [4u64, 16] {
+                    let at = k * ARGS_BYTES + field;
+                    encoder.copy_buffer_to_buffer(cull_args, at, &self.grass_args, at, 4);
+                }
+            }
+        }
+        let last = self.cascades as usize - 1;
+        for k in 0..=last {
+            // One timer scope over all cascades: it starts with the first pass and ends
+            // with the last.
+            let writes = timestamps
+                .as_ref()
+                .map(|w| wgpu::RenderPassTimestampWrites {
+                    query_set: w.query_set,
+                    beginning_of_pass_write_index: w
+                        .beginning_of_pass_write_index
+                        .filter(|_| k == 0),
+                    end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| k == last),
+                })
+                .filter(|w| {
+                    w.beginning_of_pass_write_index.is_some() || w.end_of_pass_write_index.is_some()
+                });
+            let from = FRAME_BYTES * (k as u64 + 1);
+            encoder.copy_buffer_to_buffer(&self.frames, from, frame_buffer, 0, FRAME_BYTES);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("sward.light.shadow_pass"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.map.layer_views[k],
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: writes,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            draw(&mut pass);
+        }
+        encoder.copy_buffer_to_buffer(&self.frames, 0, frame_buffer, 0, FRAME_BYTES);
+    }
+}
+
+/// The sky pass's colour along `dir` (without the sun's disk) as the sRGB target stores
+/// it: the CPU twin of `tonemap(sky_radiance(dir))` in `shaders/light.wgsl`.
+pub fn sky_srgb(scene: &Scene, sun: Vec3, dir: Vec3) -> [u8; 3] {
+    let l = &scene.light;
+    let u = uniforms(scene, sun);
+    let radiance = match l.sky {
+        SkyModel::Preetham => {
+            let ground = Vec3::from_slice(&u.ambient[..3]) * 0.35;
+            sky::PreethamSky::new(sun, l.turbidity).radiance(dir, ground)
+        }
+        SkyModel::Gradient => sky::gradient_radiance(dir, sun),
+    };
+    let c = tone::tonemap(radiance, l.tone_mapping, u.sun[3]);
+    [tone::srgb8(c.x), tone::srgb8(c.y), tone::srgb8(c.z)]
+}
+
+/// The light uniforms of `scene` for a sun in direction `sun`, without the cascades.
+pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
+    let l = &scene.light;
+    let sky = sky::PreethamSky::new(sun, l.turbidity);
+    let (sun_rgb, ambient) = match l.sky {
+        SkyModel::Preetham => (sky::sun_radiance(sun, l.turbidity), sky.ambient()),
+        SkyModel::Gradient => (GRADIENT_SUN, GRADIENT_AMBIENT),
+    };
+    let c = sky.coefficients;
+    let sh = &l.shading;
+    let field = &scene.field;
+    // The canopy's leaf area per ground area: blades per m² times a blade's mean area.
+    let leaf_area = field.density * field.height.lerp(0.5) * field.width.lerp(0.5);
+    LightUniforms {
+        sun: sun_rgb
+            .extend(tone::exposure_multiplier(l.tone_mapping, l.exposure))
+            .into(),
+        ambient: ambient.extend(l.tone_mapping.id() as f32).into(),
+        sky: [
+            l.sky.id() as f32,
+            l.turbidity,
+            sky::SUN_DISK_RADIUS.cos(),
+            sky::SUN_DISK_GAIN,
+        ],
+        perez: [0, 1, 2, 3, 4].map(|i| c[i].extend(0.0).into()),
+        zenith: sky.zenith.extend(sun.y.clamp(-1.0, 1.0).acos()).into(),
+        shading: [
+            [
+                sh.rounded_normal,
+                sh.translucency,
+                sh.specular,
+                sh.ambient_occlusion,
+            ],
+            [sh.color_variation, sh.wind_waves, leaf_area, 0.0],
+        ],
+        ..Default::default()
+    }
+}

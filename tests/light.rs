@@ -1,0 +1,361 @@
+//! Light and shadows (issue 16) against CPU references: the sky pass against the CPU twin
+//! of Preetham's sky and the tone mappers; the sun's shadow map of a sphere over a plane
+//! against a CPU ray cast; a render with shadows on and off differing exactly where the
+//! CPU's ray test says the sphere shadows the ground; a ball's shadow moving with it; and
+//! every blade shading term changing the picture.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use sward::render::camera::CameraView;
+use sward::render::light::{sky, tone};
+use sward::render::target::{Target, COLOR_FORMAT};
+use sward::render::Renderer;
+use sward::scene::{HeightSource, Motion, Scene, Shading, Sphere, ToneMapping};
+use sward::session::Session;
+
+/// Renders `frames` frames of `scene` at `size` and returns the image and the renderer.
+fn render(scene: Scene, size: (u32, u32), frames: u32) -> (image::RgbaImage, Renderer, CameraView) {
+    render_on(&common::gpu(), scene, size, frames)
+}
+
+fn render_on(
+    gpu: &sward::gpu::Gpu,
+    scene: Scene,
+    size: (u32, u32),
+    frames: u32,
+) -> (image::RgbaImage, Renderer, CameraView) {
+    let session = Session::new(scene, None, Some(gpu)).expect("field");
+    let mut r = Renderer::from_session(gpu, &session, COLOR_FORMAT).expect("renderer");
+    let camera = CameraView::from_scene(&session.scene.camera);
+    let target = Target::new(gpu, size.0, size.1).expect("target");
+    for _ in 0..frames {
+        r.frame(
+            gpu,
+            1.0 / 30.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+    }
+    gpu.check_errors().expect("no GPU error");
+    (target.read_image(gpu).expect("image"), r, camera)
+}
+
+/// The view ray through the centre of pixel (x, y).
+fn pixel_ray(inv: Mat4, eye: Vec3, (x, y): (u32, u32), (w, h): (u32, u32)) -> Vec3 {
+    let ndc = Vec3::new(
+        (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+        1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+        1.0,
+    );
+    (inv.project_point3(ndc) - eye).normalize()
+}
+
+fn sky_scene(hours: f32, mapper: ToneMapping) -> Scene {
+    let mut s = Scene::default();
+    s.render.msaa = 1;
+    s.light.time_of_day = Some(hours);
+    s.light.tone_mapping = mapper;
+    s.light.north = 200.0;
+    // Looking 45° up: only sky in view.
+    s.camera.eye = (0.0, 5.0, 0.0);
+    s.camera.target = (4.0, 15.0, 8.0);
+    s
+}
+
+/// The sky pass against `PreethamSky::radiance` + tone mapping + sRGB, pixel by pixel (every
+/// 7th), away from the sun's disk: within 3/255 (f32 on the GPU against f32 here, through
+/// exp, acos and the mappers' rational curves).
+#[test]
+fn sky_matches_its_cpu_twin() {
+    let size = (96, 64);
+    for (hours, mapper) in [(11.0, ToneMapping::Aces), (18.5, ToneMapping::Agx)] {
+        let scene = sky_scene(hours, mapper);
+        let sun = sward::render::light::sun::scene_sun(&scene);
+        let preetham = sky::PreethamSky::new(sun, scene.light.turbidity);
+        let multiplier = tone::exposure_multiplier(mapper, scene.light.exposure);
+        let (image, _, camera) = render(scene.clone(), size, 1);
+        let inv = camera.view_proj(size.0 as f32 / size.1 as f32).inverse();
+        let mut worst = 0i32;
+        let mut checked = 0;
+        for y in (0..size.1).step_by(7) {
+            for x in (0..size.0).step_by(7) {
+                let dir = pixel_ray(inv, camera.eye, (x, y), size);
+                if dir.dot(sun) > 0.999 {
+                    continue;
+                }
+                let c = tone::tonemap(preetham.radiance(dir, Vec3::ZERO), mapper, multiplier);
+                let want = [tone::srgb8(c.x), tone::srgb8(c.y), tone::srgb8(c.z)];
+                let got = image.get_pixel(x, y).0;
+                for ch in 0..3 {
+                    worst = worst.max((want[ch] as i32 - got[ch] as i32).abs());
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 80, "{checked}");
+        assert!(
+            worst <= 3,
+            "{hours} h {mapper:?}: worst channel difference {worst}/255"
+        );
+    }
+}
+
+/// A flat plane with a sphere above it and no grass in the way (the blades are culled at
+/// 1 cm), the sun fixed.
+fn sphere_over_plane(shadows: bool) -> Scene {
+    let mut s = Scene::default();
+    s.render.msaa = 1;
+    s.terrain.height = HeightSource::Flat;
+    s.terrain.size = 16.0;
+    s.field.tile_size = 0.0;
+    s.field.density = 1.0;
+    s.culling.max_distance = 0.01;
+    s.render.sun_direction = (0.35, 0.8, 0.25);
+    s.light.time_of_day = None;
+    s.light.shadows.enabled = shadows;
+    s.light.shadows.distance = 30.0;
+    s.light.shadows.cascades = 2;
+    s.light.shadows.softness = 1.0;
+    s.colliders = vec![Sphere {
+        center: (0.0, 1.5, 0.0),
+        radius: 0.7,
+        motion: Motion::Static,
+    }];
+    s.wind.directional = None;
+    s.camera.eye = (0.5, 4.5, 4.5);
+    s.camera.target = (-0.5, 0.0, -1.0);
+    s.camera.fov_y = 50.0;
+    s
+}
+
+const CENTRE: Vec3 = Vec3::new(0.0, 1.5, 0.0);
+const RADIUS: f32 = 0.7;
+
+/// Distance of `p`'s sun ray from the sphere's surface (negative inside the shadow).
+fn shadow_margin(p: Vec3, sun: Vec3) -> f32 {
+    let to_c = CENTRE - p;
+    let along = to_c.dot(sun);
+    if along <= 0.0 {
+        return f32::INFINITY;
+    }
+    (to_c - sun * along).length() - RADIUS
+}
+
+/// The first cascade's depth map against the CPU: for every 4th texel, the ray from the
+/// sun through the texel's centre meets the sphere or the plane at the depth the map holds
+/// (within 2 cm of depth along the sun, plus the pipeline's slope bias and the sphere's
+/// tessellation, both growing with the slope), except where the sun grazes the sphere.
+#[test]
+fn shadow_map_matches_a_cpu_ray_cast() {
+    let gpu = common::gpu();
+    let (_, r, _) = render_on(&gpu, sphere_over_plane(true), (128, 96), 1);
+    let u = *r.light().uniforms();
+    assert_eq!(u.shadow[0], 1.0);
+    let (res, depths) = r.light().read_cascade(&gpu, 0).expect("shadow map");
+    let vp = Mat4::from_cols_array_2d(&u.cascades[0]);
+    let inv = vp.inverse();
+    let texel = u.texel_world[0];
+    let (mut sphere_hits, mut plane_hits, mut checked) = (0, 0, 0);
+    for ty in (0..res).step_by(4) {
+        for tx in (0..res).step_by(4) {
+            let ndc_x = (tx as f32 + 0.5) / res as f32 * 2.0 - 1.0;
+            let ndc_y = 1.0 - (ty as f32 + 0.5) / res as f32 * 2.0;
+            let start = inv.project_point3(Vec3::new(ndc_x, ndc_y, 0.0));
+            let end = inv.project_point3(Vec3::new(ndc_x, ndc_y, 1.0));
+            let dir = (end - start).normalize();
+            // The ray against the sphere, then the plane y = 0.
+            let oc = start - CENTRE;
+            let b = oc.dot(dir);
+            let c = oc.length_squared() - RADIUS * RADIUS;
+            let disc = b * b - c;
+            let closest = (oc - dir * oc.dot(dir)).length();
+            // The silhouette, within 1.5 texels or the drawn sphere's tessellation (1.5 %).
+            if (closest - RADIUS).abs() < (1.5 * texel).max(0.015 * RADIUS) {
+                continue;
+            }
+            // The pipeline's depth bias (1.5 texels of slope) and a texel of rasterising
+            // grow with the surface's slope to the sun.
+            let mut slope = 1.0;
+            let t = if disc > 0.0 {
+                sphere_hits += 1;
+                let t = -b - disc.sqrt();
+                let n = (start + dir * t - CENTRE) / RADIUS;
+                slope = 1.0 / n.dot(-dir).max(0.05);
+                t
+            } else {
+                plane_hits += 1;
+                -start.y / dir.y
+            };
+            // Grazing the sphere (over 70° from its normal) the facets' depth departs from
+            // the sphere's faster than any texel tolerance: those texels are left out.
+            if slope > 3.0 {
+                continue;
+            }
+            let hit = start + dir * t;
+            let want = vp.project_point3(hit).z;
+            // Ground outside the cascade's depth range is outside its slice too, and the
+            // terrain ends at the square's edge (8 m).
+            if !(0.0..=1.0).contains(&want) || hit.x.abs().max(hit.z.abs()) > 7.8 {
+                continue;
+            }
+            let got = depths[(ty * res + tx) as usize];
+            let depth_range = (end - start).length();
+            let err_m = (got - want).abs() * depth_range;
+            // The drawn sphere is 16 x 24 facets: up to 0.86 % of the radius inside, along
+            // the ray that much over the slope.
+            let tessellation = 0.0086 * RADIUS;
+            assert!(err_m < 0.02 + (3.0 * texel + tessellation) * slope, "texel ({tx}, {ty}): {got} vs {want} ({err_m} m, slope {slope}, texel {texel} m, sphere {})", disc > 0.0);
+            checked += 1;
+        }
+    }
+    assert!(
+        sphere_hits > 20 && plane_hits > 1000,
+        "{sphere_hits} {plane_hits}"
+    );
+    assert!(checked > 1000);
+}
+
+/// Shadows on against off: the ground darkens exactly where the CPU's ray test puts it in
+/// the sphere's shadow. Pixels within 6 cm of the shadow's edge (the filter's soft band)
+/// are left out; of the rest, at least 99.5 % agree.
+#[test]
+fn shadowed_pixels_are_where_the_cpu_says() {
+    let size = (160, 120);
+    let (on, _, camera) = render(sphere_over_plane(true), size, 1);
+    let (off, _, _) = render(sphere_over_plane(false), size, 1);
+    let sun = Vec3::new(0.35, 0.8, 0.25).normalize();
+    let inv = camera.view_proj(size.0 as f32 / size.1 as f32).inverse();
+    let lum = |p: &image::Rgba<u8>| p.0[0] as f32 + p.0[1] as f32 + p.0[2] as f32;
+    let (mut agree, mut total, mut shadowed) = (0, 0, 0);
+    for y in 0..size.1 {
+        for x in 0..size.0 {
+            let dir = pixel_ray(inv, camera.eye, (x, y), size);
+            // Pixels showing the sphere itself are left out.
+            let oc = camera.eye - CENTRE;
+            let b = oc.dot(dir);
+            if b * b - (oc.length_squared() - (RADIUS + 0.05).powi(2)) > 0.0 {
+                continue;
+            }
+            if dir.y >= -1e-3 {
+                continue;
+            }
+            let p = camera.eye + dir * (-camera.eye.y / dir.y);
+            let margin = shadow_margin(p, sun);
+            if margin.abs() < 0.06 {
+                continue;
+            }
+            let cpu = margin < 0.0;
+            let gpu = lum(on.get_pixel(x, y)) < 0.8 * lum(off.get_pixel(x, y));
+            total += 1;
+            shadowed += cpu as u32;
+            agree += (cpu == gpu) as u32;
+        }
+    }
+    assert!(shadowed > 200, "the shadow covers {shadowed} pixels");
+    let share = agree as f32 / total as f32;
+    assert!(share >= 0.995, "{agree} of {total} pixels agree ({share})");
+}
+
+/// A ball rolling over the grass: its shadow (the on/off difference) moves with it, as far
+/// as the CPU's shadow of the ball moves on the ground between the two frames.
+#[test]
+fn a_balls_shadow_moves_with_it() {
+    let size = (160, 100);
+    let base = |shadows: bool, frames_at: f32| {
+        let mut s = common::still_scene();
+        s.render.msaa = 1;
+        s.terrain.height = HeightSource::Flat;
+        s.terrain.size = 16.0;
+        s.field.tile_size = 0.0;
+        s.render.sun_direction = (0.3, 0.85, 0.2);
+        s.light.shadows.enabled = shadows;
+        s.colliders = vec![Sphere {
+            center: (-2.0 + frames_at, 1.2, 0.0),
+            radius: 0.5,
+            motion: Motion::Static,
+        }];
+        s.camera.eye = (0.0, 6.0, 6.0);
+        s.camera.target = (0.0, 0.0, 0.0);
+        s
+    };
+    let centroid = |at: f32| {
+        let (on, _, _) = render(base(true, at), size, 1);
+        let (off, _, _) = render(base(false, at), size, 1);
+        let (mut sx, mut sy, mut n) = (0.0, 0.0, 0.0);
+        for (x, y, p) in on.enumerate_pixels() {
+            let q = off.get_pixel(x, y);
+            let l = |c: &image::Rgba<u8>| c.0[0] as f32 + c.0[1] as f32 + c.0[2] as f32;
+            if l(p) < 0.8 * l(q) {
+                sx += x as f32;
+                sy += y as f32;
+                n += 1.0;
+            }
+        }
+        assert!(n > 30.0, "a shadow at {at}: {n} pixels");
+        (sx / n, sy / n)
+    };
+    let a = centroid(0.0);
+    let b = centroid(3.0);
+    // The ground's shadow centre: the ball's centre projected along the sun onto y = 0.
+    let sun = Vec3::new(0.3, 0.85, 0.2).normalize();
+    let on_ground = |x: f32| Vec3::new(x, 1.2, 0.0) - sun * (1.2 / sun.y);
+    let camera = CameraView::from_scene(&base(true, 0.0).camera);
+    let vp = camera.view_proj(size.0 as f32 / size.1 as f32);
+    let screen = |p: Vec3| {
+        let c = vp.project_point3(p);
+        (
+            (c.x * 0.5 + 0.5) * size.0 as f32,
+            (0.5 - c.y * 0.5) * size.1 as f32,
+        )
+    };
+    let (pa, pb) = (screen(on_ground(-2.0)), screen(on_ground(1.0)));
+    let moved = (b.0 - a.0, b.1 - a.1);
+    let want = (pb.0 - pa.0, pb.1 - pa.1);
+    let err = ((moved.0 - want.0).powi(2) + (moved.1 - want.1).powi(2)).sqrt();
+    let len = (want.0.powi(2) + want.1.powi(2)).sqrt();
+    // The grass stands in the shadow at varying heights: within a fifth of the move.
+    assert!(err < 0.2 * len, "moved {moved:?}, CPU {want:?}");
+}
+
+/// Each blade shading term, switched off, changes the picture of a windy meadow seen close
+/// up (mean absolute difference per channel over 0.3 of 255): none does nothing.
+#[test]
+fn every_shading_term_changes_the_picture() {
+    let size = (128, 80);
+    let scene = || {
+        let mut s = Scene::default();
+        s.render.msaa = 1;
+        s.field.tile_size = 0.0;
+        s.terrain.size = 12.0;
+        s.culling.max_distance = 14.0;
+        // A low sun behind the camera's left: the blades' sheen faces the camera, and the
+        // backs of half the blades face the sun (translucency).
+        s.render.sun_direction = (-0.6, 0.4, 0.5);
+        s.camera.eye = (-3.0, 1.4, 3.0);
+        s.camera.target = (1.0, 0.2, -1.0);
+        s
+    };
+    let (all, _, _) = render(scene(), size, 8);
+    // Translucency shows against a sun ahead of the camera.
+    let mut ahead = scene();
+    ahead.render.sun_direction = (0.5, 0.45, -0.6);
+    let (all_ahead, _, _) = render(ahead.clone(), size, 8);
+    for name in Shading::NAMES {
+        let (mut s, all) = if name == "translucency" {
+            (ahead.clone(), &all_ahead)
+        } else {
+            (scene(), &all)
+        };
+        *s.light.shading.term_mut(name).expect("term") = 0.0;
+        let (without, _, _) = render(s, size, 8);
+        let diff = sward::compare::compare(all, &without).expect("same size");
+        assert!(
+            diff.mean > 0.3,
+            "{name} off changes the picture by only {:.3}",
+            diff.mean
+        );
+    }
+}
