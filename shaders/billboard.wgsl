@@ -78,7 +78,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let lit = sun_visibility(in.world);
     let diffuse = max(sun.y, 0.0);
     var color = tex.rgb
-        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * lit * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * lit * light.shading_b.w * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
     color = fog(color, in.world);
     return vec4<f32>(tonemap(color), tex.a);
 }

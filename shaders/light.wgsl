@@ -33,7 +33,8 @@ struct LightUniforms {
     // w: theta_s, the sun's zenith angle.
     zenith: vec4<f32>,
     // Blade shading strengths: rounded normal, translucency, specular, ambient occlusion;
-    // colour variation, wind waves, canopy leaf area (m²/m²), unused.
+    // colour variation, wind waves, canopy leaf area (m²/m²), the canopy's mean sunlit
+    // share (1 without grass shadows; `light::sunlit_share`).
     shading_a: vec4<f32>,
     shading_b: vec4<f32>,
 }

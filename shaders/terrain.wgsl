@@ -117,7 +117,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // over blade azimuths and heights (`clipmap::FAR_GRASS_LIGHT`): ambient with the blades'
     // mean self-shadow, sun on blades that lean with the ground, a little translucency.
     let grass = terrain.grass_albedo.rgb
-        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * (diffuse * 0.7 + 0.25 * lit * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * light.shading_b.w * (diffuse * 0.7 + 0.25 * lit * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):

@@ -341,6 +341,11 @@ impl LightPass {
                 last * FADE_START,
                 0.0,
             ];
+            // Where the blades cast shadows, the billboards and the far ground (which stand
+            // for blades) take the canopy's mean sunlit share, so the levels match.
+            if s.grass_radius > 0.0 {
+                u.shading[1][3] = sunlit_share(u.shading[1][2], sun.y);
+            }
             gpu.queue
                 .write_buffer(&self.frames, 0, bytemuck::cast_slice(&frames));
             self.cascades = cs.len() as u32;
@@ -442,6 +447,20 @@ impl LightPass {
     }
 }
 
+/// The mean sunlit share of the blades' area in a canopy of `leaf_area` m² of blades per m²
+/// of ground under a sun of height `sun_y` (sine of its elevation): Beer-Lambert with a
+/// projection factor G = 0.5 (blades at random angles), averaged over the canopy's depth,
+/// (1 − e^(−k)) / k with k = G · leaf_area / sun_y (Monsi & Saeki's canopy model). The
+/// shadowed near blades average to this; the billboards and the far ground use it.
+pub fn sunlit_share(leaf_area: f32, sun_y: f32) -> f32 {
+    let k = 0.5 * leaf_area.max(0.0) / sun_y.max(0.02);
+    if k < 1e-4 {
+        1.0
+    } else {
+        (1.0 - (-k).exp()) / k
+    }
+}
+
 /// The sky pass's colour along `dir` (without the sun's disk) as the sRGB target stores
 /// it: the CPU twin of `tonemap(sky_radiance(dir))` in `shaders/light.wgsl`.
 pub fn sky_srgb(scene: &Scene, sun: Vec3, dir: Vec3) -> [u8; 3] {
@@ -491,7 +510,7 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
                 sh.specular,
                 sh.ambient_occlusion,
             ],
-            [sh.color_variation, sh.wind_waves, leaf_area, 0.0],
+            [sh.color_variation, sh.wind_waves, leaf_area, 1.0],
         ],
         ..Default::default()
     }

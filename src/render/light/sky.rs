@@ -238,7 +238,8 @@ mod tests {
     fn evening_sun_is_red_and_dimmer() {
         let noon = sun_radiance(Vec3::Y, 3.0);
         let low = sun_radiance(Vec3::new(0.0, 0.05, 1.0).normalize(), 3.0);
-        assert!((noon - Vec3::ONE).abs().max_element() < 1e-5, "{noon}");
+        // Kasten & Young's air mass overhead is 0.9997, not quite 1.
+        assert!((noon - Vec3::ONE).abs().max_element() < 1e-3, "{noon}");
         assert!(low.x / low.z > 2.0 * noon.x / noon.z, "{low} {noon}");
         assert!(low.y < noon.y);
         assert_eq!(
