@@ -1,6 +1,7 @@
 // AGC guide arrows and points (src/render/arrows.rs): a CPU-built triangle mesh with face
 // normals and colours, lit with Lambert + ambient so that shafts, heads and octahedra read
-// as solids. No fog or tonemapping: the colour must stay the strength ramp's exact hue.
+// as solids. No fog or tonemapping: the colour must stay the strength ramp's exact hue, so
+// alpha 0 tells the tone-mapping pass (`tonemap.wgsl`) that it is a display colour.
 
 struct ArrowUniforms {
     view_proj: mat4x4<f32>,
@@ -36,5 +37,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let ambient = u.light.w;
     let shade = ambient + (1.0 - ambient) * max(dot(n, u.light.xyz), 0.0);
-    return vec4<f32>(in.color.rgb * shade, in.color.a);
+    return vec4<f32>(in.color.rgb * shade, 0.0);
 }

@@ -80,5 +80,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var color = tex.rgb
         * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * lit * light.shading_b.w * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
     color = fog(color, in.world);
-    return vec4<f32>(tonemap(color), tex.a);
+    return vec4<f32>(color, tex.a);
 }

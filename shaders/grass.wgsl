@@ -347,7 +347,8 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let v = in.uv.y;
     if in.tint.w > 0.5 {
-        return vec4<f32>(debug_color(in.tint, flat_n, sun, v), 1.0);
+        // A debug colour is a display colour: alpha 0 keeps tone mapping off it.
+        return vec4<f32>(debug_color(in.tint, flat_n, sun, v), 0.0);
     }
     let lit = sun_visibility(in.world);
     // A flower head: petals around a centre, cut out of the card (a procedural texture:
@@ -361,7 +362,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         }
         let c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
         let head_light = light.ambient.rgb * 0.9 + light.sun.rgb * (abs(dot(flat_n, sun)) * 0.9 * lit);
-        return vec4<f32>(tonemap(fog(c * head_light, in.world)), 1.0);
+        return vec4<f32>(fog(c * head_light, in.world), 1.0);
     }
     // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
     // both edges, so that a flat blade reads as curved.
@@ -413,5 +414,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         + albedo * vec3<f32>(1.0, 1.1, 0.4) * sun_rgb * trans * 1.4 * ao
         + sun_rgb * spec;
     color = fog(color, in.world);
-    return vec4<f32>(tonemap(color), 1.0);
+    return vec4<f32>(color, 1.0);
 }

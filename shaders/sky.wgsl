@@ -25,5 +25,5 @@ fn vs_main(@builtin(vertex_index) vid: u32) -> VertexOut {
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let far = frame.inv_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
     let dir = normalize(far.xyz / far.w - frame.camera_pos.xyz);
-    return vec4<f32>(tonemap(sky_with_sun(dir)), 1.0);
+    return vec4<f32>(sky_with_sun(dir), 1.0);
 }

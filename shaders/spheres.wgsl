@@ -44,5 +44,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let spec = pow(max(dot(n, h), 0.0), 60.0) * 0.5 * lit;
     var color = albedo * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.4) + light.sun.rgb * spec;
     color = fog(color, in.world);
-    return vec4<f32>(tonemap(color), 1.0);
+    return vec4<f32>(color, 1.0);
 }

@@ -131,5 +131,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
     var color = mix(near, grass, cover);
     color = fog(color, in.world);
-    return vec4<f32>(tonemap(color), 1.0);
+    return vec4<f32>(color, 1.0);
 }

@@ -77,6 +77,7 @@ const FILES: &[(&str, &str)] = &[
     ("overlay.wgsl", include_str!("../shaders/overlay.wgsl")),
     ("arrows.wgsl", include_str!("../shaders/arrows.wgsl")),
     ("upscale.wgsl", include_str!("../shaders/upscale.wgsl")),
+    ("tonemap.wgsl", include_str!("../shaders/tonemap.wgsl")),
     (
         "fluid_common.wgsl",
         include_str!("../shaders/fluid_common.wgsl"),
@@ -145,6 +146,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "overlay.wgsl",
     "arrows.wgsl",
     "upscale.wgsl",
+    "tonemap.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",
     "fluid_diffuse.wgsl",

@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
 use crate::render::camera::CameraView;
+use crate::render::post::HDR_FORMAT;
 use crate::render::upscale::{scaled_size, Upscale};
 use crate::render::{DynamicSphere, FrameStats, Renderer};
 use crate::scene::save::save_scene;
@@ -156,7 +157,7 @@ impl AppState {
         let applied_revision = editor.revision();
         let field_draft = renderer.scene.field.clone();
         Ok(Self {
-            arrows: ArrowPass::new(gpu, format, renderer.msaa_samples()),
+            arrows: ArrowPass::new(gpu, HDR_FORMAT, renderer.msaa_samples()),
             upscale: Upscale::new(gpu, format),
             renderer,
             camera,
@@ -595,7 +596,7 @@ impl AppState {
         // depth tested against the multisampled depth (the only one the scene wrote) and
         // their edges are anti-aliased like the grass.
         if self.arrows.samples != self.renderer.msaa_samples() {
-            self.arrows = ArrowPass::new(gpu, self.format, self.renderer.msaa_samples());
+            self.arrows = ArrowPass::new(gpu, HDR_FORMAT, self.renderer.msaa_samples());
         }
         let show_arrows = self.mode == Mode::Edit || self.renderer.overlay_enabled();
         let mesh = if show_arrows {

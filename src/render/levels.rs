@@ -82,7 +82,7 @@ impl Renderer {
                     sim_params: self.update.params_buffer(),
                     wind_grid: self.wind_grid(),
                 },
-                self.format,
+                super::post::HDR_FORMAT,
                 self.samples,
             )
         });

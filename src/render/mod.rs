@@ -19,6 +19,7 @@ pub mod mesh;
 pub mod msaa;
 pub mod objects;
 pub mod overlay;
+pub mod post;
 pub mod target;
 pub mod terrain;
 pub mod timing;
@@ -159,6 +160,8 @@ pub struct Renderer {
     /// The multisampled colour + depth of the 3D passes (when `samples` > 1), sized to the
     /// last frame's target.
     msaa: Option<msaa::MsaaTarget>,
+    /// The half-float scene target and the pass that tone-maps it into the output.
+    post: post::ToneMap,
     /// The sun, the sky and the sun's shadow maps (`light`).
     light: light::LightPass,
 }
@@ -197,7 +200,7 @@ impl Renderer {
                 &self.scene.objects,
                 meshes,
                 self.draw.frame_buffer(),
-                self.format,
+                post::HDR_FORMAT,
                 self.draw.samples(),
             )
         });
@@ -256,7 +259,7 @@ impl Renderer {
             .features()
             .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
         let requested_samples = scene.render.msaa;
-        let samples = msaa::effective_samples(gpu, format, requested_samples);
+        let samples = msaa::effective_samples(gpu, post::HDR_FORMAT, requested_samples);
         let draw = DrawPass::new(
             gpu,
             &buffers,
@@ -267,7 +270,7 @@ impl Renderer {
             &cull.params,
             &cull.args,
             multi_draw,
-            format,
+            post::HDR_FORMAT,
             samples,
             ModelBuffers {
                 sim_params: update.params_buffer(),
@@ -283,6 +286,7 @@ impl Renderer {
             )));
         }
         let light = light::LightPass::new(gpu, &scene)?;
+        let post = post::ToneMap::new(gpu, format, &light::layout(&gpu.device));
         let mut draw = draw;
         draw.set_grass_everywhere(tiles.is_some() && terrain.unbounded);
         draw.set_far_albedo(clipmap::far_albedo(&scene.field));
@@ -322,6 +326,7 @@ impl Renderer {
             samples,
             msaa: None,
             light,
+            post,
         };
         r.upload_colliders(gpu);
         r.sync_billboards(gpu);
@@ -642,13 +647,13 @@ impl Renderer {
             + self.cull.args.size();
         let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
         let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes());
-        // Multisampled colour (4 bytes) and depth (4 bytes) per sample.
+        // Multisampled half-float colour (8 bytes) and depth (4 bytes) per sample.
         let msaa = self.msaa.as_ref().map_or(0, |m| {
-            m.size.0 as u64 * m.size.1 as u64 * m.samples as u64 * 8
+            m.size.0 as u64 * m.size.1 as u64 * m.samples as u64 * 12
         });
         (
             blades,
-            blades + fluid + pyramid + msaa + self.draw.gpu_bytes(),
+            blades + fluid + pyramid + msaa + self.post.gpu_bytes() + self.draw.gpu_bytes(),
         )
     }
 
@@ -719,16 +724,25 @@ impl Renderer {
         if self.samples > 1 {
             let fits = self.msaa.as_ref().is_some_and(|m| m.size == size);
             if !fits {
-                self.msaa = Some(msaa::MsaaTarget::new(gpu, self.format, self.samples, size));
+                self.msaa = Some(msaa::MsaaTarget::new(
+                    gpu,
+                    post::HDR_FORMAT,
+                    self.samples,
+                    size,
+                ));
             }
         } else {
             self.msaa = None;
         }
+        // The lit passes draw radiance into the scene target; `resolve` tone-maps it into
+        // the caller's `color`.
+        let _ = color;
+        let scene = self.post.view(gpu, size).clone();
         // Held outside `self` while the passes borrow it mutably.
         let target = self.msaa.take();
         let (color, depth) = match &target {
             Some(m) => (&m.color, &m.depth),
-            None => (color, depth),
+            None => (&scene, depth),
         };
         self.encode_passes(gpu, encoder, dt, camera, color, depth, size);
         self.msaa = target;
@@ -877,12 +891,6 @@ impl Renderer {
         }
         if let (Some(o), Some(f)) = (&mut self.overlay, &self.fluid) {
             o.move_grid(&gpu.queue, f.origin());
-        }
-        if let Some(o) = &self.overlay {
-            o.encode(encoder, color);
-        }
-        if let Some(t) = &mut self.timer {
-            t.resolve(encoder);
         }
     }
 

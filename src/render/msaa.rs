@@ -8,6 +8,7 @@
 //! samples the pixel takes the covered share of the blade's colour.
 
 use super::draw::DEPTH_FORMAT;
+use super::timing::{self, rs, timed};
 use super::Renderer;
 use crate::gpu::Gpu;
 
@@ -149,7 +150,7 @@ impl Renderer {
             return;
         }
         self.requested_samples = wanted;
-        let samples = effective_samples(gpu, self.format, self.requested_samples);
+        let samples = effective_samples(gpu, super::post::HDR_FORMAT, self.requested_samples);
         if samples == self.samples {
             return;
         }
@@ -161,9 +162,6 @@ impl Renderer {
         self.msaa = None;
         // The pyramid's copy reads depth of the old sample count.
         self.pyramid = None;
-        if self.overlay.is_some() {
-            self.enable_overlay(gpu, self.format);
-        }
     }
 
     /// The colour and depth views the 3D passes draw into for a frame whose caller gave
@@ -177,14 +175,26 @@ impl Renderer {
     ) -> (&'a wgpu::TextureView, &'a wgpu::TextureView) {
         match &self.msaa {
             Some(m) => (&m.color, &m.depth),
-            None => (color, depth),
+            None => (self.post.current().unwrap_or(color), depth),
         }
     }
 
-    /// Resolves the multisampled colour of the frame into `color` (nothing without MSAA).
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
-        if let Some(m) = &self.msaa {
-            m.resolve(encoder, color);
+    /// Ends the frame's drawing: resolves the multisampled scene into the scene target,
+    /// tone-maps that into `color` (`post::ToneMap`), draws the wind overlay over it in
+    /// display colours, and resolves the frame's timestamp queries.
+    pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
+        if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
+            m.resolve(encoder, scene);
+        }
+        let timer = self.timer.as_ref();
+        timed(timer, encoder, timing::TONEMAP, |e, q| {
+            self.post.encode(e, self.light.group(), color, rs(q))
+        });
+        if let Some(o) = &self.overlay {
+            o.encode(encoder, color);
+        }
+        if let Some(t) = &mut self.timer {
+            t.resolve(encoder);
         }
     }
 }

@@ -13,9 +13,9 @@ use crate::gpu::Gpu;
 /// The passes that are timed, by scope name: the occluders' depth pass, the depth pyramid,
 /// the patch pass, the blade update, the blade cull and the draw; then, with grass
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
-/// tiles entering a streamed field, the billboards' cull and the sun's shadow maps. A pass that did not run in a
-/// frame reads 0.
-pub const PASSES: [&str; 12] = [
+/// tiles entering a streamed field, the billboards' cull, the sun's shadow maps and the
+/// tone mapping. A pass that did not run in a frame reads 0.
+pub const PASSES: [&str; 13] = [
     "occluders",
     "pyramid",
     "patches",
@@ -28,6 +28,7 @@ pub const PASSES: [&str; 12] = [
     "tiles",
     "billboards",
     "shadows",
+    "tone map",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -43,6 +44,8 @@ pub const TILES: usize = 9;
 pub const BILLBOARDS: usize = 10;
 /// The sun's shadow cascades (all of them, one scope).
 pub const SHADOWS: usize = 11;
+/// Tone mapping the scene target into the output (`post::ToneMap`).
+pub const TONEMAP: usize = 12;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

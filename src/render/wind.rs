@@ -23,7 +23,8 @@ impl Renderer {
         let mut o = overlay::OverlayPass::new(
             gpu,
             format,
-            self.samples,
+            // Drawn after tone mapping, into the single-sample output.
+            1,
             self.draw.frame_buffer(),
             velocity,
             resolution,

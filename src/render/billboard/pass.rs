@@ -328,10 +328,12 @@ impl BillboardPass {
                 module: &module,
                 entry_point: Some("fs_main"),
                 compilation_options: Default::default(),
+                // Alpha drives the coverage; the scene target's alpha (1: radiance, for
+                // the tone mapper) stays as the sky or the ground left it.
                 targets: &[Some(wgpu::ColorTargetState {
                     format,
                     blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
+                    write_mask: wgpu::ColorWrites::COLOR,
                 })],
             }),
             multiview_mask: None,

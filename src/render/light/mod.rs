@@ -461,8 +461,9 @@ pub fn sunlit_share(leaf_area: f32, sun_y: f32) -> f32 {
     }
 }
 
-/// The sky pass's colour along `dir` (without the sun's disk) as the sRGB target stores
-/// it: the CPU twin of `tonemap(sky_radiance(dir))` in `shaders/light.wgsl`.
+/// The sky's colour along `dir` (without the sun's disk) as the sRGB output stores it: the
+/// CPU twin of the sky pass's `sky_radiance(dir)` through the tone-mapping pass
+/// (`tonemap` in `shaders/light.wgsl`, run by `render::post`).
 pub fn sky_srgb(scene: &Scene, sun: Vec3, dir: Vec3) -> [u8; 3] {
     let l = &scene.light;
     let u = uniforms(scene, sun);

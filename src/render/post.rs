@@ -1,0 +1,177 @@
+//! Tone mapping after the 3D passes (issue 16, point 4). The lit passes draw linear
+//! radiance into a half-float scene target ([`HDR_FORMAT`]); with MSAA the multisampled
+//! target is resolved into it. One full-screen pass (`shaders/tonemap.wgsl`) then applies
+//! the scene's exposure and filmic curve (`light.tone_mapping`: ACES, AgX or a clamp) into
+//! the caller's 8-bit colour (the window's surface, the render-scale target or the headless
+//! image). The wind overlay is drawn after it, in display colours.
+//!
+//! Why a separate pass rather than a curve at the end of every fragment shader: the curve
+//! is not linear, so anti-aliasing must average radiance (what the camera's pixel gathers)
+//! before it, and every pass then shares one exposure and one curve.
+
+use crate::gpu::Gpu;
+
+/// The scene target's format: linear radiance with headroom above 1 for the sun's disk
+/// and specular highlights (f16 holds up to 65504).
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The single-sample scene target of one size.
+struct SceneTarget {
+    size: (u32, u32),
+    view: wgpu::TextureView,
+    bind_group: wgpu::BindGroup,
+}
+
+/// The tone-mapping pass and the scene target it reads.
+pub struct ToneMap {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    target: Option<SceneTarget>,
+}
+
+impl ToneMap {
+    /// The pass for output colour targets of `format`; `light_layout` is the light's
+    /// group 1 (its uniforms hold the exposure and the curve).
+    pub fn new(
+        gpu: &Gpu,
+        format: wgpu::TextureFormat,
+        light_layout: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let device = &gpu.device;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sward.tonemap.layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.tonemap.pipeline_layout"),
+            bind_group_layouts: &[Some(&layout), Some(light_layout)],
+            immediate_size: 0,
+        });
+        let module = crate::shaders::module(device, "tonemap.wgsl");
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("sward.tonemap.pipeline"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_tonemap"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_tonemap"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self {
+            pipeline,
+            layout,
+            target: None,
+        }
+    }
+
+    /// The single-sample scene target at `size` (the 3D passes draw into it without MSAA,
+    /// the resolve writes it with), allocated when the size changed.
+    pub fn view(&mut self, gpu: &Gpu, size: (u32, u32)) -> &wgpu::TextureView {
+        if self.target.as_ref().map(|t| t.size) != Some(size) {
+            self.target = Some(self.allocate(gpu, size));
+        }
+        &self.target.as_ref().expect("allocated above").view
+    }
+
+    /// The scene target of the last [`ToneMap::view`], if any.
+    pub fn current(&self) -> Option<&wgpu::TextureView> {
+        self.target.as_ref().map(|t| &t.view)
+    }
+
+    /// Bytes of GPU memory the scene target holds.
+    pub fn gpu_bytes(&self) -> u64 {
+        self.target
+            .as_ref()
+            .map_or(0, |t| t.size.0 as u64 * t.size.1 as u64 * 8)
+    }
+
+    fn allocate(&self, gpu: &Gpu, size: (u32, u32)) -> SceneTarget {
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sward.tonemap.scene"),
+            size: wgpu::Extent3d {
+                width: size.0.max(1),
+                height: size.1.max(1),
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: HDR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.tonemap.bind_group"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&view),
+            }],
+        });
+        SceneTarget {
+            size,
+            view,
+            bind_group,
+        }
+    }
+
+    /// Records the pass: the scene target through the light's exposure and curve into
+    /// `output` (same size). Does nothing before the first [`ToneMap::view`].
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        light: &wgpu::BindGroup,
+        output: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let Some(t) = &self.target else {
+            return;
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.tonemap"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: output,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &t.bind_group, &[]);
+        pass.set_bind_group(1, light, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
