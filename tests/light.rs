@@ -359,3 +359,120 @@ fn every_shading_term_changes_the_picture() {
         );
     }
 }
+
+/// The bunny at its reference view (`assets/scenes/bunny_meadow.ron`), the sun to its right
+/// and ahead of the camera:
+/// its shadow lies on the grass where the CPU says. The CPU casts every vertex of the mesh
+/// along the sun onto the terrain, lifted by 0 to 0.6 m (the blades' heights, whose points
+/// take the shadow), and projects the hits to the screen: the footprint. Shadows on against
+/// off (the grass casting none, so only the bunny and the ground cast), the pixels darkened
+/// by over 8 % away from the bunny itself lie in that footprint, and the footprint at half the grass's
+/// height is darkened wherever a blade there faced the sun.
+#[test]
+fn the_bunnys_shadow_lies_on_the_grass() {
+    let size = (240u32, 135u32);
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/bunny_meadow.ron");
+    let scene = |shadows: bool| {
+        let mut s = sward::scene::load_scene(&path).expect("bunny_meadow.ron");
+        s.render.msaa = 1;
+        s.light.time_of_day = None;
+        s.render.sun_direction = (0.8, 0.7, -0.6);
+        s.light.shadows.enabled = shadows;
+        s.light.shadows.grass_radius = 0.0;
+        s
+    };
+    let gpu = common::gpu();
+    let (on, _, camera) = render_on(&gpu, scene(true), size, 2);
+    let (off, _, _) = render_on(&gpu, scene(false), size, 2);
+
+    let session = Session::new(scene(true), None, None).expect("session");
+    let model = session.scene.objects[0].transform();
+    let sun = Vec3::from(session.scene.render.sun_direction).normalize();
+    let vp = camera.view_proj(size.0 as f32 / size.1 as f32);
+    let (w, h) = (size.0 as i32, size.1 as i32);
+    let pixel = |p: Vec3| {
+        let c = vp.project_point3(p);
+        (
+            ((c.x * 0.5 + 0.5) * size.0 as f32) as i32,
+            ((0.5 - c.y * 0.5) * size.1 as f32) as i32,
+        )
+    };
+    // Marks the pixels within `r` of the projected points.
+    let splat = |mask: &mut Vec<bool>, points: &[Vec3], r: i32| {
+        for &p in points {
+            let (x, y) = pixel(p);
+            for dy in -r..=r {
+                for dx in -r..=r {
+                    let (px, py) = (x + dx, y + dy);
+                    if px >= 0 && py >= 0 && px < w && py < h {
+                        mask[(py * w + px) as usize] = true;
+                    }
+                }
+            }
+        }
+    };
+    let vertices: Vec<Vec3> = session.meshes[0]
+        .positions
+        .iter()
+        .map(|p| model.transform_point3(Vec3::from(*p)))
+        .collect();
+    // Where the sun ray back from `p` meets the terrain lifted by `lift` (fixed-point
+    // iteration on the smooth height field).
+    let cast = |p: Vec3, lift: f32| {
+        let mut t = 0.0;
+        for _ in 0..12 {
+            let q = p - sun * t;
+            t = (p.y - session.terrain.height(q.x, q.z) - lift).max(0.0) / sun.y;
+        }
+        p - sun * t
+    };
+    let footprint = |lifts: &[f32], r: i32| {
+        let mut mask = vec![false; (w * h) as usize];
+        for &lift in lifts {
+            let hits: Vec<Vec3> = vertices.iter().map(|&p| cast(p, lift)).collect();
+            splat(&mut mask, &hits, r);
+        }
+        mask
+    };
+    let mut bunny = vec![false; (w * h) as usize];
+    splat(&mut bunny, &vertices, 3);
+    let anywhere = footprint(&[0.0, 0.15, 0.3, 0.45, 0.6], 3);
+    let middle = footprint(&[0.3], 0);
+
+    let luma = |c: &image::Rgba<u8>| c.0[0] as f32 + c.0[1] as f32 + c.0[2] as f32;
+    let (mut dark, mut dark_inside, mut mid, mut mid_dark) = (0, 0, 0, 0);
+    for (x, y, p) in on.enumerate_pixels() {
+        let i = (y as i32 * w + x as i32) as usize;
+        if bunny[i] {
+            continue;
+        }
+        let darkened = luma(p) < 0.92 * luma(off.get_pixel(x, y));
+        if darkened {
+            dark += 1;
+            dark_inside += anywhere[i] as u32;
+        }
+        if middle[i] {
+            mid += 1;
+            mid_dark += darkened as u32;
+        }
+    }
+    println!(
+        "bunny shadow: {dark} darkened pixels, {dark_inside} in the CPU's footprint; \
+         {mid_dark} of {mid} footprint pixels at half height darkened"
+    );
+    assert!(dark > 80, "the bunny casts a shadow of {dark} pixels");
+    let inside = dark_inside as f32 / dark as f32;
+    assert!(
+        inside >= 0.9,
+        "{dark_inside} of {dark} darkened pixels in the footprint"
+    );
+    assert!(mid > 60, "the footprint covers {mid} pixels");
+    // Measured 44 %: a blade whose side towards the camera faces away from the sun takes no
+    // direct sun even in the light, so the shadow cannot darken it.
+    let covered = mid_dark as f32 / mid as f32;
+    assert!(
+        covered >= 0.3,
+        "{mid_dark} of {mid} footprint pixels darkened"
+    );
+}
