@@ -24,6 +24,8 @@ struct VertexOut {
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) layer: u32,
     @location(3) @interpolate(flat) fade: f32,
+    // The ground's normal under the card: the card takes the sun as the far ground there.
+    @location(4) @interpolate(flat) ground_n: vec3<f32>,
 }
 
 @vertex
@@ -52,6 +54,8 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     out.uv = vec2<f32>(select(1.0 - u, u, c.info.z == 1u), 1.0 - v);
     out.layer = c.info.y;
     out.fade = c.pos_fade.w;
+    let g = terrain_height(pos.xz);
+    out.ground_n = normalize(vec3<f32>(-g.y, 1.0, -g.z));
     return out;
 }
 
@@ -73,10 +77,12 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         discard;
     }
     let sun = frame.sun_dir.xyz;
-    // The far ground's grass lighting (terrain.wgsl), so cards and ground read as one.
-    // The shadows of what stands between the card and the sun fall on it too.
+    // The far ground's grass lighting (terrain.wgsl) with the ground's own normal, so
+    // cards and the ground between them read as one on every slope (with the sun's height
+    // alone, cards on slopes turned from a low sun stood out in bright rows over darker
+    // ground). The shadows of what stands between the card and the sun fall on it too.
     let lit = sun_visibility(in.world);
-    let diffuse = max(sun.y, 0.0);
+    let diffuse = max(dot(in.ground_n, sun), 0.0);
     var color = tex.rgb
         * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * lit * light.shading_b.w * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
     color = fog(color, in.world);

@@ -213,6 +213,12 @@ enum Command {
         /// draw, and GPU bytes per blade.
         #[arg(long)]
         models: bool,
+        /// Time what the light costs on the same scene and frames: the frame without sun
+        /// shadows, with shadows but no grass casters, with the scene's shadows, and with
+        /// no blade shading terms; GPU ms of the frame, the shadow cascades, the colour
+        /// passes and the tone mapping, and each frame over the frame without shadows.
+        #[arg(long)]
+        light: bool,
     },
 }
 
@@ -415,6 +421,7 @@ fn main() -> ExitCode {
             pressure_solvers,
             colliders,
             models,
+            light,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -429,6 +436,7 @@ fn main() -> ExitCode {
             b.flight = flight;
             b.trace = trace;
             b.models = models;
+            b.light = light;
             b
         })
         .and_then(|mut b| {

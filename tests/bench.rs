@@ -500,3 +500,48 @@ fn models_are_timed_side_by_side() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--models times the blade models alone"));
 }
+
+/// `--light` times the light's configurations on the same frames: the frame without
+/// shadows is the reference, the shadow pass runs only where shadows are on, the tone
+/// mapping runs in every configuration, and `--light` goes with no other mode.
+#[test]
+fn light_configurations_are_timed_side_by_side() {
+    let r = bench_json(&[
+        "--frames", "2", "--warmup", "1", "--size", "64x36", "--light",
+    ]);
+    let configs = r["configs"].as_array().expect("configs");
+    let names: Vec<&str> = configs
+        .iter()
+        .map(|c| c["config"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "no shadows",
+            "shadows, no grass casters",
+            "shadows",
+            "shadows, no blade terms"
+        ]
+    );
+    assert_eq!(
+        r["timestamps"].as_bool(),
+        Some(true),
+        "lavapipe has timestamps"
+    );
+    assert_eq!(
+        f(&configs[0], &["shadows_ms"]),
+        0.0,
+        "no shadow pass without shadows"
+    );
+    assert_eq!(f(&configs[0], &["frame_over_no_shadows"]), 1.0);
+    for c in &configs[1..] {
+        assert!(f(c, &["shadows_ms"]) > 0.0, "{c}");
+    }
+    for c in configs {
+        assert!(f(c, &["tonemap_ms"]) > 0.0, "{c}");
+        assert!(f(c, &["frame_ms"]) >= f(c, &["draw_ms"]), "{c}");
+    }
+    let out = sward(&["bench", "--light", "--models", "--scene", SCENE]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--light times the light"));
+}

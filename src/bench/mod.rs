@@ -39,6 +39,7 @@ use measure::measure;
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
 pub mod colliders;
 pub mod flight;
+pub mod light;
 mod measure;
 pub mod models;
 pub mod pressure;
@@ -92,6 +93,9 @@ pub struct BenchOptions {
     /// `--models`: time the three blade models on the same frames instead of the three
     /// configurations.
     pub models: bool,
+    /// `--light`: time the light's configurations (shadows off and on, with and without
+    /// grass casters and blade shading terms) instead of the three configurations.
+    pub light: bool,
 }
 
 impl BenchOptions {
@@ -124,6 +128,7 @@ impl BenchOptions {
             pressure_solvers: Vec::new(),
             colliders: Vec::new(),
             models: false,
+            light: false,
         })
     }
 
@@ -710,6 +715,9 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if o.light {
+        return print_report(o.json, &light::run_light_bench(o)?, light::format_light);
+    }
     if o.models {
         return print_report(o.json, &models::run_model_bench(o)?, models::format_models);
     }

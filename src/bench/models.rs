@@ -23,6 +23,7 @@ use crate::sim::layout::{VerletState, BYTES_PER_BLADE};
 /// Checks the flags that do not go with `--models`.
 pub fn check_model_options(o: &BenchOptions) -> Result<()> {
     if o.flight
+        || o.light
         || !o.sweep.is_empty()
         || o.images.is_some()
         || o.trace.is_some()
@@ -30,8 +31,8 @@ pub fn check_model_options(o: &BenchOptions) -> Result<()> {
         || !o.colliders.is_empty()
     {
         return Err(Error::Invalid(
-            "--models times the blade models alone: it does not go with --flight, --sweep, \
-             --images, --trace, --pressure-solvers or --colliders"
+            "--models times the blade models alone: it does not go with --flight, --light, \
+             --sweep, --images, --trace, --pressure-solvers or --colliders"
                 .into(),
         ));
     }

@@ -153,10 +153,15 @@ impl BillboardPass {
         let v = wgpu::ShaderStages::VERTEX;
         let mut cards_entry = compute_storage_entry(10, true);
         cards_entry.visibility = v;
+        // The terrain's height function (bindings 1, 2): the ground's normal under a card.
+        let mut grid_entry = compute_storage_entry(2, true);
+        grid_entry.visibility = v;
         let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.billboard.draw_layout"),
             entries: &[
                 uniform_entry(0, vf),
+                uniform_entry(1, v),
+                grid_entry,
                 uniform_entry(3, vf),
                 texture(
                     4,
@@ -196,6 +201,8 @@ impl BillboardPass {
             layout: &draw_layout,
             entries: &[
                 buf(0, inputs.frame),
+                buf(1, inputs.terrain_params),
+                buf(2, inputs.terrain_grid),
                 buf(3, &params),
                 wgpu::BindGroupEntry {
                     binding: 4,

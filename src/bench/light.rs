@@ -1,0 +1,215 @@
+//! `sward bench --light`: what the light of issue 16 costs, timed on the same scene and
+//! frames in one process, each configuration from a fresh renderer:
+//!
+//! - `no shadows`: the scene with `light.shadows.enabled` off (the reference of the ratios);
+//! - `shadows, no grass casters`: the sun's shadow maps with the terrain, objects and balls
+//!   casting but not the blades (`grass_radius` 0);
+//! - `shadows`: the scene's shadows as they are (the blades casting within `grass_radius`);
+//! - `shadows, no blade terms`: as `shadows` with every blade shading term at 0.
+//!
+//! Reported per configuration, from timestamp queries: the mean GPU milliseconds per frame
+//! of the whole frame, of the shadow cascades, of the colour passes (the early and late
+//! draws: terrain, sky, grass, billboards, objects) and of the tone-mapping pass, and the
+//! whole frame over the frame without shadows.
+
+use serde::Serialize;
+
+use super::{utc_now, BenchOptions, BENCH_DT};
+use crate::error::{Error, Result};
+use crate::render::camera::CameraView;
+use crate::render::target::Target;
+use crate::render::timing;
+use crate::scene::{Scene, Shading};
+use crate::session::Session;
+
+/// Checks the flags that do not go with `--light`.
+pub fn check_light_options(o: &BenchOptions) -> Result<()> {
+    if o.flight
+        || o.models
+        || !o.sweep.is_empty()
+        || o.images.is_some()
+        || o.trace.is_some()
+        || !o.pressure_solvers.is_empty()
+        || !o.colliders.is_empty()
+    {
+        return Err(Error::Invalid(
+            "--light times the light's configurations alone: it does not go with --flight, \
+             --models, --sweep, --images, --trace, --pressure-solvers or --colliders"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// One configuration's figures.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LightRun {
+    pub config: String,
+    /// Mean GPU ms per frame of every timed pass (`None` without timestamps).
+    pub frame_ms: Option<f64>,
+    /// The sun's shadow cascades.
+    pub shadows_ms: Option<f64>,
+    /// The colour passes (early and late draws).
+    pub draw_ms: Option<f64>,
+    /// Tone mapping into the output.
+    pub tonemap_ms: Option<f64>,
+    /// `frame_ms` over the `no shadows` configuration's.
+    pub frame_over_no_shadows: Option<f64>,
+}
+
+/// Everything `sward bench --light` measured.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LightBenchReport {
+    pub adapter: String,
+    pub date: String,
+    pub scene: String,
+    pub blades: u64,
+    pub frames: u32,
+    pub warmup: u32,
+    pub size: (u32, u32),
+    pub timestamps: bool,
+    pub configs: Vec<LightRun>,
+}
+
+/// The configurations, by name, as changes to the scene.
+pub fn configurations(scene: &Scene) -> Vec<(&'static str, Scene)> {
+    let mut off = scene.clone();
+    off.light.shadows.enabled = false;
+    let mut on = scene.clone();
+    on.light.shadows.enabled = true;
+    let mut no_grass = on.clone();
+    no_grass.light.shadows.grass_radius = 0.0;
+    let mut flat = on.clone();
+    for name in Shading::NAMES {
+        if let Some(v) = flat.light.shading.term_mut(name) {
+            *v = 0.0;
+        }
+    }
+    vec![
+        ("no shadows", off),
+        ("shadows, no grass casters", no_grass),
+        ("shadows", on),
+        ("shadows, no blade terms", flat),
+    ]
+}
+
+fn ratio(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) if b > 0.0 => Some(a / b),
+        _ => None,
+    }
+}
+
+/// Runs the configurations.
+pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
+    check_light_options(o)?;
+    let date = utc_now();
+    let super::Start {
+        scene,
+        scene_name,
+        gpu,
+        ..
+    } = super::start(o, [])?;
+    let target = Target::new(&gpu, o.size.0, o.size.1)?;
+    let session = Session::new(scene, None, Some(&gpu))?;
+    eprintln!("{}", session.describe_field());
+    let camera = CameraView::from_scene(&session.scene.camera);
+    let size = (target.width, target.height);
+    let mut runs: Vec<LightRun> = Vec::new();
+    let mut blades = 0;
+    let mut timestamps = true;
+    for (name, scene) in configurations(&session.scene) {
+        eprintln!("bench: {name} ({} warm-up + {} frames)", o.warmup, o.frames);
+        let mut renderer = super::measure::fresh_renderer(&gpu, &session, scene)?;
+        blades = u64::from(renderer.buffers.count);
+        // Sums of the frame, shadows, draw and tone-map milliseconds.
+        let mut sums = [0.0f64; 4];
+        let mut timed = 0u32;
+        for i in 0..o.warmup + o.frames {
+            renderer.frame(
+                &gpu,
+                BENCH_DT,
+                &camera,
+                &target.color_view,
+                &target.depth_view,
+                size,
+            );
+            gpu.check_errors()?;
+            let stats = renderer.stats(&gpu)?;
+            if i < o.warmup {
+                continue;
+            }
+            if let Some(ms) = stats.pass_ms {
+                sums[0] += ms.iter().sum::<f64>();
+                sums[1] += ms[timing::SHADOWS];
+                sums[2] += ms[timing::DRAW] + ms[timing::LATE_DRAW];
+                sums[3] += ms[timing::TONEMAP];
+                timed += 1;
+            }
+        }
+        timestamps &= timed > 0;
+        let mean = |k: usize| (timed > 0).then(|| sums[k] / f64::from(timed));
+        let frame_ms = mean(0);
+        let reference = runs.first().map_or(frame_ms, |r| r.frame_ms);
+        runs.push(LightRun {
+            config: name.into(),
+            frame_ms,
+            shadows_ms: mean(1),
+            draw_ms: mean(2),
+            tonemap_ms: mean(3),
+            frame_over_no_shadows: ratio(frame_ms, reference),
+        });
+    }
+    Ok(LightBenchReport {
+        adapter: gpu.describe(),
+        date,
+        scene: scene_name,
+        blades,
+        frames: o.frames,
+        warmup: o.warmup,
+        size: o.size,
+        timestamps,
+        configs: runs,
+    })
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("-".into(), |x| format!("{x:.digits$}"))
+}
+
+/// The report as a table.
+pub fn format_light(r: &LightBenchReport) -> String {
+    let mut out = format!(
+        "sward bench --light: {} on {} ({})\n{} blades, {} frames after {} warm-up at \
+         {}x{}{}\n\n",
+        r.scene,
+        r.adapter,
+        r.date,
+        r.blades,
+        r.frames,
+        r.warmup,
+        r.size.0,
+        r.size.1,
+        if r.timestamps {
+            ""
+        } else {
+            " (no GPU timestamps: no times)"
+        },
+    );
+    out.push_str(&format!(
+        "{:<26} {:>9} {:>10} {:>9} {:>11} {:>14}\n",
+        "configuration", "frame ms", "shadows ms", "draw ms", "tone map ms", "/ no shadows"
+    ));
+    for c in &r.configs {
+        out.push_str(&format!(
+            "{:<26} {:>9} {:>10} {:>9} {:>11} {:>14}\n",
+            c.config,
+            opt(c.frame_ms, 2),
+            opt(c.shadows_ms, 2),
+            opt(c.draw_ms, 2),
+            opt(c.tonemap_ms, 3),
+            opt(c.frame_over_no_shadows, 3),
+        ));
+    }
+    out
+}
