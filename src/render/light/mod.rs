@@ -483,7 +483,10 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
     let l = &scene.light;
     let sky = sky::PreethamSky::new(sun, l.turbidity);
     let (sun_rgb, ambient) = match l.sky {
-        SkyModel::Preetham => (sky::sun_radiance(sun, l.turbidity), sky.ambient()),
+        SkyModel::Preetham => (
+            sky::sun_radiance(sun, l.turbidity),
+            sky.ambient() * sky::SKY_LIGHT,
+        ),
         SkyModel::Gradient => (GRADIENT_SUN, GRADIENT_AMBIENT),
     };
     let c = sky.coefficients;

@@ -18,6 +18,13 @@ pub const SKY_SCALE: f32 = 0.04;
 pub const SUN_DISK_RADIUS: f32 = 0.0105;
 /// The disk's radiance over the sun's irradiance-scaled radiance (saturates to white).
 pub const SUN_DISK_GAIN: f32 = 40.0;
+/// The share of the model's sky irradiance that lights the scene (the ambient term). With
+/// the whole of it, a clear noon sky (turbidity 3) lit a horizontal surface with 0.42 of
+/// the noon sun's irradiance on a surface facing it; clear-sky measurements put diffuse
+/// horizontal over direct normal irradiance near 0.15–0.25 at a high sun (Preetham's zenith
+/// luminance runs high for clear skies, about 12.8 kcd/m² at 68° where 3–8 is measured).
+/// Half of it gives 0.21, and shadows on the grass as dark as a clear day's.
+pub const SKY_LIGHT: f32 = 0.5;
 /// The noon sun's radiance (air mass 1) in scene units.
 const SUN_SCALE: f32 = 1.0;
 
