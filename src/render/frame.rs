@@ -1,0 +1,262 @@
+//! Recording a frame: the passes of [`Renderer::encode_frame`] in frame order (see the
+//! module above), into the scene target (`post`) or the multisampled one (`msaa`), and the
+//! one-call [`Renderer::frame`] the headless paths use.
+
+use super::camera::CameraView;
+use super::hiz::DepthPyramid;
+use super::timing::{self, cs, rs, timed};
+use super::{msaa, post, Renderer};
+use crate::gpu::Gpu;
+use crate::sim::layout::TEST_GRASS_OCCLUSION;
+
+impl Renderer {
+    /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull.
+    fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32)) {
+        let samples = self.samples;
+        if self
+            .pyramid
+            .as_ref()
+            .is_some_and(|p| p.size() == size && p.samples() == samples)
+        {
+            return;
+        }
+        let pyramid = DepthPyramid::with_samples(gpu, size.0, size.1, samples);
+        self.cull
+            .set_pyramid(&gpu.device, &self.buffers, pyramid.view());
+        self.pyramid = Some(pyramid);
+    }
+
+    /// Records a whole frame (step by `dt`, cull, draw into `color`, resolve) into
+    /// `encoder`, so the caller can add its own passes (panel) before one submit.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_frame(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.encode_scene(gpu, encoder, dt, camera, color, depth, size);
+        self.resolve(encoder, color);
+    }
+
+    /// [`Renderer::encode_frame`] without the resolve: the 3D passes are left in
+    /// [`Renderer::scene_views`], for the caller to add its own 3D passes (the window's
+    /// guide arrows) and then [`Renderer::resolve`]. `color` and `depth` are the caller's
+    /// single-sample target of `size`; with MSAA `depth` is not touched.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_scene(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        self.sync_msaa(gpu);
+        if self.samples > 1 {
+            let fits = self.msaa.as_ref().is_some_and(|m| m.size == size);
+            if !fits {
+                self.msaa = Some(msaa::MsaaTarget::new(
+                    gpu,
+                    post::HDR_FORMAT,
+                    self.samples,
+                    size,
+                ));
+            }
+        } else {
+            self.msaa = None;
+        }
+        // The lit passes draw radiance into the scene target; `resolve` tone-maps it into
+        // the caller's `color`.
+        let _ = color;
+        let scene = self.post.view(gpu, size).clone();
+        // Held outside `self` while the passes borrow it mutably.
+        let target = self.msaa.take();
+        let (color, depth) = match &target {
+            Some(m) => (&m.color, &m.depth),
+            None => (&scene, depth),
+        };
+        self.encode_passes(gpu, encoder, dt, camera, color, depth, size);
+        self.msaa = target;
+    }
+
+    /// The passes of [`Renderer::encode_scene`], into the views they draw into.
+    #[allow(clippy::too_many_arguments)]
+    fn encode_passes(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        let dt = self.advance(gpu, dt);
+        self.frame_count = self.frame_count.wrapping_add(1);
+        // A frozen culling camera sees other depths than the drawn view: no occlusion then.
+        let occlusion = self.scene.culling.occlusion && self.cull_camera.is_none();
+        let hiz = if occlusion {
+            self.ensure_pyramid(gpu, size);
+            let p = self.pyramid.as_ref().map_or((0, 0, 0), |p| {
+                let (w, h) = p.size();
+                (w, h, p.levels())
+            });
+            [p.0, p.1, p.2, 1]
+        } else {
+            [0; 4]
+        };
+        let cull_camera = self.cull_camera.unwrap_or(*camera);
+        // The tiles follow the culling camera: a frozen one keeps its field.
+        self.stream_tiles(gpu, encoder, cull_camera.eye);
+        if let Some(c) = &self.carried {
+            c.encode(encoder);
+        }
+        let cp = self.cull_uniforms(&cull_camera, size, hiz);
+        self.cull.prepare(&gpu.queue, &cp);
+        self.last_cull = cp;
+        let frame = self.frame_uniforms(camera, size.0, size.1);
+        self.draw.prepare(&gpu.queue, &frame, camera);
+        let coarsest = crate::sim::layout::LOD_LEVELS - 1;
+        self.light.prepare(
+            gpu,
+            &self.scene,
+            camera,
+            self.aspect(size.0, size.1),
+            &frame,
+            (
+                self.lod.index_count[coarsest],
+                self.lod.first_index[coarsest],
+            ),
+        );
+        self.sync_billboards(gpu);
+        self.last_billboards = self.billboards.as_ref().map(|b| {
+            let p = b.prepare(
+                &gpu.queue,
+                camera.eye,
+                &self.scene.culling,
+                self.sphere_count,
+                self.scene.terrain.size,
+                self.billboard_share,
+            );
+            (p, camera.view_proj(self.aspect(size.0, size.1)))
+        });
+        let timer = self.timer.as_ref();
+        if occlusion {
+            timed(timer, encoder, timing::OCCLUDERS, |e, q| {
+                self.draw
+                    .encode_occluders(e, depth, &self.sphere_draw(), rs(q))
+            });
+            if let Some(p) = &self.pyramid {
+                timed(timer, encoder, timing::PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, cs(q))
+                });
+            }
+        }
+        timed(timer, encoder, timing::PATCHES, |e, q| {
+            self.cull.encode_patches(e, cs(q))
+        });
+        self.encode_update(gpu, encoder, dt, cull_camera.eye);
+        let timer = self.timer.as_ref();
+        timed(timer, encoder, timing::CULL, |e, q| {
+            self.cull.encode_blades(e, &self.buffers.dispatch, cs(q))
+        });
+        if let Some(b) = &self.billboards {
+            timed(timer, encoder, timing::BILLBOARDS, |e, q| {
+                b.encode_cull(e, cs(q))
+            });
+        }
+        // The sun's shadow maps, after the cull (the grass casts with its visible lists)
+        // and before every pass that receives them.
+        if self.light.cascades() > 0 {
+            let spheres = self.sphere_draw();
+            let light = &self.light;
+            let draw = &self.draw;
+            let grass = light.grass_casts().then(|| light.grass_args());
+            timed(timer, encoder, timing::SHADOWS, |e, q| {
+                light.encode(e, draw.frame_buffer(), &self.cull.args, rs(q), |pass| {
+                    draw.draw_casters(pass, &spheres, grass)
+                })
+            });
+        }
+        let wireframe = self.scene.render.wireframe;
+        timed(timer, encoder, timing::DRAW, |e, q| {
+            self.draw.encode(
+                e,
+                color,
+                depth,
+                occlusion,
+                &self.cull.args,
+                &self.sphere_draw(),
+                wireframe,
+                self.billboards.as_ref(),
+                self.light.group(),
+                rs(q),
+            )
+        });
+        // Two-phase occlusion: the depth now holds the opaque objects and the grass seen
+        // last frame; the blades not seen then are drawn only where it does not hide them.
+        if cp.tests & TEST_GRASS_OCCLUSION != 0 {
+            if let Some(p) = &self.pyramid {
+                timed(timer, encoder, timing::LATE_PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, cs(q))
+                });
+            }
+            timed(timer, encoder, timing::LATE_CULL, |e, q| {
+                self.cull.encode_late(e, &self.buffers.dispatch, cs(q))
+            });
+            timed(timer, encoder, timing::LATE_DRAW, |e, q| {
+                self.draw.encode_late(
+                    e,
+                    color,
+                    depth,
+                    &self.cull.args,
+                    wireframe,
+                    self.light.group(),
+                    rs(q),
+                )
+            });
+        }
+        if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {
+            // The arrows' on/off state moves with the clock.
+            self.refresh_overlay_guides(gpu);
+        }
+        if let (Some(o), Some(f)) = (&mut self.overlay, &self.fluid) {
+            o.move_grid(&gpu.queue, f.origin());
+        }
+    }
+
+    /// One whole frame: step by `dt`, cull, draw into `color`, submit.
+    pub fn frame(
+        &mut self,
+        gpu: &Gpu,
+        dt: f32,
+        camera: &CameraView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sward.frame"),
+            });
+        self.encode_frame(gpu, &mut encoder, dt, camera, color, depth, size);
+        gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu);
+    }
+
+    /// Tells the GPU timer that the frame's commands were submitted (the window calls it
+    /// after its own submit; [`Renderer::frame`] does it itself).
+    pub fn frame_submitted(&mut self, gpu: &Gpu) {
+        if let Some(t) = &mut self.timer {
+            t.end_frame(gpu);
+        }
+    }
+}
