@@ -12,7 +12,11 @@
 //!   while the last cut is still on its way into the average.
 //! * Over `target · `[`OVER`]: cull more. First, where the window allows it
 //!   ([`FrameBudget::with_msaa_step`]), multisampling goes off (4× MSAA costs about 3× the
-//!   frame on a CPU adapter, and only smooths edges). Then the render scale of the 3D passes ×
+//!   frame on a CPU adapter, and only smooths edges). Then, where allowed
+//!   ([`FrameBudget::with_grass_shadow_step`]), the blades stop casting sun shadows (the
+//!   terrain, objects and balls still cast): drawing every blade within the shadow radius
+//!   once per cascade was a third of the window's frame on llvmpipe, and it costs a shade,
+//!   not a blade. Then the render scale of the 3D passes ×
 //!   [`SHRINK`] (down to [`MIN_SCALE`]; the window upscales the smaller image and draws
 //!   the panel sharp on top): this costs sharpness, never grass. Only then the grass's
 //!   reach: `d_max × `[`SHRINK`] (the blade radius), down to [`MIN_DISTANCE`] m. The
@@ -21,8 +25,8 @@
 //!   what the budget must keep. A machine too slow even then stays over its target.
 //! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
 //!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*),
-//!   then the render scale × [`GROW`] up to 1, and last multisampling: the grass comes back
-//!   before the sharpness.
+//!   then the render scale × [`GROW`] up to 1, then the blades' shadows, and last
+//!   multisampling: the grass comes back before the sharpness.
 //! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
 //!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
 //!   step does not carry the time from one edge of the band across the other, and the
@@ -87,6 +91,9 @@ pub struct FrameBudget {
     /// Whether the budget may switch multisampling off, and whether it has.
     msaa_step: bool,
     msaa_off: bool,
+    /// Whether the budget may stop the blades casting sun shadows, and whether it has.
+    grass_shadow_step: bool,
+    grass_shadows_off: bool,
     /// The share of the billboard radius drawn (1 = the scene's), when the budget may
     /// shorten it (after the resolution, before the blades).
     billboards: Option<f32>,
@@ -108,6 +115,8 @@ impl FrameBudget {
             scale_floor: MIN_SCALE,
             msaa_step: false,
             msaa_off: false,
+            grass_shadow_step: false,
+            grass_shadows_off: false,
             billboards: None,
         }
     }
@@ -134,6 +143,18 @@ impl FrameBudget {
     /// Whether the budget has switched multisampling off.
     pub fn msaa_off(&self) -> bool {
         self.msaa_off
+    }
+
+    /// The same budget allowed to stop the blades casting sun shadows, after multisampling
+    /// and before the resolution (the window, whose scene keeps its `grass_radius`).
+    pub fn with_grass_shadow_step(mut self, allowed: bool) -> Self {
+        self.grass_shadow_step = allowed;
+        self
+    }
+
+    /// Whether the budget has stopped the blades casting sun shadows.
+    pub fn grass_shadows_off(&self) -> bool {
+        self.grass_shadows_off
     }
 
     /// The same budget with the render scale held at or above `floor` (1 keeps the
@@ -216,6 +237,10 @@ impl FrameBudget {
             self.msaa_off = true;
             return true;
         }
+        if self.grass_shadow_step && !self.grass_shadows_off {
+            self.grass_shadows_off = true;
+            return true;
+        }
         if self.scale > self.scale_floor {
             self.scale = (self.scale * SHRINK).max(self.scale_floor);
             return true;
@@ -258,6 +283,10 @@ impl FrameBudget {
             self.scale = (self.scale * GROW).min(1.0);
             return true;
         }
+        if self.grass_shadows_off {
+            self.grass_shadows_off = false;
+            return true;
+        }
         if self.msaa_off {
             self.msaa_off = false;
             return true;
@@ -285,6 +314,9 @@ impl FrameBudget {
         line.push_str(&format!(", resolution scale {:.2}", self.scale));
         if self.msaa_off {
             line.push_str(", MSAA off");
+        }
+        if self.grass_shadows_off {
+            line.push_str(", blades cast no shadows");
         }
         if let Some(b) = self.billboards.filter(|b| *b < 1.0) {
             line.push_str(&format!(
@@ -404,6 +436,45 @@ mod tests {
             plain.observe(300.0, &mut c);
         }
         assert!(!plain.msaa_off());
+    }
+
+    #[test]
+    fn grass_shadows_go_after_multisampling_and_before_the_resolution() {
+        let mut c = culling();
+        let mut b = FrameBudget::new(&c, Some(100.0))
+            .with_msaa_step(true)
+            .with_grass_shadow_step(true);
+        let mut steps = Vec::new();
+        for _ in 0..3 * ACT_EVERY {
+            if b.observe(300.0, &mut c).is_some() {
+                steps.push((b.msaa_off(), b.grass_shadows_off(), b.scale()));
+            }
+        }
+        assert_eq!(steps[0], (true, false, 1.0), "{steps:?}");
+        assert_eq!(steps[1], (true, true, 1.0), "{steps:?}");
+        assert!(steps[2].2 < 1.0, "{steps:?}");
+        assert!(
+            b.status().contains("blades cast no shadows"),
+            "{}",
+            b.status()
+        );
+        // Fast again: the shadows come back after the resolution, before multisampling.
+        let mut order = Vec::new();
+        for _ in 0..400 {
+            if b.observe(1.0, &mut c).is_some() {
+                order.push((b.scale(), b.grass_shadows_off(), b.msaa_off()));
+            }
+        }
+        let n = order.len();
+        assert_eq!(order[n - 1], (1.0, false, false), "{order:?}");
+        assert_eq!(order[n - 2], (1.0, false, true), "{order:?}");
+        assert_eq!(order[n - 3], (1.0, true, true), "{order:?}");
+        // Without the step (the default) the blades' shadows are never touched.
+        let mut plain = FrameBudget::new(&c, Some(100.0));
+        for _ in 0..100 {
+            plain.observe(300.0, &mut c);
+        }
+        assert!(!plain.grass_shadows_off());
     }
 
     #[test]

@@ -149,6 +149,7 @@ impl AppState {
         let camera = CameraController::from_view(&CameraView::from_scene(&renderer.scene.camera));
         let budget = FrameBudget::new(&renderer.scene.culling, None)
             .with_msaa_step(true)
+            .with_grass_shadow_step(true)
             .with_billboard_step(true);
         let mut balls = Balls::new();
         // The scene camera's target point, kept as the orbit centre.
@@ -415,6 +416,7 @@ impl AppState {
         self.field_draft = self.renderer.scene.field.clone();
         self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms)
             .with_msaa_step(true)
+            .with_grass_shadow_step(true)
             .with_billboard_step(true);
         self.balls.thrown.clear();
         let target = self.camera.orbit_center;
@@ -590,6 +592,7 @@ impl AppState {
         self.renderer
             .set_sample_cap(self.budget.msaa_off().then_some(1));
         self.renderer.billboard_share = self.budget.billboards();
+        self.renderer.grass_shadows = !self.budget.grass_shadows_off();
         self.renderer
             .encode_scene(gpu, encoder, dt, &view, color, depth, size);
         // The arrows are drawn in the multisampled scene, before its resolve: they are

@@ -130,6 +130,7 @@ impl Renderer {
             camera,
             self.aspect(size.0, size.1),
             &frame,
+            self.grass_shadows,
             (
                 self.lod.index_count[coarsest],
                 self.lod.first_index[coarsest],

@@ -153,6 +153,9 @@ pub struct Renderer {
     last_billboards: Option<(billboard::BillboardParams, glam::Mat4)>,
     /// The share of `render.billboard_distance` drawn (the window's frame budget; 1: all).
     pub billboard_share: f32,
+    /// Whether the blades cast sun shadows (within `light.shadows.grass_radius`): the
+    /// window's frame budget switches them off without touching the scene.
+    pub grass_shadows: bool,
     /// The density map, kept for the billboards' CPU count.
     density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
@@ -322,6 +325,7 @@ impl Renderer {
             billboards: None,
             last_billboards: None,
             billboard_share: 1.0,
+            grass_shadows: true,
             density,
             requested_samples,
             samples,

@@ -294,7 +294,8 @@ impl LightPass {
 
     /// Computes the frame's light and writes its uniforms, the cascades' frames (from the
     /// camera's `frame`) and the grass's shadow draw arguments (the coarsest level's mesh,
-    /// `lod` = its index count and first index). Returns the number of cascades to draw.
+    /// `lod` = its index count and first index); `grass_casts` false keeps the blades out of
+    /// the maps whatever the scene's radius. Returns the number of cascades to draw.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -302,9 +303,16 @@ impl LightPass {
         camera: &CameraView,
         aspect: f32,
         frame: &FrameUniforms,
+        grass_casts: bool,
         lod: (u32, u32),
     ) -> u32 {
         self.sync_map(&gpu.device, scene);
+        // The blades' shadow radius, 0 where the caller (the frame budget) turned them off.
+        let grass_radius = if grass_casts {
+            scene.light.shadows.grass_radius
+        } else {
+            0.0
+        };
         let sun = Vec3::from_slice(&frame.sun_dir[..3]);
         let l = &scene.light;
         let mut u = uniforms(scene, sun);
@@ -330,7 +338,7 @@ impl LightPass {
                 f.inv_view_proj = c.view_proj.inverse().to_cols_array_2d();
                 // No width correction in the sun's view, and the grass's shadow radius.
                 f.width_correction[1] = 0.0;
-                f.debug[2] = s.grass_radius.max(1e-3);
+                f.debug[2] = grass_radius.max(1e-3);
                 frames.push(f);
             }
             let last = cs.last().map_or(s.distance, |c| c.far);
@@ -343,13 +351,13 @@ impl LightPass {
             ];
             // Where the blades cast shadows, the billboards and the far ground (which stand
             // for blades) take the canopy's mean sunlit share, so the levels match.
-            if s.grass_radius > 0.0 {
+            if grass_radius > 0.0 {
                 u.shading[1][3] = sunlit_share(u.shading[1][2], sun.y);
             }
             gpu.queue
                 .write_buffer(&self.frames, 0, bytemuck::cast_slice(&frames));
             self.cascades = cs.len() as u32;
-            self.grass_radius = s.grass_radius;
+            self.grass_radius = grass_radius;
             let args: Vec<DrawIndexedIndirect> = (0..LOD_LEVELS)
                 .map(|_| DrawIndexedIndirect {
                     index_count: lod.0,
