@@ -23,7 +23,7 @@
 use glam::Vec3;
 use serde::Serialize;
 
-use super::{utc_now, BenchOptions, BENCH_DT};
+use super::{opt, utc_now, BenchOptions, BENCH_DT};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::camera::CameraView;
@@ -355,10 +355,6 @@ pub fn run_collider_bench(o: &BenchOptions, counts: &[usize]) -> Result<Collider
         timestamps,
         collider_costs: costs,
     })
-}
-
-fn opt(v: Option<f64>, digits: usize) -> String {
-    v.map_or("-".into(), |x| format!("{x:.digits$}"))
 }
 
 /// The report as a table.

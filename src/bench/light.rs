@@ -14,7 +14,7 @@
 
 use serde::Serialize;
 
-use super::{utc_now, BenchOptions, BENCH_DT};
+use super::{opt, opt_ratio as ratio, utc_now, BenchOptions, BENCH_DT};
 use crate::error::{Error, Result};
 use crate::render::camera::CameraView;
 use crate::render::target::Target;
@@ -93,13 +93,6 @@ pub fn configurations(scene: &Scene) -> Vec<(&'static str, Scene)> {
     ]
 }
 
-fn ratio(a: Option<f64>, b: Option<f64>) -> Option<f64> {
-    match (a, b) {
-        (Some(a), Some(b)) if b > 0.0 => Some(a / b),
-        _ => None,
-    }
-}
-
 /// Runs the configurations.
 pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
     check_light_options(o)?;
@@ -171,10 +164,6 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
         timestamps,
         configs: runs,
     })
-}
-
-fn opt(v: Option<f64>, digits: usize) -> String {
-    v.map_or("-".into(), |x| format!("{x:.digits$}"))
 }
 
 /// The report as a table.

@@ -457,6 +457,19 @@ fn ratio(a: f64, b: f64) -> Option<f64> {
     (b > 0.0 && a.is_finite() && b.is_finite()).then(|| a / b)
 }
 
+/// `a / b` where both were measured (the mode reports' ratios to their first row).
+fn opt_ratio(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) if b > 0.0 => Some(a / b),
+        _ => None,
+    }
+}
+
+/// A measured figure with `digits` decimals, or "-" where none was measured.
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("-".into(), |x| format!("{x:.digits$}"))
+}
+
 fn memory(blades: u64, (blade_bytes, gpu_bytes): (u64, u64)) -> Memory {
     Memory {
         bytes_per_blade: BYTES_PER_BLADE as u64,

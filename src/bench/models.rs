@@ -11,7 +11,7 @@
 
 use serde::Serialize;
 
-use super::{utc_now, BenchOptions, BENCH_DT};
+use super::{opt, opt_ratio as ratio, utc_now, BenchOptions, BENCH_DT};
 use crate::error::{Error, Result};
 use crate::render::camera::CameraView;
 use crate::render::target::Target;
@@ -81,13 +81,6 @@ pub fn bytes_per_blade(model: BladeModel) -> u64 {
         _ => 0,
     };
     (BYTES_PER_BLADE + verlet) as u64
-}
-
-fn ratio(a: Option<f64>, b: Option<f64>) -> Option<f64> {
-    match (a, b) {
-        (Some(a), Some(b)) if b > 0.0 => Some(a / b),
-        _ => None,
-    }
 }
 
 /// Runs the three models.
@@ -179,10 +172,6 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
         timestamps,
         models: runs,
     })
-}
-
-fn opt(v: Option<f64>, digits: usize) -> String {
-    v.map_or("-".into(), |x| format!("{x:.digits$}"))
 }
 
 /// The report as a table.
