@@ -130,11 +130,10 @@ impl Renderer {
             camera,
             self.aspect(size.0, size.1),
             &frame,
-            self.grass_shadows,
-            (
+            self.grass_shadows.then_some((
                 self.lod.index_count[coarsest],
                 self.lod.first_index[coarsest],
-            ),
+            )),
         );
         self.sync_billboards(gpu);
         self.last_billboards = self.billboards.as_ref().map(|b| {

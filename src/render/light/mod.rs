@@ -293,9 +293,10 @@ impl LightPass {
     }
 
     /// Computes the frame's light and writes its uniforms, the cascades' frames (from the
-    /// camera's `frame`) and the grass's shadow draw arguments (the coarsest level's mesh,
-    /// `lod` = its index count and first index); `grass_casts` false keeps the blades out of
-    /// the maps whatever the scene's radius. Returns the number of cascades to draw.
+    /// camera's `frame`) and the grass's shadow draw arguments. `grass_lod` is the coarsest
+    /// level's mesh the blades cast with (its index count and first index), or `None` to
+    /// keep the blades out of the maps whatever the scene's radius (the window's frame
+    /// budget). Returns the number of cascades to draw.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -303,16 +304,11 @@ impl LightPass {
         camera: &CameraView,
         aspect: f32,
         frame: &FrameUniforms,
-        grass_casts: bool,
-        lod: (u32, u32),
+        grass_lod: Option<(u32, u32)>,
     ) -> u32 {
         self.sync_map(&gpu.device, scene);
-        // The blades' shadow radius, 0 where the caller (the frame budget) turned them off.
-        let grass_radius = if grass_casts {
-            scene.light.shadows.grass_radius
-        } else {
-            0.0
-        };
+        let grass_radius = grass_lod.map_or(0.0, |_| scene.light.shadows.grass_radius);
+        let lod = grass_lod.unwrap_or((0, 0));
         let sun = Vec3::from_slice(&frame.sun_dir[..3]);
         let l = &scene.light;
         let mut u = uniforms(scene, sun);
