@@ -594,7 +594,7 @@ impl AppState {
         self.renderer.billboard_share = self.budget.billboards();
         self.renderer.grass_shadows = !self.budget.grass_shadows_off();
         self.renderer
-            .encode_scene(gpu, encoder, dt, &view, color, depth, size);
+            .encode_scene(gpu, encoder, dt, &view, depth, size);
         // The arrows are drawn in the multisampled scene, before its resolve: they are
         // depth tested against the multisampled depth (the only one the scene wrote) and
         // their edges are anti-aliased like the grass.

@@ -39,22 +39,21 @@ impl Renderer {
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
-        self.encode_scene(gpu, encoder, dt, camera, color, depth, size);
+        self.encode_scene(gpu, encoder, dt, camera, depth, size);
         self.resolve(encoder, color);
     }
 
     /// [`Renderer::encode_frame`] without the resolve: the 3D passes are left in
-    /// [`Renderer::scene_views`], for the caller to add its own 3D passes (the window's
-    /// guide arrows) and then [`Renderer::resolve`]. `color` and `depth` are the caller's
-    /// single-sample target of `size`; with MSAA `depth` is not touched.
-    #[allow(clippy::too_many_arguments)]
+    /// [`Renderer::scene_views`] (the scene target, not the caller's colour: the resolve
+    /// tone-maps into that), for the caller to add its own 3D passes (the window's guide
+    /// arrows) and then [`Renderer::resolve`]. `depth` is the caller's single-sample depth
+    /// of `size`; with MSAA it is not touched.
     pub fn encode_scene(
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         dt: f32,
         camera: &CameraView,
-        color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
@@ -73,8 +72,7 @@ impl Renderer {
             self.msaa = None;
         }
         // The lit passes draw radiance into the scene target; `resolve` tone-maps it into
-        // the caller's `color`.
-        let _ = color;
+        // the caller's colour.
         let scene = self.post.view(gpu, size).clone();
         // Held outside `self` while the passes borrow it mutably.
         let target = self.msaa.take();
