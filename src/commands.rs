@@ -122,6 +122,12 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let mut scene = load(o.scene.as_deref(), &o.sets)?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     let gpu = open_gpu(&o.adapter)?;
+    let samples = crate::render::msaa::effective_samples(
+        &gpu,
+        crate::render::post::HDR_FORMAT,
+        scene.render.msaa,
+    );
+    gpu.check_frame_size("--size", o.size, samples)?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
     eprintln!("{}", session.describe_field());
@@ -315,6 +321,27 @@ fn to_json(blades: &[Blade], states: &[BladeState]) -> Vec<BladeJson> {
         .iter()
         .zip(states)
         .map(|(b, s)| BladeJson::new(b, s))
+        .collect()
+}
+
+/// The blades as `simulate` dumps them: Verlet blades (`physics.model: Verlet`) with the
+/// four points of their cubic from `verlet` (a blade without a state there is one not yet
+/// stepped), the others as quadratics.
+fn blades_json(
+    model: BladeModel,
+    blades: &[Blade],
+    states: &[BladeState],
+    verlet: &[VerletState],
+) -> Vec<BladeJson> {
+    if model != BladeModel::Verlet {
+        return to_json(blades, states);
+    }
+    let fresh = VerletState::default();
+    blades
+        .iter()
+        .zip(states)
+        .enumerate()
+        .map(|(k, (b, s))| BladeJson::verlet(b, s, verlet.get(k).unwrap_or(&fresh)))
         .collect()
 }
 
@@ -600,21 +627,12 @@ pub fn simulate(o: &SimulateOptions) -> Result<()> {
         (&session.field.blades, &session.field.states),
         (&blades, &states),
     )?;
-    let last = if session.scene.physics.model == BladeModel::Verlet && verlet.len() == blades.len()
-    {
-        blades
-            .iter()
-            .zip(&states)
-            .zip(&verlet)
-            .map(|((b, s), v)| BladeJson::verlet(b, s, v))
-            .collect()
-    } else {
-        to_json(&blades, &states)
-    };
+    let model = session.scene.physics.model;
     let dump = Dump {
-        model: session.scene.physics.model.name(),
-        initial: to_json(&session.field.blades, &session.field.states),
-        last,
+        model: model.name(),
+        // Not stepped yet: a Verlet blade's cubic is then its quadratic raised in degree.
+        initial: blades_json(model, &session.field.blades, &session.field.states, &[]),
+        last: blades_json(model, &blades, &states, &verlet),
     };
     let text = serde_json::to_vec(&dump).map_err(|e| Error::Write {
         path: o.dump.clone(),

@@ -153,6 +153,13 @@ impl Gpu {
         }
     }
 
+    /// Records an error found outside the device's callbacks (a failed wait on a frame),
+    /// so that the next [`Gpu::check_errors`] reports it; the first error is kept.
+    pub fn report_error(&self, message: String) {
+        let mut first = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        first.get_or_insert(message);
+    }
+
     /// One line naming the adapter, for logs and reports.
     pub fn describe(&self) -> String {
         describe_info(&self.info)
@@ -181,6 +188,38 @@ impl Gpu {
             return Err(Error::Limits(format!(
                 "{what} needs {workgroups} workgroups in one dispatch, but {} allows {max}",
                 self.info.name
+            )));
+        }
+        Ok(())
+    }
+
+    /// Checks, before anything is allocated, that the frame's render targets at `size`
+    /// with `samples` per pixel fit this device: each side within the largest texture, and
+    /// the largest single target (the half-float scene colour at `samples` per pixel, 8
+    /// bytes a sample) and the read-back within the largest buffer the device allocates
+    /// (the size of one allocation it promises). `flag` names what set the size.
+    pub fn check_frame_size(&self, flag: &str, size: (u32, u32), samples: u32) -> Result<()> {
+        let (width, height) = size;
+        self.check_texture(flag, width, height)?;
+        let max = self.device.limits().max_buffer_size;
+        let per_pixel = 8 * u64::from(samples.max(1));
+        let bytes = u64::from(width) * u64::from(height) * per_pixel;
+        if bytes > max {
+            // The largest size of the same shape that fits.
+            let scale = (max as f64 / bytes as f64).sqrt();
+            let fit = |v: u32| ((f64::from(v) * scale).floor() as u32).max(1);
+            return Err(Error::Limits(format!(
+                "{flag} {width}x{height} needs a {bytes}-byte render target ({samples} \
+                 sample(s) of 8 bytes a pixel), but {} allocates at most {max} bytes at once: \
+                 the largest size of this shape it can hold is {}x{}{}",
+                self.info.name,
+                fit(width),
+                fit(height),
+                if samples > 1 {
+                    " (or lower render.msaa)"
+                } else {
+                    ""
+                }
             )));
         }
         Ok(())
@@ -448,6 +487,47 @@ pub fn wait_idle(device: &wgpu::Device) -> Result<()> {
         .poll(wgpu::PollType::wait_indefinitely())
         .map(|_| ())
         .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))
+}
+
+/// Frames the CPU may record ahead of the GPU. wgpu queues every submission without
+/// limit: a headless loop on a software adapter records a frame in a millisecond while
+/// the adapter takes a hundred to run it, so without a bound every frame's command buffer
+/// and upload staging wait in the queue.
+pub const MAX_FRAMES_IN_FLIGHT: usize = 2;
+
+/// Keeps at most [`MAX_FRAMES_IN_FLIGHT`] submitted frames unfinished: after each
+/// submit, [`FramePacer::submitted`] waits for the frame that many submits back. Polling
+/// there also lets wgpu free what finished frames held and run their map callbacks.
+#[derive(Default)]
+pub struct FramePacer {
+    in_flight: std::collections::VecDeque<wgpu::SubmissionIndex>,
+}
+
+impl FramePacer {
+    /// Records a frame's submission and waits for the oldest one beyond the bound. A
+    /// failed wait (a lost device) is reported through [`Gpu::check_errors`], which every
+    /// caller runs after a frame.
+    pub fn submitted(&mut self, gpu: &Gpu, index: wgpu::SubmissionIndex) {
+        self.in_flight.push_back(index);
+        while self.in_flight.len() > MAX_FRAMES_IN_FLIGHT {
+            let Some(oldest) = self.in_flight.pop_front() else {
+                break;
+            };
+            let waited = gpu.device.poll(wgpu::PollType::Wait {
+                submission_index: Some(oldest),
+                timeout: None,
+            });
+            if let Err(e) = waited {
+                gpu.report_error(format!("waiting for an earlier frame failed: {e}"));
+                self.in_flight.clear();
+            }
+        }
+    }
+
+    /// Submitted frames not yet known to be finished (at most [`MAX_FRAMES_IN_FLIGHT`]).
+    pub fn in_flight(&self) -> usize {
+        self.in_flight.len()
+    }
 }
 
 /// Copies a buffer back to the host (blocking). `buffer` needs COPY_SRC usage.

@@ -40,14 +40,14 @@ struct WindowArgs {
     #[arg(long)]
     save_to: Option<PathBuf>,
     /// Window size, WIDTHxHEIGHT in physical pixels.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
     /// Present without waiting for the display's refresh.
     #[arg(long)]
     no_vsync: bool,
     /// Run N frames (1..=10000000), then exit: status 0, or 1 if anything failed (a Save
     /// included); --screenshot and --record are written only when the run succeeded.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000), allow_hyphen_values = true)]
     exit_after_frames: Option<u64>,
     /// With --exit-after-frames: save the last frame (panel included) as PNG.
     #[arg(long, requires = "exit_after_frames")]
@@ -64,11 +64,11 @@ struct WindowArgs {
     trace: Option<PathBuf>,
     /// Hold this frame time (ms) by adapting distance culling; default 90 ms on a CPU
     /// adapter, off on a GPU.
-    #[arg(long, value_parser = parse_frame_ms)]
+    #[arg(long, value_parser = parse_frame_ms, allow_hyphen_values = true)]
     target_frame_ms: Option<f32>,
     /// Fixed simulation step per frame in seconds (default: the wall clock; 1/30 when
     /// replaying, so that a replay is repeatable).
-    #[arg(long, value_parser = parse_dt)]
+    #[arg(long, value_parser = parse_dt, allow_hyphen_values = true)]
     dt: Option<f32>,
 }
 
@@ -105,13 +105,13 @@ enum Command {
         #[command(flatten)]
         overrides: Overrides,
         /// Image size, WIDTHxHEIGHT.
-        #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+        #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
         size: (u32, u32),
         /// Frames to simulate and render (1..=100000).
-        #[arg(long, default_value_t = 90, value_parser = count)]
+        #[arg(long, default_value_t = 90, value_parser = count, allow_hyphen_values = true)]
         frames: u32,
         /// Time step per frame in seconds (0 < dt <= 1).
-        #[arg(long, default_value_t = 1.0 / 30.0)]
+        #[arg(long, default_value_t = 1.0 / 30.0, allow_hyphen_values = true)]
         dt: f32,
         /// Output PNG.
         #[arg(long, default_value = "meadow.png")]
@@ -136,10 +136,10 @@ enum Command {
         #[command(flatten)]
         overrides: Overrides,
         /// Update steps (1..=100000).
-        #[arg(long, default_value_t = 60, value_parser = count)]
+        #[arg(long, default_value_t = 60, value_parser = count, allow_hyphen_values = true)]
         steps: u32,
         /// Time step in seconds (0 < dt <= 1).
-        #[arg(long, default_value_t = 1.0 / 60.0)]
+        #[arg(long, default_value_t = 1.0 / 60.0, allow_hyphen_values = true)]
         dt: f32,
         /// Output JSON: {"initial": [...], "final": [...]}.
         #[arg(long)]
@@ -148,7 +148,7 @@ enum Command {
         #[arg(long)]
         cpu: bool,
         /// Replace the field with about N blades on a flat square (1..=50000000).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         blades: Option<usize>,
         /// Also write the wind grid after the last step as JSON.
         #[arg(long)]
@@ -206,7 +206,7 @@ enum Command {
         /// hierarchy, exact and at the scene's precision, on the same frames: GPU ms of the
         /// update and the broad phase, ns per stepped blade, and the difference in the
         /// blades' final state.
-        #[arg(long, value_name = "COUNTS")]
+        #[arg(long, value_name = "COUNTS", allow_hyphen_values = true)]
         colliders: Option<String>,
         /// Time the three blade models (Jahrmann, Verlet, Cwd: `physics.model`) on the
         /// same scene and frames: GPU ms and ns per blade of the physics and of the grass
@@ -288,10 +288,10 @@ fn parse_xyz(s: &str) -> Result<[f32; 3], String> {
 #[derive(Args, Clone)]
 struct WindArgs {
     /// Jacobi pressure iterations of the wind solver, 0..=1000 (overrides the scene).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pressure_iterations: Option<u32>,
     /// Wind grid resolution per side, 8..=2048 cells (overrides the scene).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     wind_resolution: Option<u32>,
 }
 

@@ -447,10 +447,11 @@ impl Running {
         }
         // Applied above: epaint asserts (in debug builds) that no delta is dropped unhandled.
         out.textures_delta.clear();
-        self.gpu
+        let index = self
+            .gpu
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
-        self.app.renderer.frame_submitted(&self.gpu);
+        self.app.renderer.frame_submitted(&self.gpu, index);
         self.gpu.check_errors()?;
 
         let last = options.exit_after_frames == Some(self.app.frame);

@@ -126,15 +126,21 @@ fn first_bad_obj_line(text: &str) -> Option<(usize, String)> {
 }
 
 fn read_gltf(path: &Path) -> Result<(Vec<[f32; 3]>, Vec<u32>)> {
-    let (doc, buffers, _) = gltf::import(path).map_err(|e| fail(path, e.to_string()))?;
-    let mut positions = Vec::new();
-    let mut indices = Vec::new();
-    // Every triangle primitive of every mesh, placed by its node's transform in the scene.
-    let scene = doc.default_scene().or_else(|| doc.scenes().next());
-    let mut stack: Vec<(gltf::Node, glam::Mat4)> = match &scene {
-        Some(s) => s.nodes().map(|n| (n, glam::Mat4::IDENTITY)).collect(),
-        None => doc.nodes().map(|n| (n, glam::Mat4::IDENTITY)).collect(),
-    };
+    let gltf::Gltf {
+        document: doc,
+        blob,
+    } = gltf::Gltf::open(path).map_err(|e| fail(path, e.to_string()))?;
+    let base = path.parent().unwrap_or_else(|| Path::new("."));
+    let buffers = read_gltf_buffers(path, base, &doc, blob)?;
+    let roots = gltf_roots(path, &doc)?;
+    // The node graph is a forest (checked above), so the walk visits each node once; the
+    // triangles are counted before any is expanded.
+    let mut placed = Vec::new();
+    let mut stack: Vec<(gltf::Node, glam::Mat4)> = roots
+        .into_iter()
+        .map(|n| (n, glam::Mat4::IDENTITY))
+        .collect();
+    let mut triangles = 0usize;
     while let Some((node, parent)) = stack.pop() {
         let m = parent * glam::Mat4::from_cols_array_2d(&node.transform().matrix());
         stack.extend(node.children().map(|c| (c, m)));
@@ -143,20 +149,201 @@ fn read_gltf(path: &Path) -> Result<(Vec<[f32; 3]>, Vec<u32>)> {
             if prim.mode() != gltf::mesh::Mode::Triangles {
                 continue;
             }
-            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-            let Some(ps) = reader.read_positions() else {
+            let Some(pos) = prim.get(&gltf::Semantic::Positions) else {
                 continue;
             };
-            let base = positions.len() as u32;
-            let count = ps.len() as u32;
-            positions.extend(ps.map(|p| m.transform_point3(p.into()).to_array()));
-            match reader.read_indices() {
-                Some(ix) => indices.extend(ix.into_u32().map(|i| base + i.min(count))),
-                None => indices.extend(base..base + count - count % 3),
+            // An accessor past the end of its data is named before anything is read.
+            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
+            let past_end = |attribute: &str, accessor: usize| {
+                fail(
+                    path,
+                    format!(
+                        "mesh {} primitive {}: accessor {accessor} ({attribute}) runs past \
+                         the end of its buffer view or buffer",
+                        mesh.index(),
+                        prim.index()
+                    ),
+                )
+            };
+            if reader.read_positions().is_none() {
+                return Err(past_end("POSITION", pos.index()));
             }
+            if let (Some(a), None) = (prim.indices(), reader.read_indices()) {
+                return Err(past_end("indices", a.index()));
+            }
+            let count = prim.indices().map_or(pos.count(), |a| a.count());
+            triangles = triangles.saturating_add(count / 3);
+            if triangles > MAX_TRIANGLES {
+                return Err(fail(
+                    path,
+                    format!(
+                        "the scene's meshes, placed by their nodes, hold more than \
+                         {MAX_TRIANGLES} triangles (the most allowed)"
+                    ),
+                ));
+            }
+            placed.push((m, mesh.index(), prim.index()));
+        }
+    }
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    for (m, mesh_index, prim_index) in placed {
+        let Some(prim) = doc
+            .meshes()
+            .nth(mesh_index)
+            .and_then(|mesh| mesh.primitives().nth(prim_index))
+        else {
+            continue;
+        };
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
+        // Checked readable in the walk above.
+        let Some(ps) = reader.read_positions() else {
+            continue;
+        };
+        let base =
+            u32::try_from(positions.len()).map_err(|_| fail(path, "more than 4 G vertices"))?;
+        let count = ps.len() as u32;
+        positions.extend(ps.map(|p| m.transform_point3(p.into()).to_array()));
+        match reader.read_indices() {
+            Some(ix) => indices.extend(ix.into_u32().map(|i| base + i.min(count))),
+            None => indices.extend(base..base + count - count % 3),
         }
     }
     Ok((positions, indices))
+}
+
+/// The document's buffers: the GLB's binary chunk, embedded data and external files, each
+/// external file checked first so that a missing one is named (not the `.gltf`).
+fn read_gltf_buffers(
+    path: &Path,
+    base: &Path,
+    doc: &gltf::Document,
+    blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>> {
+    for buffer in doc.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source() {
+            if uri.starts_with("data:") {
+                continue;
+            }
+            if uri.contains("://") {
+                return Err(fail(
+                    path,
+                    format!(
+                        "buffer {} is at {uri:?}: only files beside the .gltf can be read",
+                        buffer.index()
+                    ),
+                ));
+            }
+            let file = base.join(percent_decode(uri));
+            if let Err(source) = std::fs::metadata(&file).and_then(|m| {
+                if m.is_file() {
+                    Ok(())
+                } else {
+                    Err(std::io::Error::other("not a regular file"))
+                }
+            }) {
+                return Err(Error::Read { path: file, source })
+                    .map_err(|e| fail(path, format!("buffer {}: {e}", buffer.index())));
+            }
+        }
+    }
+    let data =
+        gltf::import_buffers(doc, Some(base), blob).map_err(|e| fail(path, e.to_string()))?;
+    Ok(data.into_iter().map(|d| d.0).collect())
+}
+
+/// `%XX` escapes of a glTF URI decoded (file names with spaces are written `%20`).
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut k = 0;
+    while k < bytes.len() {
+        let hex = |b: u8| (b as char).to_digit(16);
+        match (
+            bytes[k],
+            bytes.get(k + 1).copied().and_then(hex),
+            bytes.get(k + 2).copied().and_then(hex),
+        ) {
+            (b'%', Some(h), Some(l)) => {
+                out.push((h * 16 + l) as u8);
+                k += 3;
+            }
+            (b, _, _) => {
+                out.push(b);
+                k += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// The nodes a walk starts from (the default scene's, else the first scene's, else every
+/// node without a parent), after checking that the node graph is a forest: no node is the
+/// child of two nodes or its own ancestor. glTF requires this, and a file that breaks it
+/// would otherwise make the walk loop or expand without bound.
+fn gltf_roots<'a>(path: &Path, doc: &'a gltf::Document) -> Result<Vec<gltf::Node<'a>>> {
+    let n = doc.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    for node in doc.nodes() {
+        for child in node.children() {
+            let c = child.index();
+            if let Some(p) = parent[c] {
+                return Err(fail(
+                    path,
+                    format!(
+                        "node {c} is a child of both node {p} and node {}: the node graph \
+                         must be a tree",
+                        node.index()
+                    ),
+                ));
+            }
+            parent[c] = Some(node.index());
+        }
+    }
+    // With one parent each, a cycle is a chain of parents that comes back to its start.
+    for start in 0..n {
+        let mut at = start;
+        for _ in 0..=n {
+            match parent[at] {
+                Some(p) if p == start => {
+                    return Err(fail(
+                        path,
+                        format!("node {start} is its own ancestor: the node graph must be a tree"),
+                    ))
+                }
+                Some(p) => at = p,
+                None => break,
+            }
+        }
+    }
+    let scene = doc.default_scene().or_else(|| doc.scenes().next());
+    Ok(match scene {
+        Some(s) => {
+            let mut seen = vec![false; n];
+            let mut roots = Vec::new();
+            for node in s.nodes() {
+                if parent[node.index()].is_some() {
+                    return Err(fail(
+                        path,
+                        format!(
+                            "scene {} lists node {} as a root, but it is a child of node {}",
+                            s.index(),
+                            node.index(),
+                            parent[node.index()].unwrap_or_default()
+                        ),
+                    ));
+                }
+                if !std::mem::replace(&mut seen[node.index()], true) {
+                    roots.push(node);
+                }
+            }
+            roots
+        }
+        None => doc
+            .nodes()
+            .filter(|n| parent[n.index()].is_none())
+            .collect(),
+    })
 }
 
 /// Checks the raw mesh and computes its normals.

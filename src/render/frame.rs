@@ -246,13 +246,16 @@ impl Renderer {
                 label: Some("sward.frame"),
             });
         self.encode_frame(gpu, &mut encoder, dt, camera, color, depth, size);
-        gpu.queue.submit([encoder.finish()]);
-        self.frame_submitted(gpu);
+        let index = gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu, index);
     }
 
-    /// Tells the GPU timer that the frame's commands were submitted (the window calls it
-    /// after its own submit; [`Renderer::frame`] does it itself).
-    pub fn frame_submitted(&mut self, gpu: &Gpu) {
+    /// Tells the renderer that the frame's commands were submitted as `index` (the window
+    /// calls it after its own submit; [`Renderer::frame`] does it itself): it waits for the
+    /// frame [`crate::gpu::MAX_FRAMES_IN_FLIGHT`] submits back, so the CPU never runs
+    /// further ahead than that, and hands the frame to the GPU timer.
+    pub fn frame_submitted(&mut self, gpu: &Gpu, index: wgpu::SubmissionIndex) {
+        self.pacer.submitted(gpu, index);
         if let Some(t) = &mut self.timer {
             t.end_frame(gpu);
         }

@@ -109,6 +109,8 @@ pub struct Renderer {
     /// Bound in place of the velocity grid when the fluid is off.
     _dummy_grid: wgpu::Buffer,
     timer: Option<GpuTimer>,
+    /// Bounds the frames submitted and not yet finished (see [`crate::gpu::FramePacer`]).
+    pacer: crate::gpu::FramePacer,
     pub scene: Scene,
     pub terrain: HeightField,
     /// Simulated seconds since the start.
@@ -303,6 +305,7 @@ impl Renderer {
             overlay: None,
             _dummy_grid: dummy_grid,
             timer: GpuTimer::new(gpu),
+            pacer: crate::gpu::FramePacer::default(),
             scene,
             terrain,
             time: 0.0,
@@ -576,8 +579,8 @@ impl Renderer {
         if let Some(t) = &mut self.timer {
             t.resolve(&mut encoder);
         }
-        gpu.queue.submit([encoder.finish()]);
-        self.frame_submitted(gpu);
+        let index = gpu.queue.submit([encoder.finish()]);
+        self.frame_submitted(gpu, index);
     }
 
     /// The projection's aspect ratio for a target of `width` × `height`.

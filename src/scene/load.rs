@@ -70,6 +70,11 @@ pub(crate) fn parse_error_message(text: &str, e: &SpannedError) -> String {
     let mut value = shorten(text[span.clone()].trim());
     let mut said = said;
     match &e.code {
+        // `model: 1`: ron suggests its raw-identifier syntax (`r#1`), which is no variant
+        // either; the allowed names below are what helps.
+        RonError::InvalidIdentifier(_) | RonError::SuggestRawIdentifier(_) => {
+            said = "not a name".to_owned();
+        }
         RonError::MissingStructField { .. } | RonError::DuplicateStructField { .. } => {
             return match allowed_for(&field) {
                 Some(allowed) => format!("{field}: {said}: allowed {allowed}"),
@@ -128,6 +133,8 @@ fn is_value_error(code: &RonError) -> bool {
             | RonError::InvalidValueForType { .. }
             | RonError::ExpectedDifferentLength { .. }
             | RonError::NoSuchEnumVariant { .. }
+            | RonError::InvalidIdentifier(_)
+            | RonError::SuggestRawIdentifier(_)
     )
 }
 

@@ -114,7 +114,11 @@ pub fn object_transform(object: &MeshObject, terrain: &HeightField, time: f32) -
     if axis.length_squared() < 1e-12 {
         return rest;
     }
-    let roll = glam::Quat::from_axis_angle(axis.normalize(), travelled / radius);
+    // Whole turns change nothing: reduced to one turn the angle stays exact and finite
+    // however far the object has rolled (validation keeps the radius ≥ 1 mm).
+    let angle = (travelled / radius).rem_euclid(std::f32::consts::TAU);
+    let angle = if angle.is_finite() { angle } else { 0.0 };
+    let roll = glam::Quat::from_axis_angle(axis.normalize(), angle);
     glam::Mat4::from_translation(origin)
         * glam::Mat4::from_quat(roll)
         * glam::Mat4::from_translation(-origin)

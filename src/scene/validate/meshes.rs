@@ -15,6 +15,10 @@ const ANGLE: Allowed = Allowed::closed(-360.0, 360.0, "degrees");
 /// From millimetre models to kilometre ones.
 const SCALE: Allowed = Allowed::closed(0.001, 1000.0, "");
 const COLOR: Allowed = Allowed::closed(0.0, 1.0, "");
+/// A rolling object's radius (`translation.y` with `rolls: true` on a path): it turns by
+/// the distance over it, so a radius near zero would spin it without bound (a 1e-45 m
+/// radius overflows the angle into NaN transforms).
+const ROLL_RADIUS: Allowed = Allowed::closed(0.001, 100000.0, "m");
 /// Spheres of one packing: all the update pass takes.
 const PACKED: Integers = Integers::new(1, MAX_SPHERES as u64, "spheres");
 /// Voxels along the box: 8 resolve a blob, 256 (16 M voxels) any prop.
@@ -70,6 +74,18 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
     }
     check.file_path(&name, &mut object.mesh, "a .obj, .gltf or .glb file")?;
     check.vector(&at("translation"), &tuple3(object.translation), POSITION)?;
+    if object.rolls && matches!(object.motion, crate::scene::Motion::Path { .. }) {
+        let field = at("translation");
+        let y = object.translation.1;
+        if !ROLL_RADIUS.contains(y) {
+            let message = format!(
+                "{field}: y = {y} is the rolling radius of an object with rolls: true and is \
+                 out of range: allowed {}",
+                ROLL_RADIUS.describe("y")
+            );
+            return Err(check.error(&field, message));
+        }
+    }
     check.vector(&at("rotation"), &tuple3(object.rotation), ANGLE)?;
     check.real(&at("scale"), object.scale, SCALE)?;
     check.vector(&at("color"), &tuple3(object.color), COLOR)?;
