@@ -32,7 +32,11 @@ pub const DEFAULT_SCENE_PATH: &str = "assets/scenes/meadow.ron";
 /// PATH=VALUE` overrides applied and validated like the file's own values.
 pub fn load(path: Option<&Path>, sets: &[String]) -> Result<Scene> {
     match path {
-        Some(p) => load_scene_with_sets(p, sets),
+        // A scene that cannot be read at all is the flag's fault: the message names it.
+        Some(p) => load_scene_with_sets(p, sets).map_err(|e| match e {
+            Error::Read { ref path, .. } if path == p => Error::Invalid(format!("--scene: {e}")),
+            other => other,
+        }),
         None => parse_scene_with_sets(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_PATH), sets),
     }
 }

@@ -165,8 +165,19 @@ impl Gpu {
         describe_info(&self.info)
     }
 
-    /// Checks that a storage buffer of `bytes` fits this device before it is allocated.
+    /// Checks that a storage buffer of `bytes` for blades fits this device before it is
+    /// allocated (the error says to use fewer blades).
     pub fn check_storage(&self, what: &str, bytes: u64) -> Result<()> {
+        self.check_storage_or(
+            what,
+            bytes,
+            "use fewer blades (lower field.density or a smaller terrain)",
+        )
+    }
+
+    /// Checks that a storage buffer of `bytes` fits this device before it is allocated;
+    /// `remedy` says what to change when it does not.
+    pub fn check_storage_or(&self, what: &str, bytes: u64, remedy: &str) -> Result<()> {
         let limits = self.device.limits();
         let max = limits
             .max_storage_buffer_binding_size
@@ -174,7 +185,7 @@ impl Gpu {
         if bytes > max {
             return Err(Error::Limits(format!(
                 "{what} needs a {bytes}-byte storage buffer, but {} holds at most {max} bytes \
-                 in one buffer; use fewer blades (lower field.density or a smaller terrain)",
+                 in one buffer; {remedy}",
                 self.info.name
             )));
         }

@@ -44,15 +44,30 @@ fn grow_on_objects(
         let Some(grass) = &object.grass else { continue };
         // Checked before a single blade is made: the area times the density.
         let area = crate::field::surface::surface_area(mesh, object.transform());
+        if !area.is_finite() {
+            return Err(scene.error_at(
+                &format!("objects[{i}].scale"),
+                format!(
+                    "objects[{i}]: the surface area of {:?} at scale {} overflows (the mesh's \
+                     coordinates are too large): lower objects[{i}].scale or use a mesh in \
+                     smaller units",
+                    object.mesh, object.scale
+                ),
+            ));
+        }
         let wanted = f64::from(grass.density) * area;
         if wanted + field.blades.len() as f64 > MAX_BLADES as f64 {
-            return Err(Error::Invalid(format!(
-                "objects[{i}].grass.density = {}: {wanted:.0} blades on the {area:.1} m² of \
-                 {:?} (with the field's {}) are more than {MAX_BLADES}; lower the density",
-                grass.density,
-                object.mesh,
-                field.blades.len()
-            )));
+            return Err(scene.error_at(
+                &format!("objects[{i}].grass.density"),
+                format!(
+                    "objects[{i}].grass.density = {}: {wanted:.0} blades on the {area:.1} m² of \
+                     {:?} (with the field's {}) are more than {MAX_BLADES}; lower \
+                     objects[{i}].grass.density or objects[{i}].scale",
+                    grass.density,
+                    object.mesh,
+                    field.blades.len()
+                ),
+            ));
         }
         let (blades, patches) =
             crate::field::surface::surface_field(mesh, object.transform(), grass, patch_size);
@@ -234,15 +249,22 @@ impl Session {
         // Without an adapter (the CPU twin) the field still has to fit in memory and be
         // generated in reasonable time: the same bound as `--blades`.
         if blades.is_none() && count > MAX_BLADES as f64 {
-            return Err(Error::Limits(format!(
-                "the scene asks for {count:.0} blades (field.density {} blades/m² × \
-                 terrain.size {} m squared); allowed at most {MAX_BLADES}: lower field.density \
-                 or terrain.size",
-                scene.field.density, scene.terrain.size
-            )));
+            return Err(scene.error_at(
+                "field.density",
+                format!(
+                    "the scene asks for {count:.0} blades (field.density {} blades/m² × \
+                     terrain.size {} m squared); allowed at most {MAX_BLADES}: lower \
+                     field.density or terrain.size",
+                    scene.field.density, scene.terrain.size
+                ),
+            ));
         }
         if let Some(gpu) = gpu {
-            check_blade_count(gpu, count)?;
+            check_blade_count(gpu, count).map_err(|e| match blades {
+                // Counted from the scene: at the line of its density.
+                None => scene.error_at("field.density", e.to_string()),
+                Some(_) => e,
+            })?;
         }
         match blades {
             Some(n) => {
@@ -314,15 +336,18 @@ impl Session {
 fn check_pool(scene: &Scene, layout: &TileLayout, gpu: Option<&Gpu>) -> Result<()> {
     let pool = layout.pool_blades();
     if pool > MAX_POOL_BLADES {
-        return Err(Error::Limits(format!(
-            "the streamed field needs a pool of {pool} blades ({} tiles of {} blades within \
-             culling.max_distance = {} m at field.density {} blades/m²); allowed at most \
-             {MAX_POOL_BLADES}: lower culling.max_distance or field.density",
-            layout.slots,
-            layout.blades_per_tile(),
-            scene.culling.max_distance,
-            scene.field.density
-        )));
+        return Err(scene.error_at(
+            "culling.max_distance",
+            format!(
+                "the streamed field needs a pool of {pool} blades ({} tiles of {} blades \
+                 within culling.max_distance = {} m at field.density {} blades/m²); allowed at \
+                 most {MAX_POOL_BLADES}: lower culling.max_distance or field.density",
+                layout.slots,
+                layout.blades_per_tile(),
+                scene.culling.max_distance,
+                scene.field.density
+            ),
+        ));
     }
     if let Some(gpu) = gpu {
         check_blade_count(gpu, pool as f64)?;

@@ -225,7 +225,10 @@ impl Renderer {
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let fluid = if scene.wind.source != crate::scene::WindSource::Analytic {
             let config = FluidConfig::from_scene(&scene.wind.fluid, scene.terrain.size);
-            Some(FluidSolver::new(gpu, &config)?)
+            // Found after loading: at the scene line of the grid's resolution.
+            let solver = FluidSolver::new(gpu, &config)
+                .map_err(|e| scene.error_at("wind.fluid.resolution", e.to_string()))?;
+            Some(solver)
         } else {
             None
         };

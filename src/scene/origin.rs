@@ -42,6 +42,40 @@ impl Origin {
 }
 
 impl Scene {
+    /// An error about the value of `field` found after the scene was loaded (a count the
+    /// adapter cannot hold, an area that overflows): at the line of the scene file that
+    /// writes the field (or the `--set` argument that set it), with `message`. A scene
+    /// built in code has no file: the message alone.
+    pub fn error_at(&self, field: &str, message: String) -> Error {
+        let Some(source) = &self.origin.0 else {
+            return Error::Invalid(message);
+        };
+        let inside = |outer: &str, inner: &str| {
+            inner == outer
+                || inner
+                    .strip_prefix(outer)
+                    .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
+        };
+        if let Some(set) = source
+            .sets
+            .iter()
+            .rev()
+            .find(|s| inside(&s.path, field) || inside(field, &s.path))
+        {
+            return Error::Set {
+                arg: set.arg.clone(),
+                message,
+            };
+        }
+        let (line, column) = locate(&source.text, field);
+        Error::Scene {
+            path: source.path.clone(),
+            line,
+            column,
+            message,
+        }
+    }
+
     /// `error`, from opening the image that the scene's `field` names (e.g.
     /// `terrain.density_map`), as a scene error that names the scene file's line (or the
     /// `--set` argument), the field, the image as written and the image's absolute path.
@@ -63,7 +97,7 @@ impl Scene {
             field == s.path
                 || field
                     .strip_prefix(s.path.as_str())
-                    .is_some_and(|rest| rest.starts_with('.'))
+                    .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
         });
         let (named, written) = match set {
             Some(set) => (

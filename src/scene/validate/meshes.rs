@@ -90,8 +90,22 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
     check.real(&at("scale"), object.scale, SCALE)?;
     check.vector(&at("color"), &tuple3(object.color), COLOR)?;
     if let Some(p) = object.collider.packing() {
-        check.integer(&at("collider.count"), p.count, PACKED)?;
-        check.integer(&at("collider.resolution"), p.resolution, VOXELS)?;
+        // The packing's numbers live inside the collider's variant, which `--set` replaces
+        // whole: the error names the collider, the number and an assignment that works.
+        let field = at("collider");
+        for (name, value, allowed) in [
+            ("count", p.count, PACKED),
+            ("resolution", p.resolution, VOXELS),
+        ] {
+            if !(allowed.low..=allowed.high).contains(&u64::from(value)) {
+                let message = format!(
+                    "{field}: {name} = {value} is out of range: allowed {} (set the whole \
+                     collider, e.g. {field}=Spheres((count: 400, resolution: 64)))",
+                    allowed.describe(name)
+                );
+                return Err(check.error(&field, message));
+            }
+        }
     }
     motion(check, &at("motion"), &object.motion)
 }

@@ -148,10 +148,11 @@ pub(crate) fn validate_with_sets(
             .iter()
             .rposition(|o| o.collider.packing().is_some())
             .unwrap_or(0);
-        let name = format!("objects[{last}].collider.count");
+        let name = format!("objects[{last}].collider");
         let message = format!(
             "{name}: the objects' sphere packings ({packed} spheres) and the {} colliders \
-             make {total} spheres, more than the {} the update pass takes; lower the counts",
+             make {total} spheres, more than the {} the update pass takes; lower the \
+             packings' counts (e.g. {name}=Spheres((count: 100)))",
             scene.colliders.len(),
             crate::sim::layout::MAX_SPHERES
         );

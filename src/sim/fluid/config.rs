@@ -186,7 +186,7 @@ impl FluidConfig {
     pub fn validate(&self) -> Result<()> {
         if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&self.resolution) {
             return Err(Error::Invalid(format!(
-                "fluid.resolution = {} is out of range: allowed {MIN_RESOLUTION} <= resolution \
+                "wind.fluid.resolution = {} is out of range: allowed {MIN_RESOLUTION} <= resolution \
                  <= {MAX_RESOLUTION} cells per side",
                 self.resolution
             )));
@@ -196,27 +196,27 @@ impl FluidConfig {
             && self.resolution % 2 == 1
         {
             return Err(Error::Invalid(format!(
-                "fluid.resolution = {} is odd: the Multigrid pressure solver with a Periodic \
+                "wind.fluid.resolution = {} is odd: the Multigrid pressure solver with a Periodic \
                  boundary needs an even resolution (or use pressure_solver: Jacobi)",
                 self.resolution
             )));
         }
         if !(1..=MAX_MULTIGRID_CYCLES).contains(&self.multigrid_cycles) {
             return Err(Error::Invalid(format!(
-                "fluid.multigrid_cycles = {} is out of range: allowed 1 <= multigrid_cycles \
+                "wind.fluid.multigrid_cycles = {} is out of range: allowed 1 <= multigrid_cycles \
                  <= {MAX_MULTIGRID_CYCLES}",
                 self.multigrid_cycles
             )));
         }
         if !(1..=MAX_LAYERS).contains(&self.layers) {
             return Err(Error::Invalid(format!(
-                "fluid.layers = {} is out of range: allowed 1 <= layers <= {MAX_LAYERS}",
+                "wind.fluid.layers = {} is out of range: allowed 1 <= layers <= {MAX_LAYERS}",
                 self.layers
             )));
         }
         if !(self.layer_height.is_finite() && self.layer_height > 0.0) {
             return Err(Error::Invalid(format!(
-                "fluid.layer_height = {} m is out of range: allowed a positive number",
+                "wind.fluid.layer_height = {} m is out of range: allowed a positive number",
                 self.layer_height
             )));
         }
@@ -227,10 +227,10 @@ impl FluidConfig {
             )));
         }
         let nonneg = [
-            ("fluid.vorticity", self.vorticity),
-            ("fluid.dissipation", self.dissipation),
-            ("fluid.viscosity", self.viscosity),
-            ("fluid.ground_drag", self.ground_drag),
+            ("wind.fluid.vorticity", self.vorticity),
+            ("wind.fluid.dissipation", self.dissipation),
+            ("wind.fluid.viscosity", self.viscosity),
+            ("wind.fluid.ground_drag", self.ground_drag),
         ];
         for (name, value) in nonneg {
             if !(value.is_finite() && value >= 0.0) {

@@ -40,7 +40,7 @@ use scroll::Scroller;
 use super::wind_layout::{
     ArrowGpu, FluidForces, FluidParams, ObstacleGpu, FLUID_WORKGROUP, MAX_ARROWS, MAX_OBSTACLES,
 };
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::{map_and_read, read_buffer, Gpu};
 use crate::scene::{Advection, Fluid, PressureSolver};
 
@@ -224,14 +224,9 @@ impl FluidSolver {
         config.validate()?;
         let n = config.resolution;
         let what = format!("a fluid grid of {n}x{n}x{} cells", config.layers);
-        // check_storage's own hint is about blades; say what to change for the grid.
-        gpu.check_storage(&what, config.faces() as u64 * 4)
-            .and_then(|()| gpu.check_storage(&what, config.cells() as u64 * 32))
-            .map_err(|e| {
-                Error::Limits(format!(
-                    "{e}; for the wind grid, lower fluid.resolution or fluid.layers"
-                ))
-            })?;
+        let remedy = "lower wind.fluid.resolution or wind.fluid.layers";
+        gpu.check_storage_or(&what, config.faces() as u64 * 4, remedy)?;
+        gpu.check_storage_or(&what, config.cells() as u64 * 32, remedy)?;
         gpu.check_dispatch(&what, groups_of(n + 1))?;
         gpu.check_dispatch(&what, 3 * (config.layers + 1))?;
 
