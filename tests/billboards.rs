@@ -116,33 +116,81 @@ fn the_atlas_covers_its_cards_and_its_mips_are_box_filters() {
             base + middle > l.width / 12,
             "variant {v}: {base} + {middle} blade edges"
         );
+        // Each mip level against an independent box filter of the base level: texel
+        // (x, y) of a level that is `bw` × `bh` base texels per texel is the coverage-
+        // weighted mean colour and the mean coverage of that whole block (the sizes are
+        // powers of two, so the blocks tile the base exactly).
         let chain = atlas::mip_chain(l);
         assert_eq!(chain.len(), 10, "512 × 64 down to 1 × 1");
         let (mut w, mut h) = (l.width, l.height);
-        for pair in chain.windows(2) {
-            let expected = atlas::downsample(&pair[0], w, h);
+        for level in &chain[1..] {
             w = (w / 2).max(1);
             h = (h / 2).max(1);
-            assert_eq!(pair[1].len() as u32, w * h);
-            for (a, b) in pair[1].iter().zip(&expected) {
-                for k in 0..4 {
-                    assert!((a[k] - b[k]).abs() < 1e-6);
+            assert_eq!(level.len() as u32, w * h);
+            let (bw, bh) = (l.width / w, l.height / h);
+            for y in 0..h {
+                for x in 0..w {
+                    let (mut rgb, mut alpha) = ([0.0f64; 3], 0.0f64);
+                    for sy in y * bh..(y + 1) * bh {
+                        for sx in x * bw..(x + 1) * bw {
+                            let t = l.rgba[(sy * l.width + sx) as usize];
+                            for k in 0..3 {
+                                rgb[k] += f64::from(t[k] * t[3]);
+                            }
+                            alpha += f64::from(t[3]);
+                        }
+                    }
+                    let got = level[(y * w + x) as usize];
+                    let cover = alpha / f64::from(bw * bh);
+                    assert!((f64::from(got[3]) - cover).abs() < 1e-4, "{got:?} {cover}");
+                    if alpha > 1e-3 {
+                        for k in 0..3 {
+                            let c = rgb[k] / alpha;
+                            assert!((f64::from(got[k]) - c).abs() < 1e-4, "{got:?} {c}");
+                        }
+                    }
                 }
             }
-            // Coverage is preserved by the box filter.
-            let c0: f32 = pair[0].iter().map(|t| t[3]).sum::<f32>() / pair[0].len() as f32;
-            let c1: f32 = pair[1].iter().map(|t| t[3]).sum::<f32>() / pair[1].len() as f32;
-            assert!((c0 - c1).abs() < 0.02, "{c0} vs {c1}");
         }
     }
     // Variants differ.
     assert_ne!(layers[0], layers[1]);
+    // Matching the mean scales each channel by one gain and leaves coverage alone; the
+    // coverage-weighted mean, summed here over every texel, is then the far albedo.
+    let before = layers.clone();
     atlas::match_mean(&mut layers, far_grass_albedo().into());
-    let mean = atlas::mean_color(&layers);
     let far: [f32; 3] = far_grass_albedo().into();
-    for k in 0..3 {
-        assert!((mean[k] - far[k]).abs() < 1e-3, "{mean:?} vs {far:?}");
+    let (mut rgb, mut alpha) = ([0.0f64; 3], 0.0f64);
+    let mut gains: [Option<f32>; 3] = [None; 3];
+    for (a, b) in before.iter().zip(&layers) {
+        for (t0, t1) in a.rgba.iter().zip(&b.rgba) {
+            assert_eq!(t0[3], t1[3], "coverage unchanged");
+            for k in 0..3 {
+                rgb[k] += f64::from(t1[k] * t1[3]);
+                if t0[k] > 0.05 {
+                    let g = t1[k] / t0[k];
+                    let first = *gains[k].get_or_insert(g);
+                    assert!((g - first).abs() < 1e-4 * first, "one gain per channel");
+                }
+            }
+            alpha += f64::from(t1[3]);
+        }
     }
+    for k in 0..3 {
+        let mean = rgb[k] / alpha;
+        assert!((mean - f64::from(far[k])).abs() < 1e-3, "{mean} vs {far:?}");
+    }
+    // A target far brighter than the atlas is approached by at most a gain of 4.
+    let mut bright = before.clone();
+    let mean = atlas::mean_color(&before);
+    atlas::match_mean(&mut bright, mean.map(|m| m * 10.0));
+    let t0 = before[0]
+        .rgba
+        .iter()
+        .find(|t| t[1] > 0.05)
+        .expect("a green texel");
+    let k = before[0].rgba.iter().position(|t| t == t0).expect("found");
+    assert!((bright[0].rgba[k][1] / t0[1] - 4.0).abs() < 1e-4);
 }
 
 #[test]

@@ -568,14 +568,29 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
                     ui.selectable_value(&mut app.renderer.scene.field.shape, s, format!("{s:?}"));
                 }
             });
+        // While the time of day places the sun, `render.sun_direction` is not used: the
+        // sliders are shown greyed out, saying what steers the sun instead.
+        let by_time = app.renderer.scene.light.time_of_day.is_some();
         let r = &mut app.renderer.scene.render;
         // The sun as azimuth / elevation: easier to steer than a raw vector.
         let d = glam::Vec3::from(r.sun_direction).normalize_or(glam::Vec3::Y);
         let mut azimuth = d.z.atan2(d.x).to_degrees();
         let mut elevation = d.y.clamp(-1.0, 1.0).asin().to_degrees();
-        let a = ui.add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("sun azimuth °"));
-        let e = ui.add(egui::Slider::new(&mut elevation, 2.0..=90.0).text("sun elevation °"));
-        if a.changed() || e.changed() {
+        const BY_TIME: &str = "the sun follows the time of day (Light and shadows); \
+                               untick \"sun by time of day\" there to steer it here";
+        let a = ui
+            .add_enabled(
+                !by_time,
+                egui::Slider::new(&mut azimuth, -180.0..=180.0).text("sun azimuth °"),
+            )
+            .on_disabled_hover_text(BY_TIME);
+        let e = ui
+            .add_enabled(
+                !by_time,
+                egui::Slider::new(&mut elevation, 2.0..=90.0).text("sun elevation °"),
+            )
+            .on_disabled_hover_text(BY_TIME);
+        if !by_time && (a.changed() || e.changed()) {
             let (az, el) = (azimuth.to_radians(), elevation.to_radians());
             r.sun_direction = (el.cos() * az.cos(), el.sin(), el.cos() * az.sin());
         }
