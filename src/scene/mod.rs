@@ -39,3 +39,4 @@ pub use load::{load_scene, parse_scene};
 pub use origin::Origin;
 pub use set::{load_scene_with_sets, parse_scene_with_sets};
 pub use types::*;
+pub use validate::{field_rules, FieldRule, RuleKind};

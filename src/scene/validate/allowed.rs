@@ -54,6 +54,14 @@ impl Allowed {
         }
     }
 
+    /// The interval's two ends as numbers (open or closed alike).
+    pub(crate) fn bounds(&self) -> (f32, f32) {
+        let value = |b: Bound| match b {
+            Bound::Inclusive(v) | Bound::Exclusive(v) => v,
+        };
+        (value(self.low), value(self.high))
+    }
+
     pub(crate) fn contains(&self, x: f32) -> bool {
         let above_low = match self.low {
             Bound::Inclusive(low) => x >= low,

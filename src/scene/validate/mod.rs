@@ -81,6 +81,7 @@
 //! errors are [`Error::Set`] naming the argument.
 
 mod allowed;
+mod catalogue;
 mod light;
 pub(crate) mod locate;
 mod meshes;
@@ -151,8 +152,8 @@ pub(crate) fn validate_with_sets(
         let name = format!("objects[{last}].collider");
         let message = format!(
             "{name}: the objects' sphere packings ({packed} spheres) and the {} colliders \
-             make {total} spheres, more than the {} the update pass takes; lower the \
-             packings' counts (e.g. {name}=Spheres((count: 100)))",
+             make {total} spheres; allowed at most {} in all (what the update pass takes): \
+             lower the packings' counts (e.g. {name}=Spheres((count: 100)))",
             scene.colliders.len(),
             crate::sim::layout::MAX_SPHERES
         );
@@ -169,13 +170,11 @@ pub(crate) fn validate_with_sets(
 
 /// The rule of the field at `path` (`colliders[2].radius`, `field.height.min`), if the
 /// scene has such a field.
-pub(crate) fn rule_for(path: &str) -> Option<Rule> {
-    let mut generic = generic_path(path);
-    // An object's grass has the scene field's fields and rules.
-    if let Some(rest) = generic.strip_prefix("objects[].grass.") {
-        generic = format!("field.{rest}");
-    }
-    let tables = [
+pub use catalogue::{field_rules, FieldRule, RuleKind};
+
+/// Every `(path, rule)` of the sections' tables.
+fn all_rules() -> impl Iterator<Item = (&'static str, Rule)> {
+    [
         terrain_field::RULES,
         objects::RULES,
         meshes::RULES,
@@ -183,13 +182,21 @@ pub(crate) fn rule_for(path: &str) -> Option<Rule> {
         physics::RULES,
         view::RULES,
         light::RULES,
-    ];
+    ]
+    .into_iter()
+    .flat_map(|t| t.iter().copied())
+}
+
+pub(crate) fn rule_for(path: &str) -> Option<Rule> {
+    let mut generic = generic_path(path);
+    // An object's grass has the scene field's fields and rules.
+    if let Some(rest) = generic.strip_prefix("objects[].grass.") {
+        generic = format!("field.{rest}");
+    }
     let find = |p: &str| {
-        tables
-            .iter()
-            .flat_map(|t| t.iter())
+        all_rules()
             .find(|(name, _)| *name == p)
-            .map(|(_, rule)| *rule)
+            .map(|(_, rule)| rule)
     };
     if let Some(rule) = find(&generic) {
         return Some(rule);
