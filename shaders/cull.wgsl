@@ -85,7 +85,9 @@ const THROTTLED: u32 = 0x80000000u;
 // Largest workgroup count per dimension every adapter allows.
 const MAX_GROUPS: u32 = 65535u;
 
-@group(0) @binding(0) var<uniform> params: CullParams;
+// Read-only storage, not a uniform: lavapipe (Mesa 22.3) would recompile the cull with
+// these parameters inlined at every dispatch and keep every copy (see grass.wgsl).
+@group(0) @binding(0) var<storage, read> params: CullParams;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read> patches: array<PatchBox>;
 // Three regions of `region` slots, one per level of detail.

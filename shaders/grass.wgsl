@@ -16,7 +16,10 @@
 //!include cwd.wgsl
 //!include clumps.wgsl
 
-@group(0) @binding(0) var<uniform> frame: Frame;
+// Read-only storage, not a uniform: Mesa 22.3's lavapipe recompiles a large shader whose
+// branches read a uniform with the uniform's value inlined at every draw and keeps each
+// copy until the pipeline is destroyed (about 10 MB a frame); storage is never inlined.
+@group(0) @binding(0) var<storage, read> frame: Frame;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read> visible: array<u32>;
 @group(0) @binding(3) var<uniform> cull: CullParams;

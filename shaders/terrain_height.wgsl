@@ -25,7 +25,9 @@ struct TerrainParams {
     levels: array<vec4<f32>, 16>,
 }
 
-@group(0) @binding(1) var<uniform> terrain: TerrainParams;
+// Read-only storage, not a uniform: lavapipe (Mesa 22.3) would recompile the terrain
+// draw with this uniform inlined at every draw and keep every copy (see grass.wgsl).
+@group(0) @binding(1) var<storage, read> terrain: TerrainParams;
 @group(0) @binding(2) var<storage, read> terrain_grid: array<f32>;
 
 // The value in [-1, 1] at a lattice point: the twin of `noise::lattice`.

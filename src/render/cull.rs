@@ -12,7 +12,7 @@ use crate::sim::layout::{
     CullCounters, CullParams, PatchDispatch, LOD_LEVELS, PATCH_SPHERE_STRIDE, SPHERES_ALL,
     WORKGROUP_SIZE,
 };
-use crate::sim::update::{compute_storage_entry, uniform_entry, BladeBuffers};
+use crate::sim::update::{compute_storage_entry, BladeBuffers};
 
 /// Cull pipelines, their uniforms and the indirect-argument buffer the draw reads.
 pub struct CullPass {
@@ -79,7 +79,7 @@ impl CullPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.cull.layout"),
             entries: &[
-                uniform_entry(0, wgpu::ShaderStages::COMPUTE),
+                super::draw::read_storage(0, wgpu::ShaderStages::COMPUTE),
                 compute_storage_entry(1, true),
                 compute_storage_entry(2, true),
                 compute_storage_entry(3, false),
@@ -126,7 +126,9 @@ impl CullPass {
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.cull.params"),
             size: std::mem::size_of::<CullParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::UNIFORM
+                | wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let args = device.create_buffer(&wgpu::BufferDescriptor {

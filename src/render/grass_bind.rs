@@ -46,7 +46,7 @@ impl GrassBindings {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.draw.grass_layout"),
             entries: &[
-                uniform_entry(0, vf),
+                read_storage(0, vf),
                 read_storage(1, vertex),
                 read_storage(2, vertex),
                 uniform_entry(3, vertex),

@@ -60,7 +60,9 @@ pub(crate) fn params_buffer(device: &wgpu::Device, label: &str) -> wgpu::Buffer 
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: std::mem::size_of::<TerrainUniforms>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::UNIFORM
+            | wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }
@@ -122,7 +124,7 @@ impl TerrainPass {
             label: Some("sward.terrain.layout"),
             entries: &[
                 uniform_entry(0, vf),
-                uniform_entry(1, vf),
+                read_storage(1, vf),
                 read_storage(2, wgpu::ShaderStages::VERTEX),
                 wgpu::BindGroupLayoutEntry {
                     binding: 3,
@@ -270,7 +272,7 @@ pub fn probe_heights(gpu: &Gpu, terrain: &HeightField, points: &[Vec2]) -> Resul
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sward.terrain_probe.layout"),
         entries: &[
-            uniform_entry(1, c),
+            read_storage(1, c),
             read_storage(2, c),
             read_storage(3, c),
             crate::sim::update::compute_storage_entry(4, false),

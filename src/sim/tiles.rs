@@ -66,7 +66,7 @@ impl TileGenPass {
         let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.tile_gen.layout"),
             entries: &[
-                uniform_entry(1, c),
+                crate::render::draw::read_storage(1, c),
                 compute_storage_entry(2, true),
                 uniform_entry(3, c),
                 compute_storage_entry(4, true),

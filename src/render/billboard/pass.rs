@@ -138,7 +138,7 @@ impl BillboardPass {
             label: Some("sward.billboard.cull_layout"),
             entries: &[
                 uniform_entry(0, c),
-                uniform_entry(1, c),
+                crate::render::draw::read_storage(1, c),
                 compute_storage_entry(2, true),
                 uniform_entry(3, c),
                 compute_storage_entry(6, true),
@@ -160,7 +160,7 @@ impl BillboardPass {
             label: Some("sward.billboard.draw_layout"),
             entries: &[
                 uniform_entry(0, vf),
-                uniform_entry(1, v),
+                crate::render::draw::read_storage(1, v),
                 grid_entry,
                 uniform_entry(3, vf),
                 texture(

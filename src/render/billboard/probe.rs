@@ -42,7 +42,7 @@ pub fn probe_cards(
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sward.billboard_probe.layout"),
         entries: &[
-            uniform_entry(1, c),
+            crate::render::draw::read_storage(1, c),
             compute_storage_entry(2, true),
             uniform_entry(3, c),
             compute_storage_entry(6, true),
