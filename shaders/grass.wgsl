@@ -172,10 +172,11 @@ fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
         t = t * (1.0 - phi) + u * phi;
     }
     var p = (1.0 - t) * c0 + t * c1;
-    // Eq. 23: the middle axis moves along the normal, a "v" cross-section that thins out
-    // towards the tip.
+    // Eq. 23, d = w n (0.5 - |u - 0.5| (1 - v)): the middle axis moves along the normal
+    // by half the width at the root, a "v" cross-section with a right angle (the unfolded
+    // width grows by √2) that flattens towards the tip.
     if frame.shape.w > 0.5 {
-        p += half_width * n * (0.5 - abs(u - 0.5) * (1.0 - v));
+        p += blade.v2_width.w * n * (0.5 - abs(u - 0.5) * (1.0 - v));
     }
     // The flat blade's normal: the fragment rounds it across the width.
     return BladePoint(p, n);

@@ -472,19 +472,19 @@ fn grids_out_of_range_are_refused_before_allocation() {
     let cases = [
         (
             config(4, 32.0, Boundary::Open),
-            "fluid.resolution = 4 is out of range",
+            "wind.fluid.resolution = 4 is out of range",
         ),
         (
             config(4096, 32.0, Boundary::Open),
-            "fluid.resolution = 4096 is out of range",
+            "wind.fluid.resolution = 4096 is out of range",
         ),
-        (odd_periodic, "fluid.resolution = 33 is odd"),
+        (odd_periodic, "wind.fluid.resolution = 33 is odd"),
         (
             FluidConfig {
                 multigrid_cycles: 0,
                 ..config(32, 32.0, Boundary::Open)
             },
-            "fluid.multigrid_cycles = 0 is out of range",
+            "wind.fluid.multigrid_cycles = 0 is out of range",
         ),
     ];
     for (cfg, expected) in cases {
