@@ -203,7 +203,7 @@ fn grass_too_dense_is_refused() {
         .to_string();
     println!("{e}");
     assert!(
-        e.contains("objects[0].grass.density") && e.contains("lower the density"),
+        e.contains("objects[0].grass.density") && e.contains("lower objects[0].grass.density"),
         "{e}"
     );
 }

@@ -20,6 +20,15 @@ use sward::render::camera::CameraView;
 use sward::scene::load_scene;
 
 const SIZE: (u32, u32) = (960, 540);
+
+/// The window tests run one at a time: the replay's clicks go through egui, which tells a
+/// click from a press by wall-clock time, and two software-rendered windows at once slow
+/// each other's frames past that limit.
+static ONE_WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_window() -> std::sync::MutexGuard<'static, ()> {
+    ONE_WINDOW.lock().unwrap_or_else(|p| p.into_inner())
+}
 const FRAMES: u64 = 75;
 
 /// An X server for the test's lifetime (killed on drop) or the one in `DISPLAY`.
@@ -109,6 +118,7 @@ fn alt_click(steps: &mut Vec<Step>, frame: u64, at: Vec2) {
 
 #[test]
 fn replayed_editing_session_saves_a_branching_guide_and_a_screenshot() {
+    let _window = one_window();
     let dir = tempdir("window");
     let scene_path = dir.join("scene.ron");
     std::fs::copy("tests/scenes/window.ron", &scene_path).expect("copy the scene");
@@ -252,6 +262,7 @@ fn mean(img: &image::RgbaImage, x: u32, y: u32, w: u32, h: u32) -> [f32; 3] {
 
 #[test]
 fn a_scene_that_fails_to_load_opens_the_default_and_exits_cleanly() {
+    let _window = one_window();
     let dir = tempdir("window_bad");
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, "(field: (density: -3.0))").unwrap();
@@ -293,6 +304,7 @@ fn a_scene_that_fails_to_load_opens_the_default_and_exits_cleanly() {
 /// written (an existing record stays as it was).
 #[test]
 fn save_never_overwrites_a_scene_that_failed_to_load() {
+    let _window = one_window();
     let dir = tempdir("window_save_refused");
     let bad = dir.join("bad.ron");
     let broken = "(field: (density: -3.0), camera: (fov_y: 50.0))";
@@ -368,6 +380,7 @@ fn tempdir(name: &str) -> PathBuf {
 /// tests/memory.rs).
 #[test]
 fn the_window_keeps_its_memory_over_a_replay() {
+    let _window = one_window();
     let dir = tempdir("window_memory");
     let scene = dir.join("scene.ron");
     // The default meadow with fewer blades: what leaked did not depend on the count.
