@@ -4,7 +4,10 @@
 //!
 //! Tolerances: both sides run the same f32 operations; the gap is rounding (fused
 //! multiply-adds, exp/sqrt/sin implementations), amplified a little by the constraints.
-//! Measured on lavapipe: about 2e-6 m for Verlet after 60 steps, 2e-7 m for Cwd.
+//! Measured on lavapipe: Cwd 4.8e-7 m after 40 steps (tolerance 5e-6 m); Verlet 6.3e-4 m
+//! after 60 steps, where a ball's push becomes velocity and pressed blades drift apart (5
+//! of 173 pressed blades beyond 1e-4 m; tolerance 2e-3 m for those, 1e-4 m for every
+//! other blade).
 
 mod common;
 
@@ -14,6 +17,8 @@ use sward::scene::{BladeModel, Scene, WindSource};
 use sward::session::Session;
 
 const TOLERANCE: f32 = 1e-4;
+/// Cwd's stateless bend, GPU against twin (measured 4.8e-7 m).
+const CWD_TOLERANCE: f32 = 5e-6;
 /// Verlet blades pressed by a ball (see `verlet_gpu_matches_cpu_twin`).
 const VERLET_CONTACT_TOLERANCE: f32 = 2e-3;
 
@@ -118,7 +123,10 @@ fn cwd_gpu_matches_cpu_twin_and_leaves_no_trail() {
         blades.len()
     );
     assert!(moved > 0.05, "the wind must bend the blades ({moved})");
-    assert!(err < TOLERANCE, "max error {err} exceeds {TOLERANCE}");
+    assert!(
+        err < CWD_TOLERANCE,
+        "max error {err} exceeds {CWD_TOLERANCE}"
+    );
 }
 
 /// Blades of one wind cell share the force: two blades of a cell with the same frame and

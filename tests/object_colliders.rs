@@ -2,7 +2,8 @@
 //! - a bunny with `collider: Spheres((count: N))` pushes the grass: blades inside its
 //!   footprint are pressed (their tips lie outside every packed sphere after the run, and
 //!   far more of them moved than without the collider);
-//! - the GPU run matches the CPU twin (`simulate --cpu`'s path) with the packed spheres;
+//! - the GPU run matches the CPU twin (`simulate --cpu`'s path) with the packed spheres
+//!   (measured 5.4e-7 m at the tips on lavapipe; tolerance 5e-6 m);
 //! - an object on a path carries its mesh and its spheres along: the spheres move exactly
 //!   with the object's origin, stay on the ground, and the grass on the path is pressed
 //!   after it passed;
@@ -107,7 +108,7 @@ fn a_packed_bunny_presses_the_grass_as_its_twin_does() {
         .map(|(c, g)| tip(c).distance(tip(g)))
         .fold(0.0f32, f32::max);
     println!("GPU against the CPU twin with the packed bunny: max tip distance {err:.2e} m");
-    assert!(err < 1e-3, "GPU and CPU differ by {err} m");
+    assert!(err < 5e-6, "GPU and CPU differ by {err} m");
 
     // Without a collider nothing presses the grass.
     let mut none = bunny_object(300);

@@ -1,6 +1,8 @@
 //! Grass-to-grass propagation (Qiu et al. §5.2, issue 15 point 3): the GPU passes against
 //! the CPU twin, and the trail a ball leaves measured with and without propagation against
 //! the ball's diameter (`cargo test --test propagation -- --nocapture` prints the figures).
+//! GPU against twin, measured on lavapipe: 9.5e-7 with and without propagation; the
+//! tolerance is 1e-5.
 
 mod common;
 
@@ -10,7 +12,7 @@ use sward::session::Session;
 
 /// Max |GPU − CPU| (metres, and η). The splat is fixed point (order-free), the generations
 /// are the same f32 operations; the gap is the update's own rounding (see twin_update.rs).
-const TOLERANCE: f32 = 1e-4;
+const TOLERANCE: f32 = 1e-5;
 /// η above which a blade counts as part of the trail.
 const TRAIL_ETA: f32 = 0.05;
 

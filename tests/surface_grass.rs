@@ -2,9 +2,9 @@
 //! - on a box standing above the ground, blades on the top stand up, blades on the sides
 //!   hang down under world-down gravity, blades under the box hang below their roots;
 //! - the GPU update of surface blades (their up is the surface normal, not the terrain's)
-//!   matches the CPU twin;
+//!   matches the CPU twin (measured 1.0e-6 m at the tips on lavapipe; tolerance 1e-5 m);
 //! - a grassy object on a streamed field: its blades follow the tile pool on the GPU and
-//!   match the twin;
+//!   match the twin (roots exactly, tips measured 8.0e-7 m; tolerance 1e-5 m);
 //! - a density that would make too many blades is refused naming the field, before
 //!   anything is generated.
 
@@ -127,7 +127,7 @@ fn blades_stand_on_top_hang_on_the_sides_and_under_the_box_and_match_the_twin() 
         .map(|&i| tip(&cpu[i]).distance(tip(&gpu_blades[i])))
         .fold(0.0f32, f32::max);
     println!("surface blades, GPU against the CPU twin: max tip distance {err:.2e} m");
-    assert!(err < 1e-4, "GPU and CPU differ by {err} m");
+    assert!(err < 1e-5, "GPU and CPU differ by {err} m");
 }
 
 #[test]
@@ -169,7 +169,7 @@ fn grass_on_an_object_in_a_streamed_field_follows_the_pool_and_matches_the_twin(
         "a grassy cube in a streamed field: {on_cube} blades after a pool of {pool}; GPU against the twin: roots {roots:.2e} m, tips {tips:.2e} m; {hanging} tips below their roots"
     );
     assert_eq!(roots, 0.0);
-    assert!(tips < 1e-4, "GPU and CPU differ by {tips} m");
+    assert!(tips < 1e-5, "GPU and CPU differ by {tips} m");
     assert!(
         hanging > 500,
         "the grass on the sides and underneath hangs ({hanging})"

@@ -1,6 +1,7 @@
 //! The GPU blade update against its CPU twin (`sim::reference`): 2048 blades, 60 steps, wind
 //! and a moving sphere. Both start from the same field; the largest difference of any control
-//! point or η is printed and must stay under the tolerance.
+//! point or η is printed and must stay under the tolerance: measured on lavapipe 8.6e-7
+//! (60 steps) and 1.8e-7 on a 3D wind grid (40 steps); the tolerance is 1e-5.
 
 mod common;
 
@@ -11,7 +12,7 @@ use sward::session::Session;
 /// Max |GPU − CPU| in metres after 60 steps. Both sides run the same f32 operations; the
 /// gap is rounding (fused multiply-adds, sin/cos/sqrt implementations) amplified a little
 /// by the length correction, far below a tenth of a millimetre (measured: about 4e-7 on lavapipe).
-const TOLERANCE: f32 = 1e-4;
+const TOLERANCE: f32 = 1e-5;
 
 #[test]
 fn gpu_update_matches_cpu_twin() {
