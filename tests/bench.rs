@@ -97,12 +97,30 @@ fn three_configurations_on_the_same_field() {
         }
         if timestamps {
             assert_eq!(c["frame_time_source"], "gpu");
-            for k in ["physics", "update", "wind", "visibility", "rendering"] {
+            let parts = [
+                "physics",
+                "visibility",
+                "rendering",
+                "shadows",
+                "tone_map",
+                "billboards",
+                "tiles",
+            ];
+            for k in parts.iter().chain(&["update", "wind"]) {
                 let v = f(c, &["gpu_ms", k]);
                 assert!(v.is_finite() && v >= 0.0, "{name}: gpu_ms.{k} = {v}");
             }
+            // The frame is every timed pass: the shadows and the tone mapping included.
             let g = &c["gpu_ms"];
-            let sum = f(g, &["physics"]) + f(g, &["visibility"]) + f(g, &["rendering"]);
+            assert!(
+                f(g, &["shadows"]) > 0.0,
+                "{name}: the meadow casts sun shadows"
+            );
+            assert!(
+                f(g, &["tone_map"]) > 0.0,
+                "{name}: every frame is tone-mapped"
+            );
+            let sum: f64 = parts.iter().map(|k| f(g, &[k])).sum();
             assert!((sum - f(c, &["frame_ms"])).abs() < 1e-6 * sum.max(1.0));
         } else {
             assert!(

@@ -128,6 +128,10 @@ pub(super) fn measure(
             .sum::<f64>()
                 / t,
             rendering: (passes[timing::DRAW] + passes[timing::LATE_DRAW]) / t,
+            shadows: passes[timing::SHADOWS] / t,
+            tone_map: passes[timing::TONEMAP] / t,
+            billboards: passes[timing::BILLBOARDS] / t,
+            tiles: passes[timing::TILES] / t,
         }
     });
     Ok(Measured {

@@ -130,6 +130,11 @@ pub fn format_report(r: &BenchReport) -> String {
         gpu(|g| g.visibility),
     );
     row(&mut s, "  rendering (draw)", gpu(|g| g.rendering));
+    row(&mut s, "  sun shadows (cascades)", gpu(|g| g.shadows));
+    row(&mut s, "  tone mapping", gpu(|g| g.tone_map));
+    row(&mut s, "  billboards (cull)", gpu(|g| g.billboards));
+    row(&mut s, "  tiles (generation)", gpu(|g| g.tiles));
+    row(&mut s, "  GPU frame (every timed pass)", gpu(|g| g.frame()));
     row(
         &mut s,
         "collision spheres in the scene",

@@ -167,6 +167,7 @@ fn ratios_follow_the_paper() {
             wind: 0.0,
             visibility: 1.401,
             rendering: 2.057,
+            ..Default::default()
         }),
         colliders: 1000,
         colliders_considered: 183,
