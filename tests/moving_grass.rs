@@ -161,7 +161,8 @@ fn carried_roots_follow_the_object_and_the_boxes_hold_the_blades() {
             travelled > 1.0,
             "{name}: the grass must move with the object"
         );
-        assert!(worst_root < 1e-4, "{name}: a root is {worst_root} m off");
+        // Measured 2.5e-7 (sliding) and 2.8e-7 m (rolling) on lavapipe.
+        assert!(worst_root < 3e-6, "{name}: a root is {worst_root} m off");
         assert!(worst_up < 0.05, "{name}: an up vector is {worst_up}° off");
         assert_eq!(outside, 0, "{name}: a moved patch box misses its blades");
     }
@@ -204,5 +205,6 @@ fn carried_grass_in_a_streamed_field_follows_the_object() {
         })
         .fold(0.0f32, f32::max);
     println!("streamed field: carried roots within {worst:.2e} m of the object's transform");
-    assert!(worst < 1e-4, "a carried root is {worst} m off");
+    // Measured 2.5e-7 m on lavapipe.
+    assert!(worst < 3e-6, "a carried root is {worst} m off");
 }
