@@ -254,6 +254,15 @@ fn command_line_errors_name_the_flag_field_and_range() {
         "{e}"
     );
     assert!(!e.contains("Out of Memory"), "{e}");
+    for mode in [&[][..], &["--light"][..], &["--flight"][..]] {
+        let mut args = vec!["bench", "--size", "16384x16384"];
+        args.extend(mode);
+        let e = fails(&args);
+        assert!(
+            e.contains("--size 16384x16384") && e.contains("largest size"),
+            "{e}"
+        );
+    }
     // A scene that is not a file names the flag.
     let fifo = tmp.s("fifo");
     assert!(Command::new("mkfifo")

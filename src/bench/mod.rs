@@ -574,6 +574,13 @@ pub(super) fn start(
         .to_string();
     let gpu = Gpu::new(&o.adapter)?;
     eprintln!("adapter: {}", gpu.describe());
+    // Every mode draws at --size: refused here, before any target is allocated.
+    let samples = crate::render::msaa::effective_samples(
+        &gpu,
+        crate::render::post::HDR_FORMAT,
+        scene.render.msaa,
+    );
+    gpu.check_frame_size("--size", o.size, samples)?;
     Ok(Start {
         outputs,
         scene,
