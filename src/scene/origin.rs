@@ -56,24 +56,12 @@ impl Scene {
                     .strip_prefix(outer)
                     .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
         };
-        if let Some(set) = source
+        let set = source
             .sets
             .iter()
             .rev()
-            .find(|s| inside(&s.path, field) || inside(field, &s.path))
-        {
-            return Error::Set {
-                arg: set.arg.clone(),
-                message,
-            };
-        }
-        let (line, column) = locate(&source.text, field);
-        Error::Scene {
-            path: source.path.clone(),
-            line,
-            column,
-            message,
-        }
+            .find(|s| inside(&s.path, field) || inside(field, &s.path));
+        source.located(set, field, message)
     }
 
     /// `error`, from opening the image that the scene's `field` names (e.g.
@@ -113,15 +101,23 @@ impl Scene {
             Some(written) => format!("{named} = {written}: {problem}"),
             None => format!("{named}: {problem}"),
         };
+        source.located(set, field, message)
+    }
+}
+
+impl Source {
+    /// `message` blamed on the `--set` argument `set`, else on the line of the scene text
+    /// that writes `field`.
+    fn located(&self, set: Option<&SetField>, field: &str, message: String) -> Error {
         if let Some(set) = set {
             return Error::Set {
                 arg: set.arg.clone(),
                 message,
             };
         }
-        let (line, column) = locate(&source.text, field);
+        let (line, column) = locate(&self.text, field);
         Error::Scene {
-            path: source.path.clone(),
+            path: self.path.clone(),
             line,
             column,
             message,
