@@ -126,12 +126,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let mut scene = load(o.scene.as_deref(), &o.sets)?;
     apply_wind_overrides(&mut scene, o.pressure_iterations, o.wind_resolution)?;
     let gpu = open_gpu(&o.adapter)?;
-    let samples = crate::render::msaa::effective_samples(
-        &gpu,
-        crate::render::post::HDR_FORMAT,
-        scene.render.msaa,
-    );
-    gpu.check_frame_size("--size", o.size, samples)?;
+    Target::check_size(&gpu, "--size", o.size, scene.render.msaa)?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
     eprintln!("{}", session.describe_field());

@@ -534,11 +534,6 @@ impl FramePacer {
             }
         }
     }
-
-    /// Submitted frames not yet known to be finished (at most [`MAX_FRAMES_IN_FLIGHT`]).
-    pub fn in_flight(&self) -> usize {
-        self.in_flight.len()
-    }
 }
 
 /// Copies a buffer back to the host (blocking). `buffer` needs COPY_SRC usage.

@@ -575,12 +575,7 @@ pub(super) fn start(
     let gpu = Gpu::new(&o.adapter)?;
     eprintln!("adapter: {}", gpu.describe());
     // Every mode draws at --size: refused here, before any target is allocated.
-    let samples = crate::render::msaa::effective_samples(
-        &gpu,
-        crate::render::post::HDR_FORMAT,
-        scene.render.msaa,
-    );
-    gpu.check_frame_size("--size", o.size, samples)?;
+    crate::render::target::Target::check_size(&gpu, "--size", o.size, scene.render.msaa)?;
     Ok(Start {
         outputs,
         scene,

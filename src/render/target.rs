@@ -39,6 +39,18 @@ pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textu
 
 impl Target {
     /// Checks the size against the device, then allocates.
+    /// Checks, before anything is allocated, that frames of `size` fit the adapter with the
+    /// samples it gives for `render.msaa` = `requested_msaa` (`flag` names what set the
+    /// size in the error).
+    pub fn check_size(gpu: &Gpu, flag: &str, size: (u32, u32), requested_msaa: u32) -> Result<()> {
+        let samples = crate::render::msaa::effective_samples(
+            gpu,
+            crate::render::post::HDR_FORMAT,
+            requested_msaa,
+        );
+        gpu.check_frame_size(flag, size, samples)
+    }
+
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self> {
         gpu.check_texture("an image", width, height)?;
         let color = gpu.device.create_texture(&wgpu::TextureDescriptor {
