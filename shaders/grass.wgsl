@@ -42,7 +42,9 @@
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
 struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: the coverage measurement (render/coverage.rs) draws the blades again and
+    // needs the same depth to the bit.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,

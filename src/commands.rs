@@ -141,7 +141,12 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
     let mut timed = 0u32;
     let mut last = None;
-    for _ in 0..o.frames {
+    for k in 0..o.frames {
+        // The last frame's work is counted (the counts are the same every frame of a still
+        // view; counting adds a coverage pass, so the timed frames before it are not).
+        if o.timings && k + 1 == o.frames && !renderer.count_work(&gpu, true) {
+            println!("work counters: the adapter has no pipeline-statistics queries");
+        }
         renderer.frame(
             &gpu,
             o.dt,
@@ -235,6 +240,11 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             );
         } else {
             println!("gpu timings: the adapter has no timestamp queries");
+        }
+        if let Some(work) = renderer.read_work(&gpu)? {
+            for line in crate::render::work::table(&work, renderer.samples()) {
+                println!("{line}");
+            }
         }
     }
     Ok(())

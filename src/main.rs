@@ -62,6 +62,10 @@ struct WindowArgs {
     /// the window closes.
     #[arg(long, value_name = "FILE")]
     trace: Option<PathBuf>,
+    /// Count every frame's work (shader invocations per pass, shown in the Stats section;
+    /// adds a depth-only draw of the grass to each frame).
+    #[arg(long)]
+    count_work: bool,
     /// Hold this frame time (ms) by adapting distance culling; default 90 ms on a CPU
     /// adapter, off on a GPU.
     #[arg(long, value_parser = parse_frame_ms, allow_hyphen_values = true)]
@@ -354,6 +358,7 @@ fn main() -> ExitCode {
                 trace: w.trace,
                 target_frame_ms: w.target_frame_ms,
                 fixed_dt,
+                count_work: w.count_work,
             })
         }
         Some(Command::Render {

@@ -1,7 +1,7 @@
 //! A frame keeps nothing it allocates. 300 headless frames (and 100 simulation steps) of
 //! the default meadow with every pass of the frame on — streamed tiles, the fluid wind,
 //! occlusion by objects and grass, billboards, sun shadows with grass casters, MSAA, tone
-//! mapping — at a small size (what leaked did not depend on the image size or the blade
+//! mapping, the work counter — at a small size (what leaked did not depend on the image size or the blade
 //! count): after warm-up the live wgpu objects (`Instance::generate_report`) stay as they
 //! were and resident memory grows by less than [`RSS_BOUND_KIB`].
 //!
@@ -71,6 +71,8 @@ fn frames_keep_nothing_they_allocate() {
     assert!(scene.field.tile_size > 0.0 && scene.render.billboard_distance > 0.0);
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
     let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    // The work counter too: its queries, ring of read-back buffers and coverage pass.
+    assert!(r.count_work(&gpu, true));
     let size = (48, 27);
     let target = Target::new(&gpu, size.0, size.1).expect("target");
     let mut camera = CameraView::from_scene(&session.scene.camera);
@@ -97,6 +99,7 @@ fn frames_keep_nothing_they_allocate() {
         r.step(&gpu, 1.0 / 30.0);
     }
     let image = target.read_image(&gpu).expect("read back");
+    assert!(r.read_work(&gpu).expect("work").is_some(), "frames were counted");
     sward::gpu::wait_idle(&gpu.device).expect("idle");
     let end = (live(&gpu), resident_kib());
     eprintln!("after warm-up (frame 50): {warm:?}\nafter 300 frames and 100 steps: {end:?}");

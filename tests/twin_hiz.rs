@@ -120,7 +120,12 @@ fn build(gpu: &Gpu, pyramid: &DepthPyramid, depth: &wgpu::TextureView) -> Vec<Ve
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward.test.hiz"),
         });
-    pyramid.encode(&gpu.device, &mut encoder, depth, None);
+    pyramid.encode(
+        &gpu.device,
+        &mut encoder,
+        depth,
+        sward::gpu::queries::PassQueries::NONE,
+    );
     gpu.queue.submit([encoder.finish()]);
     (0..pyramid.levels())
         .map(|level| pyramid.read_level(gpu, level).expect("pyramid read-back"))

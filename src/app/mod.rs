@@ -11,6 +11,7 @@ pub mod input;
 pub mod panel;
 mod panel_light;
 mod panel_models;
+mod panel_work;
 pub mod picking;
 pub mod replay;
 pub mod state;
@@ -50,4 +51,6 @@ pub struct AppOptions {
     pub target_frame_ms: Option<f32>,
     /// Fixed simulation step per frame (replays use it for repeatable runs).
     pub fixed_dt: Option<f32>,
+    /// Count every frame's work from the start (the Stats section's switch).
+    pub count_work: bool,
 }

@@ -104,7 +104,7 @@ pub fn panel(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 let max_texture = gpu.device.limits().max_texture_dimension_2d;
                 super::panel_light::light_section(ui, app, max_texture);
                 camera_section(ui, app);
-                stats_section(ui, app);
+                stats_section(ui, app, gpu);
             });
         });
     help_window(ui.ctx(), app);
@@ -658,7 +658,7 @@ fn camera_section(ui: &mut Ui, app: &mut AppState) {
     });
 }
 
-fn stats_section(ui: &mut Ui, app: &mut AppState) {
+fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     egui::CollapsingHeader::new("Stats")
         .default_open(true)
         .show(ui, |ui| {
@@ -734,6 +734,7 @@ fn stats_section(ui: &mut Ui, app: &mut AppState) {
                 let total: f64 = wind.iter().map(|(_, t)| t).sum();
                 ui.label(format!("wind solver GPU ms: {total:.2}"));
             }
+            super::panel_work::work_counters(ui, app, gpu);
             frame_plot(ui, app);
         });
 }

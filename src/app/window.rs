@@ -139,6 +139,9 @@ impl WindowApp {
         if o.trace.is_some() {
             app.renderer.record_trace();
         }
+        if o.count_work && !app.renderer.count_work(&gpu, true) {
+            log::warn!("--count-work: this adapter has no pipeline-statistics queries");
+        }
         app.budget.target_ms = o.target_frame_ms.or_else(|| {
             // A CPU adapter cannot draw the whole meadow at interactive rates: hold 10 fps.
             (gpu.info.device_type == wgpu::DeviceType::Cpu).then_some(90.0)

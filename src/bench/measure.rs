@@ -10,6 +10,7 @@ use crate::gpu::Gpu;
 use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing;
+use crate::render::work::WorkReport;
 use crate::render::Renderer;
 use crate::scene::Scene;
 use crate::session::Session;
@@ -30,6 +31,9 @@ pub(super) struct Measured {
     pub(super) resets: u64,
     /// The measured frames' GPU scopes, when tracing.
     pub(super) scopes: Vec<wgpu_profiler::GpuTimerQueryResult>,
+    /// The work of one more frame after the measured ones, counted (`None` without
+    /// pipeline-statistics queries).
+    pub(super) work: Option<WorkReport>,
 }
 
 impl Measured {
@@ -103,6 +107,7 @@ pub(super) fn measure(
         }
     }
     let n = f64::from(frames.max(1));
+    let work = count_frame(gpu, &mut renderer, &camera, target)?;
     // Every frame has timestamps or none does; a mix would mean a broken driver, and the
     // means over the timed frames are still right then.
     let gpu_ms = (timed > 0).then(|| {
@@ -144,5 +149,33 @@ pub(super) fn measure(
         sphere_tests: u64::from(last.patch_sphere_pairs) * u64::from(renderer.buffers.patch_size),
         resets: resets.into(),
         scopes: renderer.take_trace(gpu)?,
+        work,
     })
+}
+
+/// Draws one more frame with the work counted (pipeline statistics and the grass's
+/// coverage) and reads it back: counting adds a measurement pass, so the timed frames are
+/// not counted. `None` when the adapter cannot count.
+pub(super) fn count_frame(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    camera: &CameraView,
+    target: &Target,
+) -> Result<Option<WorkReport>> {
+    if !renderer.count_work(gpu, true) {
+        return Ok(None);
+    }
+    let size = (target.width, target.height);
+    renderer.frame(
+        gpu,
+        BENCH_DT,
+        camera,
+        &target.color_view,
+        &target.depth_view,
+        size,
+    );
+    gpu.check_errors()?;
+    let work = renderer.read_work(gpu)?;
+    renderer.count_work(gpu, false);
+    Ok(work.map(|w| WorkReport::of(&w, renderer.samples())))
 }

@@ -20,6 +20,7 @@
 //! the paper, so that drawn + culled = total holds exactly); times are means over the
 //! measured frames.
 
+use crate::render::work::WorkReport;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -404,6 +405,10 @@ pub struct ConfigReport {
     /// or absurd, since the start of this configuration (warm-up included).
     pub blades_reset_nonfinite: u64,
     pub memory: Memory,
+    /// The work of one counted frame after the measured ones: invocations per stage and
+    /// per pass, and the lit grass's fragments per covered pixel (`None` without
+    /// pipeline-statistics queries).
+    pub work: Option<WorkReport>,
 }
 
 /// The ratios the issue asks for, from this run (`None` where a divisor is zero or the
@@ -438,6 +443,7 @@ pub struct SweepPoint {
     pub wall_ms: f64,
     pub gpu_ms: Option<GpuMs>,
     pub gpu_mib: f64,
+    pub work: Option<WorkReport>,
 }
 
 /// Everything `sward bench` measured.
@@ -643,6 +649,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             },
             blades_reset_nonfinite: m.resets,
             memory: memory(m.blades.total, m.gpu_bytes),
+            work: m.work.take(),
         });
         tracks.push(timing::TraceTrack {
             name: config.name().to_string(),
@@ -699,6 +706,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
             wall_ms: m.wall_ms,
             gpu_ms: m.gpu_ms,
             gpu_mib: m.gpu_bytes.1 as f64 / MIB,
+            work: m.work.take(),
         });
     }
     if let Some(path) = &o.trace {

@@ -110,6 +110,7 @@ pub fn format_report(r: &BenchReport) -> String {
         count(|b| b.stepped_throttled),
     );
     row(&mut s, "patches visible", count(|b| b.visible_patches));
+    work_rows(&mut s, c, &row);
     row(
         &mut s,
         "blades reset, non-finite state (since start)",
@@ -257,4 +258,57 @@ fn time_label_short(timestamps: bool) -> &'static str {
     } else {
         "frame (ms)"
     }
+}
+
+/// The work rows of the table: one counted frame's invocations per stage (the frame's
+/// hardware-independent cost) and the lit grass's fragments per covered pixel.
+fn work_rows(s: &mut String, c: &[ConfigReport], row: &dyn Fn(&mut String, &str, Vec<String>)) {
+    use crate::render::work::WorkSummary;
+    use std::fmt::Write;
+    if c.iter().all(|x| x.work.is_none()) {
+        return;
+    }
+    let each = |f: fn(&WorkSummary) -> String| {
+        c.iter()
+            .map(|x| {
+                x.work
+                    .as_ref()
+                    .map_or_else(|| "n/a".to_string(), |w| f(&w.summary))
+            })
+            .collect::<Vec<_>>()
+    };
+    let _ = writeln!(s, "work (one counted frame, invocations)");
+    row(
+        s,
+        "  vertex shader",
+        each(|w| thousands(w.vertex_invocations)),
+    );
+    row(
+        s,
+        "  primitives rasterised",
+        each(|w| thousands(w.primitives)),
+    );
+    row(
+        s,
+        "  fragment shader",
+        each(|w| thousands(w.fragment_invocations)),
+    );
+    row(
+        s,
+        "  compute shader",
+        each(|w| thousands(w.compute_invocations)),
+    );
+    row(
+        s,
+        "  pixels covered by grass",
+        each(|w| thousands(w.grass_pixels)),
+    );
+    row(
+        s,
+        "  lit grass fragments per covered pixel",
+        each(|w| {
+            w.lit_fragments_per_pixel
+                .map_or_else(|| "n/a".into(), |r| format!("{r:.2}"))
+        }),
+    );
 }

@@ -106,6 +106,7 @@ fn without_timestamps_the_table_says_so() {
         sphere_tests_per_blade: 0.0,
         blades_reset_nonfinite: 0,
         memory: memory(1024, (90_000, 200_000)),
+        work: None,
     };
     let mut configurations: Vec<_> = Config::COLUMNS.iter().map(|c| column(c.name())).collect();
     // Culling off is slower: the ratio is its wall clock over all features' (2.5).
@@ -174,6 +175,7 @@ fn ratios_follow_the_paper() {
         sphere_tests_per_blade: 0.0,
         blades_reset_nonfinite: 0,
         memory: Memory::default(),
+        work: None,
     };
     let patch = 397_881 - 168_333;
     let r = ratios(&[

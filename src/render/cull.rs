@@ -6,6 +6,7 @@
 //! drawn early (two-phase occlusion culling, see `cull.wgsl`).
 
 use crate::error::Result;
+use crate::gpu::queries::PassQueries;
 use crate::gpu::{read_buffer, Gpu};
 use crate::shaders;
 use crate::sim::layout::{
@@ -236,15 +237,12 @@ impl CullPass {
 
     /// Records the patch step: reset, patch tests, then the indirect arguments. Must come
     /// before the update (which it picks the patches for) and the blade cull.
-    pub fn encode_patches(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
-    ) {
+    pub fn encode_patches(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.cull.patches"),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.compute_writes(),
         });
+        q.begin(&mut pass);
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_bind_group(1, &self.dispatch_group, &[]);
         pass.set_pipeline(&self.reset);
@@ -255,6 +253,7 @@ impl CullPass {
         }
         pass.set_pipeline(&self.finalize);
         pass.dispatch_workgroups(1, 1, 1);
+        q.end(&mut pass);
     }
 
     /// Records the blade cull, dispatched indirectly over the visible patches.
@@ -262,17 +261,19 @@ impl CullPass {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         dispatch: &wgpu::Buffer,
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+        q: PassQueries,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.cull.blades"),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.compute_writes(),
         });
+        q.begin(&mut pass);
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_bind_group(1, &self.seen_group, &[]);
         pass.set_pipeline(&self.cull);
         let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
         pass.dispatch_workgroups_indirect(dispatch, offset);
+        q.end(&mut pass);
     }
 
     /// Records the late pass (grass occlusion): the blades of the visible patches again,
@@ -282,17 +283,19 @@ impl CullPass {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         dispatch: &wgpu::Buffer,
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+        q: PassQueries,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.cull.late"),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.compute_writes(),
         });
+        q.begin(&mut pass);
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_bind_group(1, &self.seen_group, &[]);
         pass.set_pipeline(&self.late);
         let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
         pass.dispatch_workgroups_indirect(dispatch, offset);
+        q.end(&mut pass);
     }
 
     /// Reads the counters of the last frame back (blocking).

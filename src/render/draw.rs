@@ -8,8 +8,10 @@ use wgpu::util::DeviceExt;
 use super::camera::CameraView;
 use super::grass_bind::{GrassBindings, ModelBuffers};
 use super::mesh::{sphere_mesh, LodMeshes};
+
 use super::terrain::TerrainPass;
 use crate::field::{DensityMap, HeightField};
+use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
 use crate::shaders;
 use crate::sim::layout::{FrameUniforms, LOD_LEVELS};
@@ -573,6 +575,10 @@ impl DrawPass {
     }
 
     /// The sample count the pipelines draw with.
+    pub(super) fn grass_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.grass.layout
+    }
+
     pub fn samples(&self) -> u32 {
         self.pipelines.samples
     }
@@ -660,7 +666,7 @@ impl DrawPass {
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
         spheres: &SphereDraw,
-        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+        q: PassQueries,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward.draw.occluders"),
@@ -673,10 +679,11 @@ impl DrawPass {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        q.begin(&mut pass);
         if spheres.any_drawn() {
             pass.set_pipeline(&self.pipelines.spheres_depth);
             self.draw_spheres(&mut pass, &self.occluder_sphere, spheres);
@@ -686,6 +693,7 @@ impl DrawPass {
         }
         pass.set_pipeline(&self.pipelines.terrain_depth);
         self.draw_terrain(&mut pass);
+        q.end(&mut pass);
     }
 
     /// Records the render pass into `color` with `depth`; `depth_loaded` keeps the depth
@@ -702,7 +710,7 @@ impl DrawPass {
         wireframe: bool,
         billboards: Option<&super::billboard::BillboardPass>,
         light: &wgpu::BindGroup,
-        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+        q: PassQueries,
     ) {
         let depth_load = if depth_loaded {
             wgpu::LoadOp::Load
@@ -714,9 +722,10 @@ impl DrawPass {
             "sward.draw",
             (color, wgpu::LoadOp::Clear(wgpu::Color::BLACK)),
             (depth, depth_load),
-            timestamps,
+            q.render_writes(),
         );
         pass.set_bind_group(1, light, &[]);
+        q.begin(&mut pass);
         if spheres.any_drawn() {
             pass.set_pipeline(&self.pipelines.spheres);
             self.draw_spheres(&mut pass, &self.sphere_mesh, spheres);
@@ -724,8 +733,15 @@ impl DrawPass {
         if let Some(o) = &self.objects {
             o.draw(&mut pass, false);
         }
+        q.end(&mut pass);
 
+        // The lit grass is counted apart: its fragments per covered pixel are the figure
+        // the frame's shading cost is held to.
+        let grass = q.row(super::work::LIT_GRASS);
+        grass.begin(&mut pass);
         self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, 0);
+        grass.end(&mut pass);
+        q.begin(&mut pass);
         if let Some(b) = billboards {
             b.draw(&mut pass);
         }
@@ -738,11 +754,12 @@ impl DrawPass {
         pass.set_pipeline(&self.pipelines.sky);
         pass.set_bind_group(0, &self.frame_group, &[]);
         pass.draw(0..3, 0..1);
+        q.end(&mut pass);
     }
 
     /// The grass's level-of-detail draws whose arguments start at byte `offset` of
     /// `indirect` (one multi-draw, or one draw per level with its region bound).
-    fn draw_grass(
+    pub(super) fn draw_grass(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         pipeline: &wgpu::RenderPipeline,
@@ -809,18 +826,20 @@ impl DrawPass {
         indirect: &wgpu::Buffer,
         wireframe: bool,
         light: &wgpu::BindGroup,
-        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+        q: PassQueries,
     ) {
         let mut pass = colour_pass(
             encoder,
             "sward.draw.late",
             (color, wgpu::LoadOp::Load),
             (depth, wgpu::LoadOp::Load),
-            timestamps,
+            q.render_writes(),
         );
         pass.set_bind_group(1, light, &[]);
+        q.begin(&mut pass);
         let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
         self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, offset);
+        q.end(&mut pass);
     }
 }
 

@@ -4,7 +4,7 @@
 
 use super::camera::CameraView;
 use super::hiz::DepthPyramid;
-use super::timing::{self, cs, rs, timed};
+use super::timing::{self, timed};
 use super::{msaa, post, Renderer};
 use crate::gpu::Gpu;
 use crate::sim::layout::TEST_GRASS_OCCLUSION;
@@ -96,6 +96,9 @@ impl Renderer {
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
+        if let Some(w) = &mut self.work {
+            w.begin_frame();
+        }
         let dt = self.advance(gpu, dt);
         self.frame_count = self.frame_count.wrapping_add(1);
         // A frozen culling camera sees other depths than the drawn view: no occlusion then.
@@ -145,29 +148,28 @@ impl Renderer {
             );
             (p, camera.view_proj(self.aspect(size.0, size.1)))
         });
-        let timer = self.timer.as_ref();
+        let meters = self.meters();
         if occlusion {
-            timed(timer, encoder, timing::OCCLUDERS, |e, q| {
-                self.draw
-                    .encode_occluders(e, depth, &self.sphere_draw(), rs(q))
+            timed(meters, encoder, timing::OCCLUDERS, |e, q| {
+                self.draw.encode_occluders(e, depth, &self.sphere_draw(), q)
             });
             if let Some(p) = &self.pyramid {
-                timed(timer, encoder, timing::PYRAMID, |e, q| {
-                    p.encode(&gpu.device, e, depth, cs(q))
+                timed(meters, encoder, timing::PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, q)
                 });
             }
         }
-        timed(timer, encoder, timing::PATCHES, |e, q| {
-            self.cull.encode_patches(e, cs(q))
+        timed(meters, encoder, timing::PATCHES, |e, q| {
+            self.cull.encode_patches(e, q)
         });
         self.encode_update(gpu, encoder, dt, cull_camera.eye);
-        let timer = self.timer.as_ref();
-        timed(timer, encoder, timing::CULL, |e, q| {
-            self.cull.encode_blades(e, &self.buffers.dispatch, cs(q))
+        let meters = self.meters();
+        timed(meters, encoder, timing::CULL, |e, q| {
+            self.cull.encode_blades(e, &self.buffers.dispatch, q)
         });
         if let Some(b) = &self.billboards {
-            timed(timer, encoder, timing::BILLBOARDS, |e, q| {
-                b.encode_cull(e, cs(q))
+            timed(meters, encoder, timing::BILLBOARDS, |e, q| {
+                b.encode_cull(e, q)
             });
         }
         // The sun's shadow maps, after the cull (the grass casts with its visible lists)
@@ -177,14 +179,14 @@ impl Renderer {
             let light = &self.light;
             let draw = &self.draw;
             let grass = light.grass_casts().then(|| light.grass_args());
-            timed(timer, encoder, timing::SHADOWS, |e, q| {
-                light.encode(e, draw.frame_buffer(), &self.cull.args, rs(q), |pass| {
+            timed(meters, encoder, timing::SHADOWS, |e, q| {
+                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass| {
                     draw.draw_casters(pass, &spheres, grass)
                 })
             });
         }
         let wireframe = self.scene.render.wireframe;
-        timed(timer, encoder, timing::DRAW, |e, q| {
+        timed(meters, encoder, timing::DRAW, |e, q| {
             self.draw.encode(
                 e,
                 color,
@@ -195,21 +197,22 @@ impl Renderer {
                 wireframe,
                 self.billboards.as_ref(),
                 self.light.group(),
-                rs(q),
+                q,
             )
         });
         // Two-phase occlusion: the depth now holds the opaque objects and the grass seen
         // last frame; the blades not seen then are drawn only where it does not hide them.
-        if cp.tests & TEST_GRASS_OCCLUSION != 0 {
+        let late = cp.tests & TEST_GRASS_OCCLUSION != 0;
+        if late {
             if let Some(p) = &self.pyramid {
-                timed(timer, encoder, timing::LATE_PYRAMID, |e, q| {
-                    p.encode(&gpu.device, e, depth, cs(q))
+                timed(meters, encoder, timing::LATE_PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, q)
                 });
             }
-            timed(timer, encoder, timing::LATE_CULL, |e, q| {
-                self.cull.encode_late(e, &self.buffers.dispatch, cs(q))
+            timed(meters, encoder, timing::LATE_CULL, |e, q| {
+                self.cull.encode_late(e, &self.buffers.dispatch, q)
             });
-            timed(timer, encoder, timing::LATE_DRAW, |e, q| {
+            timed(meters, encoder, timing::LATE_DRAW, |e, q| {
                 self.draw.encode_late(
                     e,
                     color,
@@ -217,9 +220,21 @@ impl Renderer {
                     &self.cull.args,
                     wireframe,
                     self.light.group(),
-                    rs(q),
+                    q,
                 )
             });
+        }
+        // A counted frame measures the pixels its grass covers (not timed: a measurement).
+        if let Some(w) = &self.work {
+            let q = crate::gpu::queries::PassQueries::new(None, Some((w, super::work::COVERAGE)));
+            self.coverage.encode(
+                &gpu.device,
+                &self.draw,
+                encoder,
+                depth,
+                (&self.cull.args, late),
+                q,
+            );
         }
         if self.overlay.is_some() && !self.scene.wind.guides.is_empty() {
             // The arrows' on/off state moves with the clock.
@@ -258,6 +273,9 @@ impl Renderer {
         self.pacer.submitted(gpu, index);
         if let Some(t) = &mut self.timer {
             t.end_frame(gpu);
+        }
+        if let Some(w) = &mut self.work {
+            w.end_frame();
         }
     }
 }

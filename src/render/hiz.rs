@@ -6,6 +6,7 @@
 //! [`crate::sim::reference::hiz`].
 
 use crate::error::{Error, Result};
+use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
 use crate::shaders;
 
@@ -205,13 +206,14 @@ impl DepthPyramid {
     ///
     /// One compute pass per level: each pass reads the level the previous one wrote, and a
     /// pass boundary is where that read-after-write is synchronised for certain. With
-    /// `timestamps`, the first pass writes the start and the last one the end.
+    /// `q`'s timestamps, the first pass writes the start and the last one the end; every
+    /// level's pass is counted.
     pub fn encode(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+        q: PassQueries,
     ) {
         // Made per call: the depth view is the caller's and is replaced on resize.
         let copy_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -231,23 +233,11 @@ impl DepthPyramid {
         let last = self.levels() - 1;
         for level in 0..self.levels() {
             let (w, h) = self.level_size(level);
-            let timestamp_writes = timestamps.as_ref().and_then(|t| {
-                let begin = (level == 0)
-                    .then_some(t.beginning_of_pass_write_index)
-                    .flatten();
-                let end = (level == last)
-                    .then_some(t.end_of_pass_write_index)
-                    .flatten();
-                (begin.is_some() || end.is_some()).then_some(wgpu::ComputePassTimestampWrites {
-                    query_set: t.query_set,
-                    beginning_of_pass_write_index: begin,
-                    end_of_pass_write_index: end,
-                })
-            });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(&format!("sward.hiz.level{level}")),
-                timestamp_writes,
+                timestamp_writes: q.compute_writes_part(level == 0, level == last),
             });
+            q.begin(&mut pass);
             if level == 0 {
                 pass.set_pipeline(&self.copy);
                 pass.set_bind_group(0, &copy_group, &[]);
@@ -256,6 +246,7 @@ impl DepthPyramid {
                 pass.set_bind_group(0, &self.level_groups[level as usize - 1], &[]);
             }
             pass.dispatch_workgroups(w.div_ceil(TILE), h.div_ceil(TILE), 1);
+            q.end(&mut pass);
         }
     }
 

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::timing::{self, cs, timed};
+use super::timing::{self, timed, Meters};
 use super::{billboard, Renderer, TileStats};
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -22,12 +22,16 @@ impl Renderer {
         let Some(tiles) = &mut self.tiles else {
             return;
         };
+        let meters = Meters {
+            timer: self.timer.as_ref(),
+            work: self.work.as_ref(),
+        };
         let jobs = tiles.plan(eye.x, eye.z);
         if jobs.is_empty() {
             return;
         }
-        timed(self.timer.as_ref(), encoder, timing::TILES, |e, q| {
-            tiles.encode(&gpu.queue, e, &jobs, cs(q))
+        timed(meters, encoder, timing::TILES, |e, q| {
+            tiles.encode(&gpu.queue, e, &jobs, q)
         });
     }
 

@@ -9,6 +9,7 @@ pub mod billboard;
 pub mod camera;
 mod carried;
 pub mod clipmap;
+mod coverage;
 pub mod cull;
 pub mod draw;
 mod frame;
@@ -26,12 +27,14 @@ pub mod terrain;
 pub mod timing;
 pub mod upscale;
 mod wind;
+pub mod work;
 
 use glam::Vec3;
 
 use crate::error::Result;
 use crate::field::tiles::TileLayout;
 use crate::field::{GeneratedField, HeightField};
+use crate::gpu::queries::{WorkCounter, WorkFrame};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use crate::sim::agc;
@@ -48,7 +51,7 @@ use draw::DrawPass;
 use grass_bind::ModelBuffers;
 use hiz::DepthPyramid;
 use mesh::LodMeshes;
-use timing::{cs, timed, GpuTimer};
+use timing::{timed, GpuTimer, Meters};
 
 /// What one frame did, read back from the GPU.
 #[derive(Clone, Debug, Default)]
@@ -109,6 +112,10 @@ pub struct Renderer {
     /// Bound in place of the velocity grid when the fluid is off.
     _dummy_grid: wgpu::Buffer,
     timer: Option<GpuTimer>,
+    /// Counts every pass's shader invocations while asked to ([`Renderer::count_work`]).
+    work: Option<WorkCounter>,
+    /// The counted frames' measurement of the pixels the grass covers.
+    coverage: coverage::Coverage,
     /// Bounds the frames submitted and not yet finished (see [`crate::gpu::FramePacer`]).
     pacer: crate::gpu::FramePacer,
     pub scene: Scene,
@@ -308,6 +315,8 @@ impl Renderer {
             overlay: None,
             _dummy_grid: dummy_grid,
             timer: GpuTimer::new(gpu),
+            work: None,
+            coverage: coverage::Coverage::default(),
             pacer: crate::gpu::FramePacer::default(),
             scene,
             terrain,
@@ -500,8 +509,8 @@ impl Renderer {
         self.update.prepare(&gpu.queue, &params);
         if let (Some(pass), Some(p)) = (&self.propagation, propagation) {
             pass.clear(encoder);
-            timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
-                self.update.encode(e, cs(q), model)
+            timed(self.meters(), encoder, timing::UPDATE, |e, q| {
+                self.update.encode(e, q, model)
             });
             pass.encode(
                 encoder,
@@ -509,8 +518,8 @@ impl Renderer {
                 model == crate::scene::BladeModel::Jahrmann.id(),
             );
         } else {
-            timed(self.timer.as_ref(), encoder, timing::UPDATE, |e, q| {
-                self.update.encode(e, cs(q), model)
+            timed(self.meters(), encoder, timing::UPDATE, |e, q| {
+                self.update.encode(e, q, model)
             });
         }
     }
@@ -577,11 +586,10 @@ impl Renderer {
         cp.physics_throttle = 1;
         self.cull.prepare(&gpu.queue, &cp);
         self.last_cull = cp;
-        self.cull.encode_patches(&mut encoder, None);
+        self.cull
+            .encode_patches(&mut encoder, crate::gpu::queries::PassQueries::NONE);
         self.encode_update(gpu, &mut encoder, dt, camera.eye);
-        if let Some(t) = &mut self.timer {
-            t.resolve(&mut encoder);
-        }
+        self.resolve_queries(&mut encoder);
         let index = gpu.queue.submit([encoder.finish()]);
         self.frame_submitted(gpu, index);
     }
@@ -708,6 +716,54 @@ impl Renderer {
     /// until the GPU is idle).
     pub fn blades_reset_nonfinite(&self, gpu: &Gpu) -> Result<u32> {
         self.buffers.read_resets(gpu)
+    }
+
+    /// The GPU timer and the work counter, for [`timing::timed`].
+    pub(crate) fn meters(&self) -> Meters<'_> {
+        Meters {
+            timer: self.timer.as_ref(),
+            work: self.work.as_ref(),
+        }
+    }
+
+    /// Counts the work of every frame from now on (`true`) or of none (`false`): each
+    /// pass's shader invocations (pipeline-statistics queries) and the pixels the grass
+    /// covers (one more depth-only draw of the grass, `coverage`). Returns false when the
+    /// device has no pipeline-statistics queries. Counting costs a little GPU time: time
+    /// frames that are not counted.
+    pub fn count_work(&mut self, gpu: &Gpu, on: bool) -> bool {
+        if !on {
+            self.work = None;
+            return gpu.pipeline_statistics;
+        }
+        if self.work.is_none() {
+            self.work = WorkCounter::new(gpu, work::WORK_ROWS.len());
+        }
+        self.work.is_some()
+    }
+
+    /// The work of the last counted frame that came back, by row of
+    /// [`work::WORK_ROWS`] (blocks until the GPU is idle); `None` when not counting.
+    pub fn read_work(&mut self, gpu: &Gpu) -> Result<Option<WorkFrame>> {
+        match &mut self.work {
+            Some(w) => w.read(gpu),
+            None => Ok(None),
+        }
+    }
+
+    /// Whether every frame's work is counted ([`Renderer::count_work`]).
+    pub fn counting_work(&self) -> bool {
+        self.work.is_some()
+    }
+
+    /// The last counted frame that came back, without waiting (the window's panel).
+    pub fn last_work(&self) -> Option<&WorkFrame> {
+        self.work.as_ref().and_then(|w| w.last())
+    }
+
+    /// The sample count of the frame's 3D targets (`render.msaa` as the adapter holds it).
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// Reads back the counters and pass times of the last frame (blocks until it is done).

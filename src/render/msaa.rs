@@ -8,7 +8,7 @@
 //! samples the pixel takes the covered share of the blade's colour.
 
 use super::draw::DEPTH_FORMAT;
-use super::timing::{self, rs, timed};
+use super::timing::{self, timed};
 use super::Renderer;
 use crate::gpu::Gpu;
 
@@ -186,15 +186,23 @@ impl Renderer {
         if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
             m.resolve(encoder, scene);
         }
-        let timer = self.timer.as_ref();
-        timed(timer, encoder, timing::TONEMAP, |e, q| {
-            self.post.encode(e, self.light.group(), color, rs(q))
+        timed(self.meters(), encoder, timing::TONEMAP, |e, q| {
+            self.post.encode(e, self.light.group(), color, q)
         });
         if let Some(o) = &self.overlay {
             o.encode(encoder, color);
         }
+        self.resolve_queries(encoder);
+    }
+
+    /// Records the resolve of the frame's timestamp and work queries (the last thing a
+    /// frame records before `finish`).
+    pub(super) fn resolve_queries(&mut self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(t) = &mut self.timer {
             t.resolve(encoder);
+        }
+        if let Some(w) = &mut self.work {
+            w.resolve(encoder);
         }
     }
 }

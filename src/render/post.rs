@@ -9,6 +9,7 @@
 //! is not linear, so anti-aliasing must average radiance (what the camera's pixel gathers)
 //! before it, and every pass then shares one exposure and one curve.
 
+use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
 
 /// The scene target's format: linear radiance with headroom above 1 for the sun's disk
@@ -148,7 +149,7 @@ impl ToneMap {
         encoder: &mut wgpu::CommandEncoder,
         light: &wgpu::BindGroup,
         output: &wgpu::TextureView,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        q: PassQueries,
     ) {
         let Some(t) = &self.target else {
             return;
@@ -165,13 +166,15 @@ impl ToneMap {
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
+            timestamp_writes: q.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        q.begin(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &t.bind_group, &[]);
         pass.set_bind_group(1, light, &[]);
         pass.draw(0..3, 0..1);
+        q.end(&mut pass);
     }
 }

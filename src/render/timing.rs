@@ -8,6 +8,7 @@
 use wgpu_profiler::{GpuProfiler, GpuProfilerQuery, GpuProfilerSettings, GpuTimerQueryResult};
 
 use crate::error::{Error, Result};
+use crate::gpu::queries::{PassQueries, WorkCounter};
 use crate::gpu::Gpu;
 
 /// The passes that are timed, by scope name: the occluders' depth pass, the depth pyramid,
@@ -178,31 +179,31 @@ pub fn write_trace(
     outputs.write(path, &chrome_trace(tracks)?)
 }
 
+/// What measures the frame's passes: the GPU timer and the work counter, either absent.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Meters<'a> {
+    pub timer: Option<&'a GpuTimer>,
+    pub work: Option<&'a WorkCounter>,
+}
+
 /// Runs `f` (which records one pass) inside the GPU timer's scope of pass `index` of
-/// [`PASSES`]; `f` gets the scope to take the pass's timestamp writes from (none
-/// without a timer).
+/// [`PASSES`], its work counted into the row of the same index; `f` gets the pass's
+/// queries (neither, without timer and counter).
 pub(crate) fn timed<R>(
-    timer: Option<&GpuTimer>,
+    meters: Meters,
     encoder: &mut wgpu::CommandEncoder,
     index: usize,
-    f: impl FnOnce(&mut wgpu::CommandEncoder, Option<&GpuProfilerQuery>) -> R,
+    f: impl FnOnce(&mut wgpu::CommandEncoder, PassQueries) -> R,
 ) -> R {
-    let query = timer.map(|t| t.begin(encoder, index));
-    let out = f(encoder, query.as_ref());
-    if let (Some(t), Some(q)) = (timer, query) {
+    let query = meters.timer.map(|t| t.begin(encoder, index));
+    let out = f(
+        encoder,
+        PassQueries::new(query.as_ref(), meters.work.map(|w| (w, index))),
+    );
+    if let (Some(t), Some(q)) = (meters.timer, query) {
         t.end(encoder, q);
     }
     out
-}
-
-/// A compute pass's timestamp writes from its timer scope.
-pub(crate) fn cs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-    q.and_then(|q| q.compute_pass_timestamp_writes())
-}
-
-/// A render pass's timestamp writes from its timer scope.
-pub(crate) fn rs(q: Option<&GpuProfilerQuery>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-    q.and_then(|q| q.render_pass_timestamp_writes())
 }
 
 /// One row of a trace: a name (a benchmark configuration, a run) and its frames' scopes.

@@ -3,6 +3,7 @@
 //! pass writes the entering tiles' blades into their slots and empties the freed slots. The
 //! CPU twin is [`crate::field::tiles::generate_tile`].
 
+use crate::gpu::queries::PassQueries;
 use wgpu::util::DeviceExt;
 
 use super::update::{compute_storage_entry, uniform_entry, BladeBuffers};
@@ -171,7 +172,7 @@ impl TileGenPass {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         jobs: &[TileJob],
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+        q: PassQueries,
     ) {
         if jobs.is_empty() {
             return;
@@ -200,8 +201,9 @@ impl TileGenPass {
         queue.write_buffer(&self.jobs, 0, bytemuck::cast_slice(&gpu_jobs));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.tile_gen"),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.compute_writes(),
         });
+        q.begin(&mut pass);
         pass.set_bind_group(0, &self.group, &[]);
         if generating > 0 {
             pass.set_pipeline(&self.blades);
@@ -213,6 +215,7 @@ impl TileGenPass {
             gpu_jobs.len() as u32,
             1,
         );
+        q.end(&mut pass);
     }
 }
 
@@ -257,7 +260,8 @@ impl TileStreamer {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("sward.tile_gen.fill"),
                 });
-            self.pass.encode(&gpu.queue, &mut encoder, &jobs, None);
+            self.pass
+                .encode(&gpu.queue, &mut encoder, &jobs, PassQueries::NONE);
             gpu.queue.submit([encoder.finish()]);
         }
         gpu.device
@@ -280,8 +284,8 @@ impl TileStreamer {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         jobs: &[TileJob],
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+        q: PassQueries,
     ) {
-        self.pass.encode(queue, encoder, jobs, timestamps);
+        self.pass.encode(queue, encoder, jobs, q);
     }
 }

@@ -1,6 +1,7 @@
 //! The blade buffers on the GPU and the update pass that runs `shaders/update.wgsl` over
 //! them every frame.
 
+use crate::gpu::queries::PassQueries;
 use wgpu::util::DeviceExt;
 
 use super::bvh::BvhNode;
@@ -559,23 +560,20 @@ impl UpdatePass {
     /// Records the update of blade model `model` (`BladeModel::id`; Verlet needs the
     /// buffers' Verlet states bound when this pass was built), dispatched indirectly over
     /// the patch pass's update list (the patch pass must be recorded before).
-    pub fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
-        model: u32,
-    ) {
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries, model: u32) {
         if self.count == 0 {
             return;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.update"),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.compute_writes(),
         });
+        q.begin(&mut pass);
         pass.set_pipeline(&self.pipelines[(model as usize).min(2)]);
         pass.set_bind_group(0, &self.bind_group, &[]);
         let offset = std::mem::offset_of!(PatchDispatch, update) as u64;
         pass.dispatch_workgroups_indirect(&self.dispatch, offset);
+        q.end(&mut pass);
     }
 }
 

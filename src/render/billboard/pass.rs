@@ -2,6 +2,7 @@
 //! ring and in view (`billboard_cull.wgsl`, one invocation per cell) and the indirect draw
 //! of the cards it kept (`billboard.wgsl`).
 
+use crate::gpu::queries::PassQueries;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -385,19 +386,17 @@ impl BillboardPass {
 
     /// Records the cull over every cell of the grid (after [`Self::prepare`] and the frame
     /// uniforms, before the draw pass).
-    pub fn encode_cull(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
-    ) {
+    pub fn encode_cull(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries) {
         encoder.clear_buffer(&self.args, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.billboard.cull"),
-            timestamp_writes: timestamps,
+            timestamp_writes: q.compute_writes(),
         });
+        q.begin(&mut pass);
         pass.set_pipeline(&self.cull_pipeline);
         pass.set_bind_group(0, &self.cull_group, &[]);
         pass.dispatch_workgroups(self.layout.card_count().div_ceil(CULL_WORKGROUP), 1, 1);
+        q.end(&mut pass);
     }
 
     /// Draws the cards the cull kept (in the caller's colour pass).

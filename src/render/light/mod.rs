@@ -14,6 +14,7 @@ pub mod sky;
 pub mod sun;
 pub mod tone;
 
+use crate::gpu::queries::PassQueries;
 use glam::Vec3;
 
 use crate::error::Result;
@@ -400,7 +401,7 @@ impl LightPass {
         encoder: &mut wgpu::CommandEncoder,
         frame_buffer: &wgpu::Buffer,
         cull_args: &wgpu::Buffer,
-        timestamps: Option<wgpu::RenderPassTimestampWrites>,
+        q: PassQueries,
         mut draw: F,
     ) where
         F: FnMut(&mut wgpu::RenderPass<'_>),
@@ -420,18 +421,7 @@ impl LightPass {
         for k in 0..=last {
             // One timer scope over all cascades: it starts with the first pass and ends
             // with the last.
-            let writes = timestamps
-                .as_ref()
-                .map(|w| wgpu::RenderPassTimestampWrites {
-                    query_set: w.query_set,
-                    beginning_of_pass_write_index: w
-                        .beginning_of_pass_write_index
-                        .filter(|_| k == 0),
-                    end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| k == last),
-                })
-                .filter(|w| {
-                    w.beginning_of_pass_write_index.is_some() || w.end_of_pass_write_index.is_some()
-                });
+            let writes = q.render_writes_part(k == 0, k == last);
             let from = FRAME_BYTES * (k as u64 + 1);
             encoder.copy_buffer_to_buffer(&self.frames, from, frame_buffer, 0, FRAME_BYTES);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -449,7 +439,9 @@ impl LightPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            q.begin(&mut pass);
             draw(&mut pass);
+            q.end(&mut pass);
         }
         encoder.copy_buffer_to_buffer(&self.frames, 0, frame_buffer, 0, FRAME_BYTES);
     }

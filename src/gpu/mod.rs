@@ -6,6 +6,8 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 
+pub mod queries;
+
 /// Which adapter to use.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum AdapterChoice {
@@ -41,6 +43,8 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// Whether timestamp queries were enabled (per-pass GPU times).
     pub timestamps: bool,
+    /// Whether pipeline-statistics queries were enabled (per-pass work counters).
+    pub pipeline_statistics: bool,
     /// The first error the device reported outside an error scope (wgpu's default handler
     /// would panic); `check_errors` turns it into an `Error`.
     errors: Arc<Mutex<Option<String>>>,
@@ -102,6 +106,13 @@ impl Gpu {
         if timestamps {
             features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // The work counters (`queries::WorkCounter`): each pass's shader invocations.
+        let pipeline_statistics = adapter
+            .features()
+            .contains(wgpu::Features::PIPELINE_STATISTICS_QUERY);
+        if pipeline_statistics {
+            features |= wgpu::Features::PIPELINE_STATISTICS_QUERY;
+        }
         // The panel's wireframe view draws the grass as lines where the adapter can.
         features |= adapter.features() & wgpu::Features::POLYGON_MODE_LINE;
         // With first-instance support the levels of detail draw in one multi-draw-indirect.
@@ -133,6 +144,7 @@ impl Gpu {
             queue,
             info,
             timestamps,
+            pipeline_statistics,
             errors,
         })
     }

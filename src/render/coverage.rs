@@ -1,0 +1,114 @@
+//! The coverage measurement of a counted frame: how many pixels the grass covers in the
+//! finished picture, the denominator of the lit grass's fragments per pixel
+//! (`timing::lit_fragments_per_pixel`). The blades of both draws are drawn again, depth
+//! only, passing only where their depth is the frame's (`Equal`; the grass's clip position
+//! is `@invariant`, so the same blade lands on the same depth), inside the work counter's
+//! occlusion query. It writes nothing and runs only in frames the counter counts; the
+//! bench counts separate frames from the ones it times.
+
+use super::draw::{DrawPass, DEPTH_FORMAT};
+use crate::gpu::queries::PassQueries;
+use crate::shaders;
+use crate::sim::layout::CullCounters;
+
+/// The coverage pipeline, made on the first counted frame and again when the sample
+/// count changes.
+#[derive(Default)]
+pub struct Coverage {
+    pipeline: Option<(u32, wgpu::RenderPipeline)>,
+}
+
+impl Coverage {
+    fn pipeline(&mut self, device: &wgpu::Device, draw: &DrawPass) -> &wgpu::RenderPipeline {
+        let samples = draw.samples();
+        if self.pipeline.as_ref().is_none_or(|(s, _)| *s != samples) {
+            self.pipeline = Some((samples, build(device, samples, draw.grass_layout())));
+        }
+        &self.pipeline.as_ref().expect("made above").1
+    }
+
+    /// Records the measurement over `depth` (the frame's, after every grass draw): the
+    /// main draws of `indirect`, and the late ones with `late`. Nothing when the frame is
+    /// not counted.
+    pub fn encode(
+        &mut self,
+        device: &wgpu::Device,
+        draw: &DrawPass,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        (indirect, late): (&wgpu::Buffer, bool),
+        q: PassQueries,
+    ) {
+        let Some(set) = q.coverage_set() else {
+            return;
+        };
+        let pipeline = self.pipeline(device, draw);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward.coverage"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: q.render_writes(),
+            occlusion_query_set: Some(set),
+            multiview_mask: None,
+        });
+        q.begin(&mut pass);
+        pass.begin_occlusion_query(0);
+        draw.draw_grass(&mut pass, pipeline, indirect, 0);
+        if late {
+            let offset = std::mem::offset_of!(CullCounters, late_draws) as u64;
+            draw.draw_grass(&mut pass, pipeline, indirect, offset);
+        }
+        pass.end_occlusion_query();
+        q.end(&mut pass);
+    }
+}
+
+/// The grass's vertex stage, depth tested `Equal` without writing, no fragment stage.
+fn build(
+    device: &wgpu::Device,
+    samples: u32,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let module = shaders::module(device, "grass.wgsl");
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("sward.coverage.layout"),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("sward.coverage"),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Equal),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}

@@ -1,0 +1,162 @@
+//! The work guard: fixed frames of the shipped nature, prairie and helicopter scenes at
+//! 160 × 90 are counted (pipeline statistics: vertex, primitive, fragment and compute
+//! invocations; the pixels the grass covers; the lit grass's fragments) and their cull
+//! counts read, and every figure must stay within ±[`BAND`] of the committed
+//! expectation in `tests/expected/work.json`. Times depend on the machine; these counts
+//! depend only on what the frame asks the GPU to do (they are identical from run to run
+//! and with any number of llvmpipe threads), so a change that makes the frame do more
+//! work fails here until its author regenerates the file on purpose —
+//! `UPDATE_WORK=1 cargo test --release --test work_guard` — and says why in the commit.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::render::work::WorkSummary;
+use sward::render::Renderer;
+use sward::scene::load_scene_with_sets;
+use sward::session::Session;
+
+/// How far a figure may move from its expectation, as a share of it.
+const BAND: f64 = 0.10;
+/// Figures this small move by a few units with any change of the view: they get an
+/// absolute allowance instead of a relative one.
+const SMALL: f64 = 200.0;
+const SIZE: (u32, u32) = (160, 90);
+/// Frames before the counted one: the two-phase occlusion settles on what it saw.
+const FRAMES: u32 = 3;
+
+fn expected_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/expected/work.json")
+}
+
+/// The counted figures of one scene's frame.
+fn measure(gpu: &sward::gpu::Gpu, scene: &str, sets: &[String]) -> BTreeMap<String, u64> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/scenes/{scene}.ron"));
+    let scene = load_scene_with_sets(&path, sets).expect("shipped scene");
+    let session = Session::new(scene, None, Some(gpu)).expect("session");
+    let mut r = Renderer::from_session(gpu, &session, sward::render::target::COLOR_FORMAT)
+        .expect("renderer");
+    let camera = CameraView::from_scene(&session.scene.camera);
+    let target = Target::new(gpu, SIZE.0, SIZE.1).expect("target");
+    for k in 0..=FRAMES {
+        if k == FRAMES {
+            assert!(
+                r.count_work(gpu, true),
+                "lavapipe has pipeline-statistics queries: the guard must count"
+            );
+        }
+        r.frame(
+            gpu,
+            1.0 / 30.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            SIZE,
+        );
+    }
+    gpu.check_errors().expect("no GPU error");
+    let work = r.read_work(gpu).expect("read").expect("a counted frame");
+    let s = WorkSummary::of(&work, r.samples());
+    let c = r.stats(gpu).expect("stats").counters;
+    [
+        ("blades drawn", u64::from(c.drawn())),
+        ("culled by orientation", c.culled_orientation.into()),
+        ("culled by distance", c.culled_distance.into()),
+        ("culled by occlusion", c.culled_occlusion.into()),
+        ("vertex invocations", s.vertex_invocations),
+        ("primitives", s.primitives),
+        ("fragment invocations", s.fragment_invocations),
+        ("compute invocations", s.compute_invocations),
+        ("lit grass fragments", s.lit_fragments),
+        ("grass pixels", s.grass_pixels),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
+}
+
+type Expectations = BTreeMap<String, BTreeMap<String, u64>>;
+
+/// Every figure of `measured` that is missing from `expected` or outside its band.
+fn departures(measured: &Expectations, expected: &Expectations) -> Vec<String> {
+    let mut failures = Vec::new();
+    for (scene, figures) in measured {
+        for (name, &value) in figures {
+            let Some(&want) = expected.get(scene).and_then(|e| e.get(name)) else {
+                failures.push(format!(
+                    "{scene}: {name} has no expectation (measured {value})"
+                ));
+                continue;
+            };
+            let allowed = (want as f64 * BAND).max(SMALL);
+            if (value as f64 - want as f64).abs() > allowed {
+                failures.push(format!(
+                    "{scene}: {name} {value}, expected {want} ± {allowed:.0} ({:+.1} %)",
+                    100.0 * (value as f64 / want.max(1) as f64 - 1.0)
+                ));
+            }
+        }
+    }
+    failures
+}
+
+#[test]
+fn the_frames_do_the_work_they_are_expected_to() {
+    let gpu = common::gpu();
+    let measured: Expectations = ["nature", "prairie", "helicopter"]
+        .iter()
+        .map(|s| (s.to_string(), measure(&gpu, s, &[])))
+        .collect();
+    if std::env::var_os("UPDATE_WORK").is_some() {
+        let text = serde_json::to_string_pretty(&measured).expect("json");
+        std::fs::create_dir_all(expected_path().parent().unwrap()).expect("dir");
+        std::fs::write(expected_path(), text + "\n").expect("write expectations");
+        eprintln!("wrote {}", expected_path().display());
+        return;
+    }
+    let text = std::fs::read_to_string(expected_path()).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (generate it with UPDATE_WORK=1)",
+            expected_path().display()
+        )
+    });
+    let expected: Expectations = serde_json::from_str(&text).expect("expectations parse");
+    let failures = departures(&measured, &expected);
+    assert!(
+        failures.is_empty(),
+        "the frame's work moved beyond ±{:.0} %:\n  {}\nIf on purpose, regenerate with \
+         UPDATE_WORK=1 cargo test --release --test work_guard and say why in the commit.",
+        BAND * 100.0,
+        failures.join("\n  ")
+    );
+}
+
+/// The guard fails a frame that does more work: the prairie with a third more
+/// grass departs from the plain one's figures (blades drawn, vertex and fragment work),
+/// and the plain one measured twice does not.
+#[test]
+fn a_third_more_grass_is_caught() {
+    let gpu = common::gpu();
+    let one = |sets: &[String]| -> Expectations {
+        [("prairie".to_string(), measure(&gpu, "prairie", sets))].into()
+    };
+    let base = one(&[]);
+    assert_eq!(departures(&one(&[]), &base), Vec::<String>::new());
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
+    let density = load_scene_with_sets(&path, &[])
+        .expect("scene")
+        .field
+        .density;
+    let denser = one(&[format!("field.density={}", density * 4.0 / 3.0)]);
+    let failures = departures(&denser, &base);
+    for figure in ["blades drawn", "vertex invocations", "lit grass fragments"] {
+        assert!(
+            failures.iter().any(|f| f.contains(figure)),
+            "a third more grass should move {figure}: {failures:?}"
+        );
+    }
+}
