@@ -95,6 +95,33 @@ fn three_configurations_on_the_same_field() {
             let v = f(c, &[k]);
             assert!(v.is_finite() && v > 0.0, "{name}: {k} = {v}");
         }
+        // lavapipe has pipeline statistics: every configuration counts one frame's work.
+        let w = &c["work"];
+        for k in [
+            "vertex_invocations",
+            "fragment_invocations",
+            "compute_invocations",
+            "grass_pixels",
+        ] {
+            assert!(u(w, &[k]) > 0, "{name}: work.{k}: {w}");
+        }
+        let lit = f(w, &["lit_fragments_per_pixel"]);
+        assert!(
+            lit >= 1.0,
+            "{name}: each covered pixel is shaded at least once: {lit}"
+        );
+        assert!(
+            u(w, &["passes", "lit grass", "fragment_invocations"]) > 0,
+            "{w}"
+        );
+        // The frame's figures are the passes' sums, the coverage measurement left out.
+        let passes = w["passes"].as_object().expect("passes");
+        let sum: u64 = passes
+            .iter()
+            .filter(|(k, _)| k.as_str() != "coverage")
+            .map(|(_, p)| u(p, &["vertex_invocations"]))
+            .sum();
+        assert_eq!(sum, u(w, &["vertex_invocations"]), "{name}");
         if timestamps {
             assert_eq!(c["frame_time_source"], "gpu");
             let parts = [
@@ -496,6 +523,8 @@ fn models_are_timed_side_by_side() {
         .collect();
     assert_eq!(names, ["Jahrmann", "Verlet", "Cwd"]);
     for m in models {
+        assert!(f(m, &["frame", "wall_ms"]) > 0.0, "{m}");
+        assert!(f(m, &["frame", "gpu_ms"]) > 0.0, "{m}");
         assert!(f(m, &["stepped_blades"]) > 0.0, "{m}");
         assert!(f(m, &["drawn_blades"]) > 0.0, "{m}");
         if r["timestamps"].as_bool() == Some(true) {
@@ -574,7 +603,13 @@ fn light_configurations_are_timed_side_by_side() {
     for c in configs {
         assert!(f(c, &["tonemap_ms"]) > 0.0, "{c}");
         assert!(f(c, &["frame_ms"]) >= f(c, &["draw_ms"]), "{c}");
+        assert!(f(c, &["wall_ms"]) > 0.0, "{c}");
     }
+    // The shadow cascades are work the counters see: more vertices than without them,
+    // and more again with the blades casting.
+    let vertices = |k: usize| u(&configs[k]["work"], &["vertex_invocations"]);
+    assert!(vertices(1) > vertices(0), "{configs:?}");
+    assert!(vertices(2) > vertices(1), "{configs:?}");
     let out = sward(&["bench", "--light", "--models", "--scene", SCENE]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--light times the light"));

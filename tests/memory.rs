@@ -99,7 +99,10 @@ fn frames_keep_nothing_they_allocate() {
         r.step(&gpu, 1.0 / 30.0);
     }
     let image = target.read_image(&gpu).expect("read back");
-    assert!(r.read_work(&gpu).expect("work").is_some(), "frames were counted");
+    assert!(
+        r.read_work(&gpu).expect("work").is_some(),
+        "frames were counted"
+    );
     sward::gpu::wait_idle(&gpu.device).expect("idle");
     let end = (live(&gpu), resident_kib());
     eprintln!("after warm-up (frame 50): {warm:?}\nafter 300 frames and 100 steps: {end:?}");

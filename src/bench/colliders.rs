@@ -23,7 +23,7 @@
 use glam::Vec3;
 use serde::Serialize;
 
-use super::{opt, utc_now, BenchOptions, BENCH_DT};
+use super::{opt, utc_now, BenchOptions};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::camera::CameraView;
@@ -111,6 +111,8 @@ pub struct ColliderRun {
     pub mean_tip_difference: f64,
     /// Blades whose final tip lies more than 1 cm from the flat run's.
     pub tips_apart_1cm: u64,
+    /// The whole frame: GPU sum of every pass and wall clock.
+    pub frame: super::measure::FrameTimes,
 }
 
 /// The runs at one sphere count.
@@ -217,34 +219,27 @@ fn run_mode(
 ) -> Result<RunResult> {
     let camera = CameraView::from_scene(&scene.camera);
     let mut renderer = super::measure::fresh_renderer(gpu, session, scene)?;
-    let size = (target.width, target.height);
     let (mut update, mut patches, mut timed) = (0.0, 0.0, 0u32);
     let (mut stepped, mut entries, mut patches_stepped) = (0.0f64, 0.0f64, 0.0f64);
     let patch_size = f64::from(renderer.buffers.patch_size);
-    for i in 0..o.warmup + o.frames {
-        renderer.frame(
-            gpu,
-            BENCH_DT,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        gpu.check_errors()?;
-        let stats = renderer.stats(gpu)?;
-        if i < o.warmup {
-            continue;
-        }
-        let c = &stats.counters;
-        stepped += f64::from(c.updated_patches) * patch_size;
-        patches_stepped += f64::from(c.updated_patches);
-        entries += f64::from(c.patch_sphere_pairs);
-        if let Some(ms) = stats.pass_ms {
-            update += ms[timing::UPDATE];
-            patches += ms[timing::PATCHES];
-            timed += 1;
-        }
-    }
+    let frame = super::measure::run_frames(
+        gpu,
+        &mut renderer,
+        &camera,
+        target,
+        (o.warmup, o.frames),
+        |stats| {
+            let c = &stats.counters;
+            stepped += f64::from(c.updated_patches) * patch_size;
+            patches_stepped += f64::from(c.updated_patches);
+            entries += f64::from(c.patch_sphere_pairs);
+            if let Some(ms) = stats.pass_ms {
+                update += ms[timing::UPDATE];
+                patches += ms[timing::PATCHES];
+                timed += 1;
+            }
+        },
+    )?;
     let n = f64::from(o.frames.max(1));
     let t = f64::from(timed.max(1));
     let (blades, states) = renderer.buffers.read(gpu)?;
@@ -266,6 +261,7 @@ fn run_mode(
         max_tip_difference: 0.0,
         mean_tip_difference: 0.0,
         tips_apart_1cm: 0,
+        frame,
     };
     let count = u64::from(renderer.buffers.count);
     Ok(RunResult { run, blades, count })
@@ -382,7 +378,7 @@ pub fn format_colliders(r: &ColliderBenchReport) -> String {
         },
     );
     out.push_str(&format!(
-        "{:>7} {:>8} {:<16} {:>10} {:>10} {:>10} {:>9} {:>9} {:>8} {:>9} {:>9} {:>8}\n",
+        "{:>7} {:>8} {:<16} {:>10} {:>10} {:>10} {:>9} {:>9} {:>8} {:>9} {:>9} {:>8} {:>12} {:>9}\n",
         "spheres",
         "radius",
         "walk",
@@ -394,12 +390,14 @@ pub fn format_colliders(r: &ColliderBenchReport) -> String {
         "crushed",
         "max diff",
         "mean diff",
-        ">1 cm"
+        ">1 cm",
+        "frame GPU ms",
+        "wall ms"
     ));
     for c in &r.collider_costs {
         for run in &c.runs {
             out.push_str(&format!(
-                "{:>7} {:>8.3} {:<16} {:>10} {:>10} {:>10.0} {:>9} {:>9.1} {:>8} {:>9.4} {:>9.5} {:>8}\n",
+                "{:>7} {:>8.3} {:<16} {:>10} {:>10} {:>10.0} {:>9} {:>9.1} {:>8} {:>9.4} {:>9.5} {:>8} {:>12} {:>9.2}\n",
                 c.spheres,
                 c.radius,
                 run.name,
@@ -412,6 +410,8 @@ pub fn format_colliders(r: &ColliderBenchReport) -> String {
                 run.max_tip_difference,
                 run.mean_tip_difference,
                 run.tips_apart_1cm,
+                opt(run.frame.gpu_ms, 2),
+                run.frame.wall_ms,
             ));
         }
     }

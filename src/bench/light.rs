@@ -10,7 +10,9 @@
 //! Reported per configuration, from timestamp queries: the mean GPU milliseconds per frame
 //! of the whole frame, of the shadow cascades, of the colour passes (the early and late
 //! draws: terrain, sky, grass, billboards, objects) and of the tone-mapping pass, and the
-//! whole frame over the frame without shadows.
+//! whole frame over the frame without shadows; the wall clock per frame (submit to
+//! read-back) and its ratio; and the work of one counted frame (fragment invocations, the
+//! lit grass's fragments per covered pixel).
 
 use serde::Serialize;
 
@@ -55,6 +57,12 @@ pub struct LightRun {
     pub tonemap_ms: Option<f64>,
     /// `frame_ms` over the `no shadows` configuration's.
     pub frame_over_no_shadows: Option<f64>,
+    /// Mean wall-clock ms per frame, submit to read-back.
+    pub wall_ms: f64,
+    /// `wall_ms` over the `no shadows` configuration's.
+    pub wall_over_no_shadows: Option<f64>,
+    /// One counted frame after the measured ones (`None` without pipeline statistics).
+    pub work: Option<crate::render::work::WorkReport>,
 }
 
 /// Everything `sward bench --light` measured.
@@ -118,7 +126,9 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
         // Sums of the frame, shadows, draw and tone-map milliseconds.
         let mut sums = [0.0f64; 4];
         let mut timed = 0u32;
+        let mut wall = 0.0;
         for i in 0..o.warmup + o.frames {
+            let start = std::time::Instant::now();
             renderer.frame(
                 &gpu,
                 BENCH_DT,
@@ -129,11 +139,14 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
             );
             gpu.check_errors()?;
             let stats = renderer.stats(&gpu)?;
+            let elapsed = start.elapsed().as_secs_f64() * 1000.0;
             if i < o.warmup {
                 continue;
             }
+            wall += elapsed;
             if let Some(ms) = stats.pass_ms {
-                sums[0] += ms.iter().sum::<f64>();
+                let wind: f64 = stats.wind_ms.iter().flatten().map(|(_, m)| m).sum();
+                sums[0] += ms.iter().sum::<f64>() + wind;
                 sums[1] += ms[timing::SHADOWS];
                 sums[2] += ms[timing::DRAW] + ms[timing::LATE_DRAW];
                 sums[3] += ms[timing::TONEMAP];
@@ -144,6 +157,9 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
         let mean = |k: usize| (timed > 0).then(|| sums[k] / f64::from(timed));
         let frame_ms = mean(0);
         let reference = runs.first().map_or(frame_ms, |r| r.frame_ms);
+        let wall_ms = wall / f64::from(o.frames.max(1));
+        let wall_reference = runs.first().map_or(wall_ms, |r| r.wall_ms);
+        let work = super::measure::count_frame(&gpu, &mut renderer, &camera, &target)?;
         runs.push(LightRun {
             config: name.into(),
             frame_ms,
@@ -151,6 +167,9 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
             draw_ms: mean(2),
             tonemap_ms: mean(3),
             frame_over_no_shadows: ratio(frame_ms, reference),
+            wall_ms,
+            wall_over_no_shadows: ratio(Some(wall_ms), Some(wall_reference)),
+            work,
         });
     }
     Ok(LightBenchReport {
@@ -186,18 +205,35 @@ pub fn format_light(r: &LightBenchReport) -> String {
         },
     );
     out.push_str(&format!(
-        "{:<26} {:>9} {:>10} {:>9} {:>11} {:>14}\n",
-        "configuration", "frame ms", "shadows ms", "draw ms", "tone map ms", "/ no shadows"
+        "{:<26} {:>9} {:>10} {:>9} {:>11} {:>14} {:>9} {:>14} {:>14} {:>10}\n",
+        "configuration",
+        "GPU ms",
+        "shadows ms",
+        "draw ms",
+        "tone map ms",
+        "/ no shadows",
+        "wall ms",
+        "/ no shadows",
+        "fragments",
+        "lit/pixel"
     ));
     for c in &r.configs {
+        let work = c.work.as_ref().map(|w| &w.summary);
         out.push_str(&format!(
-            "{:<26} {:>9} {:>10} {:>9} {:>11} {:>14}\n",
+            "{:<26} {:>9} {:>10} {:>9} {:>11} {:>14} {:>9.2} {:>14} {:>14} {:>10}\n",
             c.config,
             opt(c.frame_ms, 2),
             opt(c.shadows_ms, 2),
             opt(c.draw_ms, 2),
             opt(c.tonemap_ms, 3),
             opt(c.frame_over_no_shadows, 3),
+            c.wall_ms,
+            opt(c.wall_over_no_shadows, 3),
+            work.map_or_else(
+                || "n/a".into(),
+                |w| super::table::thousands(w.fragment_invocations)
+            ),
+            opt(work.and_then(|w| w.lit_fragments_per_pixel), 2),
         ));
     }
     out

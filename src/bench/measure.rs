@@ -179,3 +179,54 @@ pub(super) fn count_frame(
     renderer.count_work(gpu, false);
     Ok(work.map(|w| WorkReport::of(&w, renderer.samples())))
 }
+
+/// The whole frame as every bench mode reports it: the mean GPU sum of every timed pass
+/// (the wind solver's included; `None` without timestamps) and the mean wall clock per
+/// frame, submit to read-back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct FrameTimes {
+    pub gpu_ms: Option<f64>,
+    pub wall_ms: f64,
+}
+
+/// Runs `warmup + frames` frames of `renderer` from `camera` into `target`, handing each
+/// measured frame's stats to `each`, and returns the frame's times.
+pub(super) fn run_frames(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    camera: &CameraView,
+    target: &Target,
+    (warmup, frames): (u32, u32),
+    mut each: impl FnMut(&crate::render::FrameStats),
+) -> Result<FrameTimes> {
+    let size = (target.width, target.height);
+    let (mut wall, mut gpu_sum, mut timed) = (0.0, 0.0, 0u32);
+    for i in 0..warmup + frames {
+        let start = Instant::now();
+        renderer.frame(
+            gpu,
+            BENCH_DT,
+            camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+        gpu.check_errors()?;
+        let stats = renderer.stats(gpu)?;
+        let elapsed = start.elapsed().as_secs_f64() * 1000.0;
+        if i < warmup {
+            continue;
+        }
+        wall += elapsed;
+        if let Some(ms) = stats.pass_ms {
+            let wind: f64 = stats.wind_ms.iter().flatten().map(|(_, m)| m).sum();
+            gpu_sum += ms.iter().sum::<f64>() + wind;
+            timed += 1;
+        }
+        each(&stats);
+    }
+    Ok(FrameTimes {
+        gpu_ms: (timed > 0).then(|| gpu_sum / f64::from(timed)),
+        wall_ms: wall / f64::from(frames.max(1)),
+    })
+}

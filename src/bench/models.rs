@@ -11,7 +11,7 @@
 
 use serde::Serialize;
 
-use super::{opt, opt_ratio as ratio, utc_now, BenchOptions, BENCH_DT};
+use super::{opt, opt_ratio as ratio, utc_now, BenchOptions};
 use crate::error::{Error, Result};
 use crate::render::camera::CameraView;
 use crate::render::target::Target;
@@ -58,6 +58,8 @@ pub struct ModelRun {
     /// `physics_ms` and `draw_ms` over Jahrmann's.
     pub physics_over_jahrmann: Option<f64>,
     pub draw_over_jahrmann: Option<f64>,
+    /// The whole frame: GPU sum of every pass and wall clock.
+    pub frame: super::measure::FrameTimes,
 }
 
 /// Everything `sward bench --models` measured.
@@ -99,7 +101,6 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
     let session = Session::new(base, None, Some(&gpu))?;
     eprintln!("{}", session.describe_field());
     let camera = CameraView::from_scene(&session.scene.camera);
-    let size = (target.width, target.height);
     let mut runs: Vec<ModelRun> = Vec::new();
     let mut blades = 0;
     let mut timestamps = true;
@@ -117,28 +118,22 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
         let patch_size = f64::from(renderer.buffers.patch_size);
         let (mut physics, mut draw, mut timed) = (0.0, 0.0, 0u32);
         let (mut stepped, mut drawn) = (0.0f64, 0.0f64);
-        for i in 0..o.warmup + o.frames {
-            renderer.frame(
-                &gpu,
-                BENCH_DT,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                size,
-            );
-            gpu.check_errors()?;
-            let stats = renderer.stats(&gpu)?;
-            if i < o.warmup {
-                continue;
-            }
-            stepped += f64::from(stats.counters.updated_patches) * patch_size;
-            drawn += f64::from(stats.counters.drawn());
-            if let Some(ms) = stats.pass_ms {
-                physics += ms[timing::UPDATE];
-                draw += ms[timing::DRAW] + ms[timing::LATE_DRAW];
-                timed += 1;
-            }
-        }
+        let frame = super::measure::run_frames(
+            &gpu,
+            &mut renderer,
+            &camera,
+            &target,
+            (o.warmup, o.frames),
+            |stats| {
+                stepped += f64::from(stats.counters.updated_patches) * patch_size;
+                drawn += f64::from(stats.counters.drawn());
+                if let Some(ms) = stats.pass_ms {
+                    physics += ms[timing::UPDATE];
+                    draw += ms[timing::DRAW] + ms[timing::LATE_DRAW];
+                    timed += 1;
+                }
+            },
+        )?;
         timestamps &= timed > 0;
         let n = f64::from(o.frames.max(1));
         let t = f64::from(timed.max(1));
@@ -159,6 +154,7 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
             bytes_per_blade: bytes_per_blade(model),
             physics_over_jahrmann: ratio(physics_ms, first.map_or(physics_ms, |f| f.physics_ms)),
             draw_over_jahrmann: ratio(draw_ms, first.map_or(draw_ms, |f| f.draw_ms)),
+            frame,
         });
     }
     Ok(ModelBenchReport {
@@ -194,8 +190,10 @@ pub fn format_models(r: &ModelBenchReport) -> String {
         },
     );
     out.push_str(&format!(
-        "{:<9} {:>10} {:>9} {:>10} {:>9} {:>11} {:>10} {:>8} {:>8} {:>6}\n",
+        "{:<9} {:>12} {:>10} {:>10} {:>9} {:>10} {:>9} {:>11} {:>10} {:>8} {:>8} {:>6}\n",
         "model",
+        "frame GPU ms",
+        "wall ms",
         "physics ms",
         "draw ms",
         "stepped",
@@ -208,8 +206,10 @@ pub fn format_models(r: &ModelBenchReport) -> String {
     ));
     for m in &r.models {
         out.push_str(&format!(
-            "{:<9} {:>10} {:>9} {:>10.0} {:>9.0} {:>11} {:>10} {:>8} {:>8} {:>6}\n",
+            "{:<9} {:>12} {:>10.2} {:>10} {:>9} {:>10.0} {:>9.0} {:>11} {:>10} {:>8} {:>8} {:>6}\n",
             m.model,
+            opt(m.frame.gpu_ms, 2),
+            m.frame.wall_ms,
             opt(m.physics_ms, 2),
             opt(m.draw_ms, 2),
             m.stepped_blades,
