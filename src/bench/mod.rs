@@ -40,6 +40,7 @@ use measure::measure;
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
 pub mod colliders;
 pub mod flight;
+pub mod gpu_tables;
 pub mod light;
 mod measure;
 pub mod models;

@@ -1,0 +1,29 @@
+//! Writes the README's performance tables (Markdown) from `sward bench --json` reports:
+//! `cargo run --release --example gpu_tables -- LABEL=report.json ...` prints one table
+//! per report, headed by its label. `scripts/gpu-measure.sh` runs it after measuring.
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let mut out = String::new();
+    for arg in std::env::args().skip(1) {
+        let Some((label, path)) = arg.split_once('=') else {
+            eprintln!("gpu_tables: {arg}: expected LABEL=report.json");
+            return ExitCode::FAILURE;
+        };
+        let report = match std::fs::read(path)
+            .map_err(|e| e.to_string())
+            .and_then(|b| serde_json::from_slice(&b).map_err(|e| e.to_string()))
+        {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("gpu_tables: {path}: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        out += &sward::bench::gpu_tables::report_table(label, &report);
+        out.push('\n');
+    }
+    print!("{out}");
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,125 @@
+//! The README's performance tables from `sward bench --json` reports: what
+//! `scripts/gpu-measure.sh` writes after measuring on a machine with a GPU, so a session
+//! that is lent one spends its minutes measuring. The reports are read as JSON values
+//! (any mode: the three columns with their sweep, `--flight`, `--light`), so the tables
+//! follow whatever the bench wrote.
+
+use serde_json::Value;
+
+fn num(v: &Value, path: &[&str]) -> Option<f64> {
+    path.iter().try_fold(v, |v, k| v.get(k))?.as_f64()
+}
+
+fn cell(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "n/a".into(), |x| format!("{x:.digits$}"))
+}
+
+fn count(v: Option<f64>) -> String {
+    v.map_or_else(
+        || "n/a".into(),
+        |x| super::table::thousands(x.max(0.0).round() as u64),
+    )
+}
+
+/// One report's table (`label` names the run: scene, size, settings), in Markdown.
+pub fn report_table(label: &str, r: &Value) -> String {
+    let mut out = format!(
+        "#### {label}\n\n{}, {}x{}, {} frames after {} warm-up ({})\n\n",
+        r["adapter"].as_str().unwrap_or("unknown adapter"),
+        r["size"].get(0).and_then(Value::as_f64).unwrap_or(0.0),
+        r["size"].get(1).and_then(Value::as_f64).unwrap_or(0.0),
+        num(r, &["frames"]).unwrap_or(0.0),
+        num(r, &["warmup"]).unwrap_or(0.0),
+        r["date"].as_str().unwrap_or(""),
+    );
+    if let Some(configs) = r["configurations"].as_array() {
+        out += "| configuration | GPU ms | wall ms | FPS | blades drawn | vertex inv. | fragment inv. | compute inv. | lit fragments / grass pixel |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        for c in configs {
+            let w = &c["work"];
+            out += &format!(
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                c["name"].as_str().unwrap_or("?"),
+                cell(num(c, &["frame_ms"]), 2),
+                cell(num(c, &["wall_ms"]), 2),
+                cell(num(c, &["fps"]), 1),
+                count(num(c, &["blades", "drawn"])),
+                count(num(w, &["vertex_invocations"])),
+                count(num(w, &["fragment_invocations"])),
+                count(num(w, &["compute_invocations"])),
+                cell(num(w, &["lit_fragments_per_pixel"]), 2),
+            );
+        }
+    }
+    if let Some(sweep) = r["sweep"].as_array().filter(|s| !s.is_empty()) {
+        out += "\n| blades | drawn | GPU ms | wall ms | FPS | GPU MiB |\n|---:|---:|---:|---:|---:|---:|\n";
+        for p in sweep {
+            out += &format!(
+                "| {} | {} | {} | {} | {} | {} |\n",
+                count(num(p, &["blades"])),
+                count(num(p, &["drawn"])),
+                cell(num(p, &["frame_ms"]), 2),
+                cell(num(p, &["wall_ms"]), 2),
+                cell(num(p, &["fps"]), 1),
+                cell(num(p, &["gpu_mib"]), 0),
+            );
+        }
+    }
+    if r.get("pop_ratio").is_some() {
+        out += "| GPU p50 ms | GPU p95 ms | wall p50 ms | wall p95 ms | blades drawn (mean) | pop ratio |\n|---:|---:|---:|---:|---:|---:|\n";
+        out += &format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
+            cell(num(r, &["p50_ms"]), 2),
+            cell(num(r, &["p95_ms"]), 2),
+            cell(num(r, &["wall_p50_ms"]), 2),
+            cell(num(r, &["wall_p95_ms"]), 2),
+            count(num(r, &["blades_drawn_mean"])),
+            cell(num(r, &["pop_ratio"]), 2),
+        );
+    }
+    if let Some(configs) = r["configs"].as_array() {
+        out += "| light | GPU ms | / no shadows | wall ms | / no shadows | shadows ms | fragment inv. | lit fragments / grass pixel |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+        for c in configs {
+            let w = &c["work"];
+            out += &format!(
+                "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                c["config"].as_str().unwrap_or("?"),
+                cell(num(c, &["frame_ms"]), 2),
+                cell(num(c, &["frame_over_no_shadows"]), 3),
+                cell(num(c, &["wall_ms"]), 2),
+                cell(num(c, &["wall_over_no_shadows"]), 3),
+                cell(num(c, &["shadows_ms"]), 2),
+                count(num(w, &["fragment_invocations"])),
+                cell(num(w, &["lit_fragments_per_pixel"]), 2),
+            );
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_three_column_report_becomes_one_row_per_configuration_and_sweep_point() {
+        let r = serde_json::json!({
+            "adapter": "Some GPU", "date": "2026-11-25 12:00 UTC", "size": [1920, 1080],
+            "frames": 10, "warmup": 5,
+            "configurations": [
+                {"name": "all features", "frame_ms": 8.126, "wall_ms": 9.5, "fps": 123.1,
+                 "blades": {"drawn": 43439}, "work": {"vertex_invocations": 1000,
+                 "fragment_invocations": 2000, "compute_invocations": 3000,
+                 "lit_fragments_per_pixel": 1.2}},
+                {"name": "culling off", "frame_ms": 20.0, "wall_ms": 21.0, "fps": 50.0,
+                 "blades": {"drawn": 100000}, "work": null}
+            ],
+            "sweep": [{"blades": 10000000, "drawn": 500000, "frame_ms": 30.0, "wall_ms": 31.0,
+                       "fps": 33.3, "gpu_mib": 1000.0}]
+        });
+        let t = report_table("nature", &r);
+        assert!(t.contains("Some GPU, 1920x1080, 10 frames after 5 warm-up"), "{t}");
+        assert!(t.contains("| all features | 8.13 | 9.50 | 123.1 | 43,439 | 1,000 | 2,000 | 3,000 | 1.20 |"), "{t}");
+        assert!(t.contains("| culling off | 20.00 | 21.00 | 50.0 | 100,000 | n/a | n/a | n/a | n/a |"), "{t}");
+        assert!(t.contains("| 10,000,000 | 500,000 | 30.00 | 31.00 | 33.3 | 1000 |"), "{t}");
+    }
+}
