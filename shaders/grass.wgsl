@@ -67,6 +67,11 @@ struct VertexOut {
     // How far the blade is bent from its rest pose, in blade heights: the wind's gusts
     // as they run over the field (the shading waves).
     @location(11) @interpolate(flat) gust: f32,
+    // The sun's visibility through the shadow cascades, looked up per vertex by the lit
+    // passes (`vs_lit`): a blade is narrower than a shadow texel, so its vertices along the
+    // blade carry the shadow's shape, and the lookup (a 3x3 filtered comparison) runs once
+    // per vertex instead of once per fragment of the overdrawn grass. 1 in `vs_main`.
+    @location(12) sun_lit: f32,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -194,8 +199,23 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
     return clamp(1.0 - (h_px - threshold) / (threshold * cull.lod.w), 0.0, 1.0);
 }
 
+// The depth-only passes (shadow casters, the coverage measurement): no light bound.
 @vertex
 fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
+    var out = blade_vertex(batch_vid, inst);
+    out.sun_lit = 1.0;
+    return out;
+}
+
+// The lit passes: the blade's vertex and the sun's visibility at it.
+@vertex
+fn vs_lit(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
+    var out = blade_vertex(batch_vid, inst);
+    out.sun_lit = sun_visibility(out.world);
+    return out;
+}
+
+fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     // The slot in the visible list: the instance's batch, the blade in the batch.
     var level = draw_level.x;
     // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade with
@@ -356,7 +376,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         // A debug colour is a display colour: alpha 0 keeps tone mapping off it.
         return vec4<f32>(debug_color(in.tint, flat_n, sun, v), 0.0);
     }
-    let lit = sun_visibility(in.world);
+    let lit = in.sun_lit;
     // A flower head: petals around a centre, cut out of the card (a procedural texture:
     // the petal edge swings with the angle, petal_count lobes).
     if in.card.x > 0.5 {

@@ -188,10 +188,19 @@ fn sun_visibility(world: vec3<f32>) -> f32 {
             k = i + 1u;
         }
     }
-    let p = world + frame.sun_dir.xyz * (light.shadow.w * light.texel_world[k]);
-    let c = light.cascades[k] * vec4<f32>(p, 1.0);
-    let uv = c.xy * vec2<f32>(0.5, -0.5) + 0.5;
-    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || c.z > 1.0 {
+    // A far cascade may be kept from an earlier frame (render/light/schedule.rs): a point
+    // its map does not cover is looked up in the next one.
+    var c = vec4<f32>(0.0);
+    var uv = vec2<f32>(-1.0);
+    for (; k < count; k++) {
+        let p = world + frame.sun_dir.xyz * (light.shadow.w * light.texel_world[k]);
+        c = light.cascades[k] * vec4<f32>(p, 1.0);
+        uv = c.xy * vec2<f32>(0.5, -0.5) + 0.5;
+        if all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0)) && c.z <= 1.0 {
+            break;
+        }
+    }
+    if k >= count {
         return 1.0;
     }
     let step = light.shadow.z * light.shadow_map.x;

@@ -117,9 +117,23 @@ mod tests {
                        "fps": 33.3, "gpu_mib": 1000.0}]
         });
         let t = report_table("nature", &r);
-        assert!(t.contains("Some GPU, 1920x1080, 10 frames after 5 warm-up"), "{t}");
-        assert!(t.contains("| all features | 8.13 | 9.50 | 123.1 | 43,439 | 1,000 | 2,000 | 3,000 | 1.20 |"), "{t}");
-        assert!(t.contains("| culling off | 20.00 | 21.00 | 50.0 | 100,000 | n/a | n/a | n/a | n/a |"), "{t}");
-        assert!(t.contains("| 10,000,000 | 500,000 | 30.00 | 31.00 | 33.3 | 1000 |"), "{t}");
+        assert!(
+            t.contains("Some GPU, 1920x1080, 10 frames after 5 warm-up"),
+            "{t}"
+        );
+        assert!(
+            t.contains(
+                "| all features | 8.13 | 9.50 | 123.1 | 43,439 | 1,000 | 2,000 | 3,000 | 1.20 |"
+            ),
+            "{t}"
+        );
+        assert!(
+            t.contains("| culling off | 20.00 | 21.00 | 50.0 | 100,000 | n/a | n/a | n/a | n/a |"),
+            "{t}"
+        );
+        assert!(
+            t.contains("| 10,000,000 | 500,000 | 30.00 | 31.00 | 33.3 | 1000 |"),
+            "{t}"
+        );
     }
 }

@@ -96,6 +96,8 @@ pub(crate) fn read_storage(
 pub(super) struct PipelineSpec<'a> {
     pub label: &'a str,
     pub shader: &'a str,
+    /// The vertex entry point (the grass's lit passes shade the sun's shadow per vertex).
+    pub vertex: &'a str,
     pub layout: &'a wgpu::BindGroupLayout,
     pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
     pub depth_write: bool,
@@ -129,7 +131,7 @@ pub(super) fn pipeline(
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module: &module,
-            entry_point: Some("vs_main"),
+            entry_point: Some(spec.vertex),
             compilation_options: Default::default(),
             buffers: spec.buffers,
         },
@@ -266,6 +268,7 @@ impl Pipelines {
             PipelineSpec {
                 label: "sward.draw.sky",
                 shader: "sky.wgsl",
+                vertex: "vs_main",
                 layout: frame_layout,
                 buffers: &[],
                 depth_write: false,
@@ -281,6 +284,7 @@ impl Pipelines {
             PipelineSpec {
                 label: "sward.draw.terrain",
                 shader: "terrain.wgsl",
+                vertex: "vs_main",
                 layout: terrain_layout,
                 buffers: &[],
                 depth_write: true,
@@ -296,6 +300,7 @@ impl Pipelines {
             PipelineSpec {
                 label: "sward.draw.spheres",
                 shader: "spheres.wgsl",
+                vertex: "vs_main",
                 layout: spheres_layout,
                 buffers: &sphere_buffers,
                 depth_write: true,
@@ -312,6 +317,7 @@ impl Pipelines {
                 PipelineSpec {
                     label,
                     shader,
+                    vertex: "vs_main",
                     layout,
                     buffers,
                     depth_write: true,
@@ -341,6 +347,7 @@ impl Pipelines {
             PipelineSpec {
                 label: "sward.draw.grass",
                 shader: "grass.wgsl",
+                vertex: "vs_lit",
                 layout: grass_layout,
                 buffers: &[],
                 depth_write: true,
@@ -362,6 +369,7 @@ impl Pipelines {
                     PipelineSpec {
                         label: "sward.draw.grass_lines",
                         shader: "grass.wgsl",
+                        vertex: "vs_lit",
                         layout: grass_layout,
                         buffers: &[],
                         depth_write: true,

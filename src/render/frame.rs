@@ -178,11 +178,17 @@ impl Renderer {
             let spheres = self.sphere_draw();
             let light = &self.light;
             let draw = &self.draw;
-            let grass = light.grass_casts().then(|| light.grass_args());
+            let grass = light.grass_args();
             timed(meters, encoder, timing::SHADOWS, |e, q| {
-                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass| {
-                    draw.draw_casters(pass, &spheres, grass)
-                })
+                light.encode(
+                    e,
+                    draw.frame_buffer(),
+                    &self.cull.args,
+                    q,
+                    |pass, with_grass| {
+                        draw.draw_casters(pass, &spheres, with_grass.then_some(grass))
+                    },
+                )
             });
         }
         let wireframe = self.scene.render.wireframe;

@@ -162,6 +162,7 @@ impl ObjectsPass {
         let spec = |label, depth_only| PipelineSpec {
             label,
             shader: "mesh.wgsl",
+            vertex: "vs_main",
             layout,
             buffers: &buffers,
             depth_write: true,

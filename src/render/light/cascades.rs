@@ -19,6 +19,10 @@ pub struct Cascade {
     pub view_proj: Mat4,
     pub far: f32,
     pub texel: f32,
+    /// The slice's bounding sphere (before snapping): where the map is centred and how far
+    /// it reaches.
+    pub centre: Vec3,
+    pub radius: f32,
 }
 
 /// The far distance of each of `count` slices between `near` and `far`.
@@ -90,6 +94,8 @@ pub fn cascades(
                 view_proj: proj * view,
                 far: end,
                 texel,
+                centre,
+                radius,
             }
         })
         .collect()

@@ -10,6 +10,7 @@
 //! passes. So no caster needs a second set of bind groups.
 
 pub mod cascades;
+pub mod schedule;
 pub mod sky;
 pub mod sun;
 pub mod tone;
@@ -138,6 +139,11 @@ pub struct LightPass {
     last: LightUniforms,
     cascades: u32,
     grass_radius: f32,
+    /// When each cascade is drawn again, and which are drawn this frame and take the
+    /// grass's shadows (those that begin within `grass_radius`).
+    schedule: schedule::Schedule,
+    drawn: [bool; 4],
+    grass_in: [bool; 4],
 }
 
 const FRAME_BYTES: u64 = std::mem::size_of::<FrameUniforms>() as u64;
@@ -201,6 +207,9 @@ impl LightPass {
             last: LightUniforms::default(),
             cascades: 0,
             grass_radius: 0.0,
+            schedule: schedule::Schedule::default(),
+            drawn: [false; 4],
+            grass_in: [false; 4],
         };
         pass.sync_map(device, scene);
         Ok(pass)
@@ -244,6 +253,7 @@ impl LightPass {
             (1, 1)
         };
         if (self.map.resolution, self.map.layers) != (res, layers) {
+            self.schedule.reset();
             self.map = ShadowMap::new(device, res, layers);
             self.group = Self::make_group(
                 device,
@@ -326,13 +336,19 @@ impl LightPass {
                 self.map.layers,
             );
             let mut frames = vec![*frame];
-            for (k, c) in cs.iter().enumerate() {
-                u.cascades[k] = c.view_proj.to_cols_array_2d();
+            let plan = self.schedule.plan(&cs, sun);
+            for (k, (c, (drawn, view))) in cs.iter().zip(&plan).enumerate() {
+                // A cascade kept from an earlier frame is looked up with its own view.
+                u.cascades[k] = view.view_proj.to_cols_array_2d();
                 u.splits[k] = c.far;
-                u.texel_world[k] = c.texel;
+                u.texel_world[k] = view.texel;
+                self.drawn[k] = *drawn;
+                // The blades cast into the cascades whose slice begins within their radius.
+                let begins = if k == 0 { 0.0 } else { cs[k - 1].far };
+                self.grass_in[k] = begins < grass_radius;
                 let mut f = *frame;
-                f.view_proj = c.view_proj.to_cols_array_2d();
-                f.inv_view_proj = c.view_proj.inverse().to_cols_array_2d();
+                f.view_proj = view.view_proj.to_cols_array_2d();
+                f.inv_view_proj = view.view_proj.inverse().to_cols_array_2d();
                 // No width correction in the sun's view, and the grass's shadow radius.
                 f.width_correction[1] = 0.0;
                 // Nor the 3D displacement (Eq. 23): a caster's "v" cross-section changes
@@ -371,10 +387,18 @@ impl LightPass {
             gpu.queue
                 .write_buffer(&self.grass_args, 0, bytemuck::cast_slice(&args));
         }
+        if self.cascades == 0 {
+            self.schedule.reset();
+        }
         gpu.queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
         self.last = u;
         self.cascades
+    }
+
+    /// Whether cascade `k` is drawn this frame (else its map is kept from an earlier one).
+    pub fn cascade_drawn(&self, k: usize) -> bool {
+        k < self.cascades as usize && self.drawn[k]
     }
 
     /// The cascades drawn this frame (0: no shadows).
@@ -392,9 +416,9 @@ impl LightPass {
         &self.grass_args
     }
 
-    /// Records the shadow passes: for each cascade, its frame over `frame_buffer`, then
-    /// `draw` records the casters into the cascade's layer; at the end the camera's frame
-    /// is put back. `cull_args` are the cull's draw arguments, whose instance counts the
+    /// Records the shadow passes: for each cascade drawn this frame, its frame over
+    /// `frame_buffer`, then `draw` records the casters into the cascade's layer (with the
+    /// grass or not: the second argument); at the end the camera's frame is put back. `cull_args` are the cull's draw arguments, whose instance counts the
     /// grass's shadow draws take.
     pub fn encode<F>(
         &self,
@@ -404,7 +428,7 @@ impl LightPass {
         q: PassQueries,
         mut draw: F,
     ) where
-        F: FnMut(&mut wgpu::RenderPass<'_>),
+        F: FnMut(&mut wgpu::RenderPass<'_>, bool),
     {
         if self.cascades == 0 {
             return;
@@ -417,11 +441,16 @@ impl LightPass {
                 }
             }
         }
-        let last = self.cascades as usize - 1;
-        for k in 0..=last {
-            // One timer scope over all cascades: it starts with the first pass and ends
-            // with the last.
-            let writes = q.render_writes_part(k == 0, k == last);
+        let drawn: Vec<usize> = (0..self.cascades as usize)
+            .filter(|&k| self.drawn[k])
+            .collect();
+        let (Some(&first), Some(&last)) = (drawn.first(), drawn.last()) else {
+            return;
+        };
+        for k in drawn {
+            // One timer scope over the cascades drawn: it starts with the first pass and
+            // ends with the last.
+            let writes = q.render_writes_part(k == first, k == last);
             let from = FRAME_BYTES * (k as u64 + 1);
             encoder.copy_buffer_to_buffer(&self.frames, from, frame_buffer, 0, FRAME_BYTES);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -440,7 +469,7 @@ impl LightPass {
                 multiview_mask: None,
             });
             q.begin(&mut pass);
-            draw(&mut pass);
+            draw(&mut pass, self.grass_in[k] && self.grass_casts());
             q.end(&mut pass);
         }
         encoder.copy_buffer_to_buffer(&self.frames, 0, frame_buffer, 0, FRAME_BYTES);
