@@ -805,7 +805,7 @@ impl DrawPass {
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         spheres: &SphereDraw,
-        grass_args: Option<&wgpu::Buffer>,
+        grass_args: Option<(&wgpu::Buffer, u64)>,
     ) {
         if spheres.any_drawn() {
             // The colour pass's sphere: the shadow's outline is the drawn ball's.
@@ -817,8 +817,8 @@ impl DrawPass {
         }
         pass.set_pipeline(&self.pipelines.shadow_terrain);
         self.draw_terrain(pass);
-        if let Some(args) = grass_args {
-            self.draw_grass(pass, &self.pipelines.shadow_grass, args, 0);
+        if let Some((args, offset)) = grass_args {
+            self.draw_grass(pass, &self.pipelines.shadow_grass, args, offset);
         }
     }
 

@@ -131,10 +131,13 @@ impl Renderer {
             camera,
             self.aspect(size.0, size.1),
             &frame,
-            self.grass_shadows.then_some((
-                self.lod.index_count[coarsest],
-                self.lod.first_index[coarsest],
-            )),
+            self.grass_shadows.then_some(super::light::GrassCasters {
+                mesh: (
+                    self.lod.index_count[coarsest],
+                    self.lod.first_index[coarsest],
+                ),
+                lod: cp.lod,
+            }),
         );
         self.sync_billboards(gpu);
         self.last_billboards = self.billboards.as_ref().map(|b| {
@@ -178,17 +181,11 @@ impl Renderer {
             let spheres = self.sphere_draw();
             let light = &self.light;
             let draw = &self.draw;
-            let grass = light.grass_args();
+            let args = light.grass_args();
             timed(meters, encoder, timing::SHADOWS, |e, q| {
-                light.encode(
-                    e,
-                    draw.frame_buffer(),
-                    &self.cull.args,
-                    q,
-                    |pass, with_grass| {
-                        draw.draw_casters(pass, &spheres, with_grass.then_some(grass))
-                    },
-                )
+                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass, grass| {
+                    draw.draw_casters(pass, &spheres, grass.map(|at| (args, at)))
+                })
             });
         }
         let wireframe = self.scene.render.wireframe;

@@ -10,6 +10,7 @@
 //! passes. So no caster needs a second set of bind groups.
 
 pub mod cascades;
+mod caster_levels;
 pub mod schedule;
 pub mod sky;
 pub mod sun;
@@ -144,9 +145,22 @@ pub struct LightPass {
     schedule: schedule::Schedule,
     drawn: [bool; 4],
     grass_in: [bool; 4],
+    grass_levels: [[bool; LOD_LEVELS]; 4],
 }
 
 const FRAME_BYTES: u64 = std::mem::size_of::<FrameUniforms>() as u64;
+/// How the blades cast shadows this frame.
+#[derive(Clone, Copy, Debug)]
+pub struct GrassCasters {
+    /// The coarsest level's mesh they cast with: its index count and first index.
+    pub mesh: (u32, u32),
+    /// The cull's level-of-detail parameters (`CullParams::lod`), for the levels each
+    /// cascade draws (`caster_levels`).
+    pub lod: [f32; 4],
+}
+
+/// Cascades a scene may ask for (`light.shadows.cascades`).
+const MAX_CASCADES: usize = 4;
 const ARGS_BYTES: u64 = std::mem::size_of::<DrawIndexedIndirect>() as u64;
 
 /// Checks that the adapter holds the scene's shadow map before it is allocated.
@@ -190,7 +204,7 @@ impl LightPass {
         });
         let grass_args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.light.grass_args"),
-            size: ARGS_BYTES * LOD_LEVELS as u64,
+            size: ARGS_BYTES * (LOD_LEVELS * MAX_CASCADES) as u64,
             usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -210,6 +224,7 @@ impl LightPass {
             schedule: schedule::Schedule::default(),
             drawn: [false; 4],
             grass_in: [false; 4],
+            grass_levels: [[true; LOD_LEVELS]; 4],
         };
         pass.sync_map(device, scene);
         Ok(pass)
@@ -304,10 +319,9 @@ impl LightPass {
     }
 
     /// Computes the frame's light and writes its uniforms, the cascades' frames (from the
-    /// camera's `frame`) and the grass's shadow draw arguments. `grass_lod` is the coarsest
-    /// level's mesh the blades cast with (its index count and first index), or `None` to
-    /// keep the blades out of the maps whatever the scene's radius (the window's frame
-    /// budget). Returns the number of cascades to draw.
+    /// camera's `frame`) and the grass's shadow draw arguments. `grass`: how the blades
+    /// cast, or `None` to keep them out of the maps whatever the scene's radius (the
+    /// window's frame budget). Returns the number of cascades to draw.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -315,8 +329,10 @@ impl LightPass {
         camera: &CameraView,
         aspect: f32,
         frame: &FrameUniforms,
-        grass_lod: Option<(u32, u32)>,
+        grass: Option<GrassCasters>,
     ) -> u32 {
+        let grass_lod = grass.map(|g| g.mesh);
+        let cull_lod = grass.map_or([0.0; 4], |g| g.lod);
         self.sync_map(&gpu.device, scene);
         let grass_radius = grass_lod.map_or(0.0, |_| scene.light.shadows.grass_radius);
         let lod = grass_lod.unwrap_or((0, 0));
@@ -343,9 +359,16 @@ impl LightPass {
                 u.splits[k] = c.far;
                 u.texel_world[k] = view.texel;
                 self.drawn[k] = *drawn;
-                // The blades cast into the cascades whose slice begins within their radius.
+                // The blades cast into the cascades whose slice begins within their radius,
+                // each with the levels of detail its blades can have.
                 let begins = if k == 0 { 0.0 } else { cs[k - 1].far };
                 self.grass_in[k] = begins < grass_radius;
+                self.grass_levels[k] = caster_levels::levels(
+                    (begins, c.far.min(grass_radius)),
+                    blade_heights(&scene.field),
+                    sun,
+                    cull_lod,
+                );
                 let mut f = *frame;
                 f.view_proj = view.view_proj.to_cols_array_2d();
                 f.inv_view_proj = view.view_proj.inverse().to_cols_array_2d();
@@ -375,7 +398,7 @@ impl LightPass {
                 .write_buffer(&self.frames, 0, bytemuck::cast_slice(&frames));
             self.cascades = cs.len() as u32;
             self.grass_radius = grass_radius;
-            let args: Vec<DrawIndexedIndirect> = (0..LOD_LEVELS)
+            let args: Vec<DrawIndexedIndirect> = (0..LOD_LEVELS * MAX_CASCADES)
                 .map(|_| DrawIndexedIndirect {
                     index_count: lod.0,
                     instance_count: 0,
@@ -411,9 +434,15 @@ impl LightPass {
         self.cascades > 0 && self.grass_radius > 0.0
     }
 
-    /// The grass's shadow draw arguments.
+    /// The grass's shadow draw arguments (cascade by cascade: see
+    /// [`LightPass::grass_args_offset`]).
     pub fn grass_args(&self) -> &wgpu::Buffer {
         &self.grass_args
+    }
+
+    /// Where cascade `k`'s grass draw arguments start in [`LightPass::grass_args`].
+    pub fn grass_args_offset(&self, k: usize) -> u64 {
+        (k * LOD_LEVELS) as u64 * ARGS_BYTES
     }
 
     /// Records the shadow passes: for each cascade drawn this frame, its frame over
@@ -428,16 +457,27 @@ impl LightPass {
         q: PassQueries,
         mut draw: F,
     ) where
-        F: FnMut(&mut wgpu::RenderPass<'_>, bool),
+        F: FnMut(&mut wgpu::RenderPass<'_>, Option<u64>),
     {
         if self.cascades == 0 {
             return;
         }
         if self.grass_casts() {
-            for k in 0..LOD_LEVELS as u64 {
-                for field in [4u64, 16] {
-                    let at = k * ARGS_BYTES + field;
-                    encoder.copy_buffer_to_buffer(cull_args, at, &self.grass_args, at, 4);
+            // Each cascade's draws take the cull's instances of the levels its blades can
+            // have; the others stay at 0 instances.
+            for c in 0..self.cascades as usize {
+                if !(self.drawn[c] && self.grass_in[c]) {
+                    continue;
+                }
+                for level in 0..LOD_LEVELS {
+                    if !self.grass_levels[c][level] {
+                        continue;
+                    }
+                    for field in [4u64, 16] {
+                        let from = level as u64 * ARGS_BYTES + field;
+                        let to = self.grass_args_offset(c) + from;
+                        encoder.copy_buffer_to_buffer(cull_args, from, &self.grass_args, to, 4);
+                    }
                 }
             }
         }
@@ -469,11 +509,23 @@ impl LightPass {
                 multiview_mask: None,
             });
             q.begin(&mut pass);
-            draw(&mut pass, self.grass_in[k] && self.grass_casts());
+            let grass = (self.grass_in[k] && self.grass_casts()).then(|| self.grass_args_offset(k));
+            draw(&mut pass, grass);
             q.end(&mut pass);
         }
         encoder.copy_buffer_to_buffer(&self.frames, 0, frame_buffer, 0, FRAME_BYTES);
     }
+}
+
+/// The shortest and tallest blade the field can grow (its own heights, its species' and its
+/// flowers' stems), for which levels of detail a cascade's casters can have.
+fn blade_heights(field: &crate::scene::Field) -> (f32, f32) {
+    let ranges = std::iter::once(field.height)
+        .chain(field.species.iter().map(|s| s.height))
+        .chain(field.flowers.iter().map(|f| f.height));
+    ranges.fold((f32::INFINITY, 0.0f32), |(lo, hi), r| {
+        (lo.min(r.min.min(r.max)), hi.max(r.max.max(r.min)))
+    })
 }
 
 /// The mean sunlit share of the blades' area in a canopy of `leaf_area` m² of blades per m²

@@ -63,7 +63,7 @@ impl Schedule {
                     sun,
                 };
                 let slot = &mut self.drawn[k.min(3)];
-                let due = (frame + k as u64) % period(k) == 0;
+                let due = (frame + k as u64).is_multiple_of(period(k));
                 let stale = slot.is_none_or(|d| {
                     d.sun != sun
                         || d.radius != c.radius
