@@ -72,9 +72,6 @@ struct VertexOut {
     // blade carry the shadow's shape, and the lookup (a 3x3 filtered comparison) runs once
     // per vertex instead of once per fragment of the overdrawn grass. 1 in `vs_main`.
     @location(12) sun_lit: f32,
-    // The fog at the vertex (`fog_at`: the sky's radiance along the view ray, and its
-    // share), per vertex for the same reason as the shadow.
-    @location(13) fog: vec4<f32>,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -215,7 +212,6 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
 fn vs_lit(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
     var out = blade_vertex(batch_vid, inst);
     out.sun_lit = sun_visibility(out.world);
-    out.fog = fog_at(out.world);
     return out;
 }
 
@@ -392,7 +388,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         }
         let c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
         let head_light = light.ambient.rgb * 0.9 + light.sun.rgb * (abs(dot(flat_n, sun)) * 0.9 * lit);
-        return vec4<f32>(mix(c * head_light, in.fog.rgb, in.fog.a), 1.0);
+        return vec4<f32>(fog(c * head_light, in.world), 1.0);
     }
     // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
     // both edges, so that a flat blade reads as curved.
@@ -443,6 +439,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var color = albedo * (light.ambient.rgb * 0.9 * ao + sun_rgb * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
         + albedo * vec3<f32>(1.0, 1.1, 0.4) * sun_rgb * trans * 1.4 * ao
         + sun_rgb * spec;
-    color = mix(color, in.fog.rgb, in.fog.a);
+    color = fog(color, in.world);
     return vec4<f32>(color, 1.0);
 }

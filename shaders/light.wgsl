@@ -110,17 +110,10 @@ fn sky_with_sun(dir: vec3<f32>) -> vec3<f32> {
 // Aerial perspective: the surface fades into the sky seen behind it with distance
 // (extinction and in-scattering along the view ray: e^(-d / fog distance)).
 fn fog(color: vec3<f32>, world: vec3<f32>) -> vec3<f32> {
-    let f = fog_at(world);
-    return mix(color, f.rgb, f.a);
-}
-
-// The fog at `world`: the sky's radiance along the view ray (rgb) and how much of it
-// covers the surface (a). Smooth over a blade, so the grass evaluates it per vertex.
-fn fog_at(world: vec3<f32>) -> vec4<f32> {
     let to_p = world - frame.camera_pos.xyz;
     let dist = length(to_p);
     let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));
-    return vec4<f32>(sky_radiance(to_p / max(dist, 1e-4)), clamp(f, 0.0, 1.0));
+    return mix(color, sky_radiance(to_p / max(dist, 1e-4)), clamp(f, 0.0, 1.0));
 }
 
 // Stephen Hill's fit of the ACES RRT + ODT (sRGB input -> AP1 with the RRT's saturation,
