@@ -132,7 +132,12 @@ fn render(gpu: &sward::gpu::Gpu, pass: &ArrowPass, depth: f32) -> image::RgbaIma
             multiview_mask: None,
         });
     }
-    pass.encode(&mut encoder, &target.color_view, &target.depth_view);
+    pass.encode(
+        &mut encoder,
+        &target.color_view,
+        &target.depth_view,
+        sward::gpu::queries::PassQueries::NONE,
+    );
     gpu.queue.submit([encoder.finish()]);
     target.read_image(gpu).expect("read back")
 }

@@ -132,6 +132,7 @@ fn three_configurations_on_the_same_field() {
                 "tone_map",
                 "billboards",
                 "tiles",
+                "overlays",
             ];
             for k in parts.iter().chain(&["update", "wind"]) {
                 let v = f(c, &["gpu_ms", k]);

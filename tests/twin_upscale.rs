@@ -41,7 +41,11 @@ fn the_gpu_upscale_matches_the_cpu_twin() {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("sward.test.upscale"),
             });
-        pass.encode(&mut encoder, &out.color_view);
+        pass.encode(
+            &mut encoder,
+            &out.color_view,
+            sward::gpu::queries::PassQueries::NONE,
+        );
         gpu.queue.submit([encoder.finish()]);
         let gpu_image = out.read_image(&gpu).expect("read back");
         let cpu_image = upscale_cpu(&image, dst.0, dst.1);

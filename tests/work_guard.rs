@@ -203,3 +203,49 @@ fn the_nature_view_culls_three_quarters_of_its_visible_blades() {
     );
     assert!(c.drawn() < 50_000, "drawn {}", c.drawn());
 }
+
+/// What is drawn over the scene is part of the frame: the wind overlay is timed (its own
+/// scope in the frame's GPU times) and counted (its own work row), and the frame's work
+/// grows by exactly that row.
+#[test]
+fn the_overlay_is_timed_and_counted_with_the_frame() {
+    use sward::render::timing::{OVERLAY, PASSES};
+    use sward::render::work::{frame_work, WORK_ROWS};
+    let gpu = common::gpu();
+    let mut plain = counted_frame(&gpu, "prairie", &[], SIZE);
+    let mut over = counted_frame(&gpu, "prairie", &[], SIZE);
+    over.enable_overlay(&gpu, sward::render::target::COLOR_FORMAT);
+    let camera = CameraView::from_scene(&over.scene.camera);
+    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+    for r in [&mut plain, &mut over] {
+        r.frame(
+            &gpu,
+            0.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            SIZE,
+        );
+    }
+    let ms = over
+        .stats(&gpu)
+        .expect("stats")
+        .pass_ms
+        .expect("lavapipe has timestamps");
+    assert_eq!(PASSES[OVERLAY], WORK_ROWS[OVERLAY]);
+    assert!(ms[OVERLAY] > 0.0, "the overlay pass is timed: {ms:?}");
+    let with = over.read_work(&gpu).expect("read").expect("counted");
+    let without = plain.read_work(&gpu).expect("read").expect("counted");
+    let row = with.rows[OVERLAY];
+    assert!(
+        row.fragment_invocations > 0 && row.vertex_invocations > 0,
+        "{row:?}"
+    );
+    assert_eq!(without.rows[OVERLAY], Default::default());
+    assert_eq!(
+        frame_work(&with.rows).fragment_invocations
+            - frame_work(&without.rows).fragment_invocations,
+        row.fragment_invocations,
+        "the overlay adds its own row to the frame and nothing else"
+    );
+}

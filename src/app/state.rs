@@ -21,6 +21,7 @@ use crate::gpu::Gpu;
 use crate::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
 use crate::render::camera::CameraView;
 use crate::render::post::HDR_FORMAT;
+use crate::render::timing;
 use crate::render::upscale::{scaled_size, Upscale};
 use crate::render::{DynamicSphere, FrameStats, Renderer};
 use crate::scene::save::save_scene;
@@ -617,11 +618,20 @@ impl AppState {
         let sun = Vec3::from(self.renderer.scene.render.sun_direction);
         self.arrows.prepare(gpu, &mesh, view.view_proj(aspect), sun);
         let (scene_color, scene_depth) = self.renderer.scene_views(color, depth);
-        self.arrows.encode(encoder, scene_color, scene_depth);
+        let arrows = &self.arrows;
+        self.renderer
+            .encode_timed(encoder, timing::OVERLAY, |e, q| {
+                arrows.encode(e, scene_color, scene_depth, q)
+            });
         self.renderer.resolve(encoder, color);
         if scaled {
-            self.upscale.encode(encoder, output);
+            let upscale = &self.upscale;
+            self.renderer
+                .encode_timed(encoder, timing::UPSCALE, |e, q| {
+                    upscale.encode(e, output, q)
+                });
         }
+        self.renderer.resolve_queries(encoder);
         self.frame += 1;
     }
 

@@ -137,6 +137,7 @@ pub(super) fn measure(
             tone_map: passes[timing::TONEMAP] / t,
             billboards: passes[timing::BILLBOARDS] / t,
             tiles: passes[timing::TILES] / t,
+            overlays: (passes[timing::OVERLAY] + passes[timing::UPSCALE]) / t,
         }
     });
     Ok(Measured {

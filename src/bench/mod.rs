@@ -349,6 +349,8 @@ pub struct GpuMs {
     pub tone_map: f64,
     pub billboards: f64,
     pub tiles: f64,
+    /// What is drawn over the scene (the wind overlay) and the window's upscale.
+    pub overlays: f64,
 }
 
 impl GpuMs {
@@ -362,6 +364,7 @@ impl GpuMs {
             + self.tone_map
             + self.billboards
             + self.tiles
+            + self.overlays
     }
 }
 

@@ -135,6 +135,7 @@ pub fn format_report(r: &BenchReport) -> String {
     row(&mut s, "  tone mapping", gpu(|g| g.tone_map));
     row(&mut s, "  billboards (cull)", gpu(|g| g.billboards));
     row(&mut s, "  tiles (generation)", gpu(|g| g.tiles));
+    row(&mut s, "  overlays and upscale", gpu(|g| g.overlays));
     row(&mut s, "  GPU frame (every timed pass)", gpu(|g| g.frame()));
     row(
         &mut s,

@@ -511,6 +511,7 @@ impl ArrowPass {
         encoder: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
+        q: crate::gpu::queries::PassQueries,
     ) {
         if self.index_count == 0 {
             return;
@@ -534,15 +535,17 @@ impl ArrowPass {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            timestamp_writes: q.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        q.begin(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, 0..1);
+        q.end(&mut pass);
     }
 }
 

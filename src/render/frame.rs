@@ -41,6 +41,7 @@ impl Renderer {
     ) {
         self.encode_scene(gpu, encoder, dt, camera, depth, size);
         self.resolve(encoder, color);
+        self.resolve_queries(encoder);
     }
 
     /// [`Renderer::encode_frame`] without the resolve: the 3D passes are left in

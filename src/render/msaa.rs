@@ -180,8 +180,9 @@ impl Renderer {
     }
 
     /// Ends the frame's drawing: resolves the multisampled scene into the scene target,
-    /// tone-maps that into `color` (`post::ToneMap`), draws the wind overlay over it in
-    /// display colours, and resolves the frame's timestamp queries.
+    /// tone-maps that into `color` (`post::ToneMap`) and draws the wind overlay over it in
+    /// display colours. The frame's queries are resolved after it by
+    /// [`Renderer::resolve_queries`], when the caller has added its own passes.
     pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
         if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
             m.resolve(encoder, scene);
@@ -190,14 +191,27 @@ impl Renderer {
             self.post.encode(e, self.light.group(), color, q)
         });
         if let Some(o) = &self.overlay {
-            o.encode(encoder, color);
+            timed(self.meters(), encoder, timing::OVERLAY, |e, q| {
+                o.encode(e, color, q)
+            });
         }
-        self.resolve_queries(encoder);
+    }
+
+    /// Records `f`, a pass the caller adds to the frame (the window's guide arrows and its
+    /// upscale), inside the GPU timer's scope and the work counter's row of pass `index`
+    /// of `timing::PASSES`, so the frame's sums see it. Before [`Renderer::resolve_queries`].
+    pub fn encode_timed(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        index: usize,
+        f: impl FnOnce(&mut wgpu::CommandEncoder, crate::gpu::queries::PassQueries),
+    ) {
+        timed(self.meters(), encoder, index, f);
     }
 
     /// Records the resolve of the frame's timestamp and work queries (the last thing a
     /// frame records before `finish`).
-    pub(super) fn resolve_queries(&mut self, encoder: &mut wgpu::CommandEncoder) {
+    pub fn resolve_queries(&mut self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(t) = &mut self.timer {
             t.resolve(encoder);
         }

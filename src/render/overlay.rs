@@ -221,7 +221,12 @@ impl OverlayPass {
     }
 
     /// Draws the overlay over `color` (loads, never clears).
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        q: crate::gpu::queries::PassQueries,
+    ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward.overlay"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -234,10 +239,11 @@ impl OverlayPass {
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: None,
+            timestamp_writes: q.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        q.begin(&mut pass);
         pass.set_bind_group(0, &self.group, &[]);
         pass.set_pipeline(&self.field);
         pass.set_vertex_buffer(0, self.terrain_vertices.slice(..));
@@ -249,5 +255,6 @@ impl OverlayPass {
             pass.set_pipeline(&self.guide);
             pass.draw(0..9, 0..self.arrow_count);
         }
+        q.end(&mut pass);
     }
 }

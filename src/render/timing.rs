@@ -14,9 +14,10 @@ use crate::gpu::Gpu;
 /// The passes that are timed, by scope name: the occluders' depth pass, the depth pyramid,
 /// the patch pass, the blade update, the blade cull and the draw; then, with grass
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
-/// tiles entering a streamed field, the billboards' cull, the sun's shadow maps and the
-/// tone mapping. A pass that did not run in a frame reads 0.
-pub const PASSES: [&str; 13] = [
+/// tiles entering a streamed field, the billboards' cull, the sun's shadow maps, the
+/// tone mapping, the overlays and the window's upscale. A pass that did not run in a frame
+/// reads 0.
+pub const PASSES: [&str; 15] = [
     "occluders",
     "pyramid",
     "patches",
@@ -30,6 +31,8 @@ pub const PASSES: [&str; 13] = [
     "billboards",
     "shadows",
     "tone map",
+    "overlay",
+    "upscale",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -47,6 +50,10 @@ pub const BILLBOARDS: usize = 10;
 pub const SHADOWS: usize = 11;
 /// Tone mapping the scene target into the output (`post::ToneMap`).
 pub const TONEMAP: usize = 12;
+/// What is drawn over the scene: the wind overlay, the window's guide arrows.
+pub const OVERLAY: usize = 13;
+/// The window's upscale of the 3D passes' scaled image to its size.
+pub const UPSCALE: usize = 14;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

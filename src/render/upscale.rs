@@ -177,7 +177,12 @@ impl Upscale {
 
     /// Stretches the scaled image over `output` (the window's view, or any view of the
     /// pass's format). Does nothing before the first [`Upscale::target`].
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, output: &wgpu::TextureView) {
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::TextureView,
+        q: crate::gpu::queries::PassQueries,
+    ) {
         let Some(t) = &self.target else {
             return;
         };
@@ -193,13 +198,15 @@ impl Upscale {
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: None,
+            timestamp_writes: q.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        q.begin(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &t.bind_group, &[]);
         pass.draw(0..3, 0..1);
+        q.end(&mut pass);
     }
 }
 

@@ -24,6 +24,8 @@ pub const WORK_ROWS: [&str; PASSES.len() + 3] = [
     "billboards",
     "shadows",
     "tone map",
+    "overlay",
+    "upscale",
     "wind",
     "lit grass",
     "coverage",
