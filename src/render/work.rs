@@ -10,26 +10,18 @@ use crate::gpu::queries::{Work, WorkFrame};
 /// of the draw pass, whose row is the ground, sky, objects and billboards), and the
 /// coverage pass that measures the pixels the grass covers (a measurement, not part of
 /// the frame: [`frame_work`] leaves it out).
-pub const WORK_ROWS: [&str; PASSES.len() + 3] = [
-    "occluders",
-    "pyramid",
-    "patches",
-    "update",
-    "cull",
-    "draw",
-    "late pyramid",
-    "late cull",
-    "late draw",
-    "tiles",
-    "billboards",
-    "shadows",
-    "tone map",
-    "overlay",
-    "upscale",
-    "wind",
-    "lit grass",
-    "coverage",
-];
+pub const WORK_ROWS: [&str; PASSES.len() + 3] = {
+    let mut rows = [""; PASSES.len() + 3];
+    let mut i = 0;
+    while i < PASSES.len() {
+        rows[i] = PASSES[i];
+        i += 1;
+    }
+    rows[WIND] = "wind";
+    rows[LIT_GRASS] = "lit grass";
+    rows[COVERAGE] = "coverage";
+    rows
+};
 pub const WIND: usize = PASSES.len();
 pub const LIT_GRASS: usize = PASSES.len() + 1;
 pub const COVERAGE: usize = PASSES.len() + 2;
