@@ -41,6 +41,26 @@
 
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
+// Specialisation (render/grass_spec.rs): the scene's switches, given as constants when the
+// pipelines are built, so that the paths a scene does not use are compiled away. A CPU
+// adapter (llvmpipe) does not jump over an `if`: it runs both sides for the whole SIMD
+// batch under a mask, so an unused blade model, blade shape, flower or debug view costs
+// every vertex as much as a used one. The defaults keep every path, chosen per blade by
+// the uniforms as before; a constant only ever removes a path its uniform would not take.
+const ANY: u32 = 0xffffffffu;
+// The blade model (MODEL_* of common.wgsl), or ANY: `params.model.x` decides.
+override BLADE_MODEL: u32 = 0xffffffffu;
+// The blade shape (SHAPE_*), or ANY: the blade's species or `frame.shape.x` decides.
+override BLADE_SHAPE: u32 = 0xffffffffu;
+// False: the field has one species (every blade's is species 0).
+override SPECIES: bool = true;
+// False: the field has no clumps (`traits.clumps.x` is 0).
+override CLUMPS: bool = true;
+// False: the field has no flowers (`traits.flowers.x` is 0).
+override FLOWERS: bool = true;
+// False: the natural colours only (`frame.debug.x` is 0).
+override DEBUG_VIEWS: bool = true;
+
 struct VertexOut {
     // Invariant: the coverage measurement (render/coverage.rs) draws the blades again and
     // needs the same depth to the bit.
@@ -116,19 +136,44 @@ struct BladePoint {
     n: vec3<f32>,
 }
 
+// What every point of one blade shares: computed once per vertex and passed to each
+// `blade_point` (a morphing vertex evaluates three), so that the frame's trigonometry, the
+// shape's species lookup and CWD-Sim's wind sample are not repeated per point.
+struct BladeCtx {
+    // The width direction and the front (`blade_frame`).
+    side: vec3<f32>,
+    front: vec3<f32>,
+    shape: u32,
+    // CWD-Sim's wind at the blade (zero for the other models).
+    cwd_wind: vec3<f32>,
+}
+
+fn blade_ctx(blade: Blade) -> BladeCtx {
+    let axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
+    var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0));
+    if blade_model() == MODEL_CWD {
+        ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);
+    }
+    return ctx;
+}
+
+// The blade model: the specialisation's, else the uniform's.
+fn blade_model() -> u32 {
+    return select(u32(params.model.x), BLADE_MODEL, BLADE_MODEL != ANY);
+}
+
 // The blade's centre line at v and its tangent, by the blade model: Jahrmann's quadratic
 // (Eq. 21, De Casteljau), the thesis's cubic (Eq. 5) once the blade has a Verlet state,
 // or CWD-Sim's bent straight blade (Eq. 11-13, from the wind of the blade's cell).
-fn centre_line(blade: Blade, index: u32, v: f32) -> CwdPoint {
+fn centre_line(blade: Blade, ctx: BladeCtx, index: u32, v: f32) -> CwdPoint {
     let v0 = blade.v0_dir.xyz;
     let v1 = blade.v1_height.xyz;
     let v2 = blade.v2_width.xyz;
-    let model = u32(params.model.x);
+    let model = blade_model();
     if model == MODEL_CWD {
         let up = blade.up_stiffness.xyz;
         let h = blade.v1_height.w;
-        let front = blade_frame(up, blade.v0_dir.w)[1];
-        return cwd_point(v0, up, front, h, cwd_wind(v0, h), v);
+        return cwd_point(v0, up, ctx.front, h, ctx.cwd_wind, v);
     }
     if model == MODEL_VERLET {
         let s = verlet[index];
@@ -147,18 +192,21 @@ fn centre_line(blade: Blade, index: u32, v: f32) -> CwdPoint {
 
 // The blade's shape: its species' when the field lists species, else the field's.
 fn blade_shape(blade: Blade) -> u32 {
+    if BLADE_SHAPE != ANY {
+        return BLADE_SHAPE;
+    }
     let s = traits.species[species_of(blade.v0_dir.x, blade.v0_dir.z)];
     return select(u32(frame.shape.x), u32(s.attrs.w), s.color.w > 0.5);
 }
 
 // The vertex at (u, v) of a blade: Eq. 21-24.
-fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
+fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32) -> BladePoint {
     let half_width = 0.5 * blade.v2_width.w;
     let up = blade.up_stiffness.xyz;
     // Eq. 21: the curve point c and the tangent t0.
-    let centre = centre_line(blade, index, v);
+    let centre = centre_line(blade, ctx, index, v);
     let c = centre.p;
-    let t1 = blade_frame(up, blade.v0_dir.w)[0];
+    let t1 = ctx.side;
     let c0 = c - half_width * t1;
     let c1 = c + half_width * t1;
     var t0 = centre.t;
@@ -169,7 +217,7 @@ fn blade_point(blade: Blade, index: u32, u: f32, v: f32) -> BladePoint {
     let n = normalize(cross(t0, t1));
 
     // The dandelion's teeth follow the full mesh's rows at every level.
-    var t = shape_t(blade_shape(blade), u, v, frame.shape.y, frame.shape.z);
+    var t = shape_t(ctx.shape, u, v, frame.shape.y, frame.shape.z);
     // Eq. 24: thin far blades become quads so their tips do not break into pixel noise.
     // The paper prints t(1 - Phi) + u Phi^2; we blend linearly, which meets the same two
     // limits (Phi = 0: the shape, Phi = 1: the quad) without the dip in between.
@@ -268,7 +316,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     // A flower (thesis §3.3): with 3 rows or more, the top two rows are its head, a card
     // facing up at the stem's tip, and the stem takes the rows below; coarser, the stem is
     // drawn with the head's colour at its top.
-    let flower = is_flower(v0.x, v0.z);
+    let flower = FLOWERS && is_flower(v0.x, v0.z);
     let head = flower && rows >= 3u;
     var card = vec3<f32>(0.0);
     if head {
@@ -276,13 +324,13 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     } else if flower {
         card.x = -1.0;
     }
-    var point = blade_point(blade, index, u, v);
+    let ctx = blade_ctx(blade);
+    var point = blade_point(blade, ctx, index, u, v);
     if head && row >= rows - 1u {
-        let frame_axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
         let a = (u - 0.5) * 2.0;
         let b = select(-1.0, 1.0, row == rows);
         let size = traits.flowers.w;
-        point.p = point.p + size * (frame_axes[0] * a + frame_axes[1] * b);
+        point.p = point.p + size * (ctx.side * a + ctx.front * b);
         point.n = blade.up_stiffness.xyz;
         card = vec3<f32>(1.0, a, b);
     }
@@ -298,8 +346,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
         let rem = num % rows;
         if rem != 0u {
             let f = f32(rem) / f32(rows);
-            let a = blade_point(blade, index, u, f32(below) / f32(coarse));
-            let b = blade_point(blade, index, u, f32(below + 1u) / f32(coarse));
+            let a = blade_point(blade, ctx, index, u, f32(below) / f32(coarse));
+            let b = blade_point(blade, ctx, index, u, f32(below + 1u) / f32(coarse));
             point.p = mix(point.p, mix(a.p, b.p, f), morph);
             point.n = normalize(mix(point.n, normalize(mix(a.n, b.n, f)), morph));
         }
@@ -311,7 +359,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     out.normal = point.n;
     out.uv = vec2<f32>(u, v);
     out.card = card;
-    out.side = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w)[0];
+    out.side = ctx.side;
     let rest_tip = states[index].rest_eta.xyz;
     out.gust = length(blade.v2_width.xyz - rest_tip) / max(blade.v1_height.w, 1e-4);
     if flower {
@@ -328,13 +376,16 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     let s = frame.self_shadow;
     out.shade = clamp(dot(point.p - v0, up) / h - bend * s.z + s.w, s.x, s.y);
     out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
-    out.species_color = traits.species[species_of(v0.x, v0.z)].color;
+    out.species_color = traits.species[0].color;
+    if SPECIES {
+        out.species_color = traits.species[species_of(v0.x, v0.z)].color;
+    }
     out.clump_light = 1.0;
-    if traits.clumps.x > 0.0 {
+    if CLUMPS && traits.clumps.x > 0.0 {
         out.clump_light = 1.0 + traits.clumps.w * (clump_of(v0.x, v0.z).tint - 0.5);
     }
     // Debug colours: the level of detail (with the morph towards the next), or the patch.
-    let mode = u32(frame.debug.x);
+    let mode = select(0u, u32(frame.debug.x), DEBUG_VIEWS);
     if mode == 1u {
         out.tint = vec4<f32>((f32(level) + morph) / 2.0, 0.0, 0.0, 1.0);
     } else if mode == 2u {
@@ -372,14 +423,14 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         flat_n = -flat_n;
     }
     let v = in.uv.y;
-    if in.tint.w > 0.5 {
+    if DEBUG_VIEWS && in.tint.w > 0.5 {
         // A debug colour is a display colour: alpha 0 keeps tone mapping off it.
         return vec4<f32>(debug_color(in.tint, flat_n, sun, v), 0.0);
     }
     let lit = in.sun_lit;
     // A flower head: petals around a centre, cut out of the card (a procedural texture:
     // the petal edge swings with the angle, petal_count lobes).
-    if in.card.x > 0.5 {
+    if FLOWERS && in.card.x > 0.5 {
         let r = length(in.card.yz);
         let theta = atan2(in.card.z, in.card.y);
         let edge = 0.45 + 0.55 * abs(cos(0.5 * in.petals.w * theta));
@@ -407,7 +458,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         albedo = in.species_color.rgb * mix(1.0, mix(0.8, 1.2, in.tint.y), variation);
     }
     albedo *= mix(1.0, in.clump_light, variation);
-    if in.card.x < -0.5 && v > 0.6 {
+    if FLOWERS && in.card.x < -0.5 && v > 0.6 {
         // A far flower: its head's colour at the top of the stem.
         albedo = in.petals.rgb;
     }

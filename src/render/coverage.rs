@@ -7,22 +7,25 @@
 //! bench counts separate frames from the ones it times.
 
 use super::draw::{DrawPass, DEPTH_FORMAT};
+use super::grass_spec::GrassSpec;
 use crate::gpu::queries::PassQueries;
 use crate::shaders;
 use crate::sim::layout::CullCounters;
 
 /// The coverage pipeline, made on the first counted frame and again when the sample
-/// count changes.
+/// count or the grass's specialisation changes (the blades must land on the lit draw's
+/// depth to the bit, so it is built with the same constants).
 #[derive(Default)]
 pub struct Coverage {
-    pipeline: Option<(u32, wgpu::RenderPipeline)>,
+    pipeline: Option<((u32, GrassSpec), wgpu::RenderPipeline)>,
 }
 
 impl Coverage {
     fn pipeline(&mut self, device: &wgpu::Device, draw: &DrawPass) -> &wgpu::RenderPipeline {
-        let samples = draw.samples();
-        if self.pipeline.as_ref().is_none_or(|(s, _)| *s != samples) {
-            self.pipeline = Some((samples, build(device, samples, draw.grass_layout())));
+        let key = (draw.samples(), draw.grass_spec());
+        if self.pipeline.as_ref().is_none_or(|(k, _)| *k != key) {
+            let pipeline = build(device, key, draw.grass_layout());
+            self.pipeline = Some((key, pipeline));
         }
         &self.pipeline.as_ref().expect("made above").1
     }
@@ -73,9 +76,10 @@ impl Coverage {
 /// The grass's vertex stage, depth tested `Equal` without writing, no fragment stage.
 fn build(
     device: &wgpu::Device,
-    samples: u32,
+    (samples, spec): (u32, GrassSpec),
     layout: &wgpu::BindGroupLayout,
 ) -> wgpu::RenderPipeline {
+    let constants = spec.constants();
     let module = shaders::module(device, "grass.wgsl");
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("sward.coverage.layout"),
@@ -88,7 +92,10 @@ fn build(
         vertex: wgpu::VertexState {
             module: &module,
             entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
             buffers: &[],
         },
         primitive: wgpu::PrimitiveState {

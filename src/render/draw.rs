@@ -9,11 +9,13 @@ use super::camera::CameraView;
 use super::grass_bind::{GrassBindings, ModelBuffers};
 use super::mesh::{sphere_mesh, LodMeshes};
 
+use super::grass_spec::GrassSpec;
+use super::pipelines::{GrassPipelines, Pipelines};
 use super::terrain::TerrainPass;
+use crate::field::clumps::FieldTraits;
 use crate::field::{DensityMap, HeightField};
 use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
-use crate::shaders;
 use crate::sim::layout::{FrameUniforms, LOD_LEVELS};
 use crate::sim::update::{uniform_entry, BladeBuffers};
 
@@ -62,6 +64,12 @@ pub struct DrawPass {
     spheres_layout: wgpu::BindGroupLayout,
     format: wgpu::TextureFormat,
     pipelines: Pipelines,
+    /// The field's species, clumps and flowers (the grass's uniform), for the grass
+    /// pipelines' specialisation.
+    traits: FieldTraits,
+    /// Keeps the grass pipelines general (every path, as without constants): the test
+    /// that specialising changes no pixel compares against this.
+    pub general_grass: bool,
     /// The clipmap terrain's buffers and bind group.
     terrain_pass: TerrainPass,
     sphere_mesh: Mesh,
@@ -93,330 +101,6 @@ pub(crate) fn read_storage(
     }
 }
 
-pub(super) struct PipelineSpec<'a> {
-    pub label: &'a str,
-    pub shader: &'a str,
-    /// The vertex entry point (the grass's lit passes shade the sun's shadow per vertex).
-    pub vertex: &'a str,
-    pub layout: &'a wgpu::BindGroupLayout,
-    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    pub depth_write: bool,
-    pub cull_back: bool,
-    pub lines: bool,
-    /// Without colour output (the occluder depth pass).
-    pub depth_only: bool,
-}
-
-pub(super) fn pipeline(
-    device: &wgpu::Device,
-    format: wgpu::TextureFormat,
-    samples: u32,
-    spec: PipelineSpec,
-) -> wgpu::RenderPipeline {
-    let module = shaders::module(device, spec.shader);
-    // Lit passes read the sun, the sky and the shadow map at group 1.
-    let light = super::light::layout(device);
-    let groups: &[Option<&wgpu::BindGroupLayout>] = if spec.depth_only {
-        &[Some(spec.layout)]
-    } else {
-        &[Some(spec.layout), Some(&light)]
-    };
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(&format!("{}.layout", spec.label)),
-        bind_group_layouts: groups,
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(spec.label),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some(spec.vertex),
-            compilation_options: Default::default(),
-            buffers: spec.buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::TriangleList,
-            front_face: wgpu::FrontFace::Ccw,
-            cull_mode: if spec.cull_back {
-                Some(wgpu::Face::Back)
-            } else {
-                None
-            },
-            polygon_mode: if spec.lines {
-                wgpu::PolygonMode::Line
-            } else {
-                wgpu::PolygonMode::Fill
-            },
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(spec.depth_write),
-            // LessEqual: the opaque objects pass again over their own depth from the
-            // occluder pass (their clip position is @invariant), and the sky (no depth
-            // writes) passes only where nothing was drawn: it sits at depth 1, the cleared
-            // value.
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        // Every pass of the frame's 3D targets has their sample count (`render.msaa`).
-        multisample: wgpu::MultisampleState {
-            count: samples,
-            ..Default::default()
-        },
-        fragment: (!spec.depth_only).then_some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-/// A shadow caster's pipeline: `entry` of `shader` into a single-sample depth map, both
-/// sides drawn, with a slope-scaled depth bias against acne on surfaces at grazing sun.
-pub(super) fn shadow_pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    (shader, entry): (&str, &str),
-    layout: &wgpu::BindGroupLayout,
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-) -> wgpu::RenderPipeline {
-    let module = shaders::module(device, shader);
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(&format!("{label}.layout")),
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::TriangleList,
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
-            stencil: Default::default(),
-            bias: wgpu::DepthBiasState {
-                constant: 2,
-                slope_scale: 1.5,
-                clamp: 0.0,
-            },
-        }),
-        multisample: Default::default(),
-        fragment: None,
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-/// The render pipelines of the draw pass, for one colour format and sample count.
-struct Pipelines {
-    samples: u32,
-    sky: wgpu::RenderPipeline,
-    terrain: wgpu::RenderPipeline,
-    spheres: wgpu::RenderPipeline,
-    /// Depth-only terrain and colliders (the occluder pass).
-    terrain_depth: wgpu::RenderPipeline,
-    spheres_depth: wgpu::RenderPipeline,
-    grass: wgpu::RenderPipeline,
-    /// The sun's shadow casters: terrain, colliders and the grass (coarsest level).
-    shadow_terrain: wgpu::RenderPipeline,
-    shadow_spheres: wgpu::RenderPipeline,
-    shadow_grass: wgpu::RenderPipeline,
-    /// The grass as lines, when the device has `POLYGON_MODE_LINE`.
-    grass_lines: Option<wgpu::RenderPipeline>,
-}
-
-impl Pipelines {
-    /// `layouts`: frame, terrain, spheres and grass bind group layouts.
-    fn new(
-        device: &wgpu::Device,
-        format: wgpu::TextureFormat,
-        samples: u32,
-        layouts: [&wgpu::BindGroupLayout; 4],
-    ) -> Self {
-        let [frame_layout, terrain_layout, spheres_layout, grass_layout] = layouts;
-        let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
-        let sphere_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &sphere_attrs,
-        })];
-        let sky = pipeline(
-            device,
-            format,
-            samples,
-            PipelineSpec {
-                label: "sward.draw.sky",
-                shader: "sky.wgsl",
-                vertex: "vs_main",
-                layout: frame_layout,
-                buffers: &[],
-                depth_write: false,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-        let terrain_pipeline = pipeline(
-            device,
-            format,
-            samples,
-            PipelineSpec {
-                label: "sward.draw.terrain",
-                shader: "terrain.wgsl",
-                vertex: "vs_main",
-                layout: terrain_layout,
-                buffers: &[],
-                depth_write: true,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-        let spheres = pipeline(
-            device,
-            format,
-            samples,
-            PipelineSpec {
-                label: "sward.draw.spheres",
-                shader: "spheres.wgsl",
-                vertex: "vs_main",
-                layout: spheres_layout,
-                buffers: &sphere_buffers,
-                depth_write: true,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-        let depth_only = |label, shader, layout, buffers| {
-            pipeline(
-                device,
-                format,
-                samples,
-                PipelineSpec {
-                    label,
-                    shader,
-                    vertex: "vs_main",
-                    layout,
-                    buffers,
-                    depth_write: true,
-                    cull_back: false,
-                    lines: false,
-                    depth_only: true,
-                },
-            )
-        };
-        let terrain_depth = depth_only(
-            "sward.draw.terrain_depth",
-            "terrain.wgsl",
-            terrain_layout,
-            &[],
-        );
-        let spheres_depth = depth_only(
-            "sward.draw.spheres_depth",
-            "spheres.wgsl",
-            spheres_layout,
-            &sphere_buffers,
-        );
-        // Blades have no back: both sides are drawn and lit (two-sided lighting).
-        let grass = pipeline(
-            device,
-            format,
-            samples,
-            PipelineSpec {
-                label: "sward.draw.grass",
-                shader: "grass.wgsl",
-                vertex: "vs_lit",
-                layout: grass_layout,
-                buffers: &[],
-                depth_write: true,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-            },
-        );
-
-        // Line rasterisation is an optional feature; without it the panel says so.
-        let grass_lines = device
-            .features()
-            .contains(wgpu::Features::POLYGON_MODE_LINE)
-            .then(|| {
-                pipeline(
-                    device,
-                    format,
-                    samples,
-                    PipelineSpec {
-                        label: "sward.draw.grass_lines",
-                        shader: "grass.wgsl",
-                        vertex: "vs_lit",
-                        layout: grass_layout,
-                        buffers: &[],
-                        depth_write: true,
-                        cull_back: false,
-                        lines: true,
-                        depth_only: false,
-                    },
-                )
-            });
-
-        let shadow_terrain = shadow_pipeline(
-            device,
-            "sward.light.shadow_terrain",
-            ("terrain.wgsl", "vs_shadow"),
-            terrain_layout,
-            &[],
-        );
-        let shadow_spheres = shadow_pipeline(
-            device,
-            "sward.light.shadow_spheres",
-            ("spheres.wgsl", "vs_main"),
-            spheres_layout,
-            &sphere_buffers,
-        );
-        let shadow_grass = shadow_pipeline(
-            device,
-            "sward.light.shadow_grass",
-            ("grass.wgsl", "vs_main"),
-            grass_layout,
-            &[],
-        );
-        Self {
-            samples,
-            sky,
-            terrain: terrain_pipeline,
-            spheres,
-            terrain_depth,
-            spheres_depth,
-            grass,
-            shadow_terrain,
-            shadow_spheres,
-            shadow_grass,
-            grass_lines,
-        }
-    }
-}
-
 impl DrawPass {
     /// `cull_params` is the cull pass's uniform buffer (the grass morph reads it);
     /// `multi_draw` draws all levels with one multi-draw-indirect (the device must have
@@ -436,8 +120,9 @@ impl DrawPass {
         format: wgpu::TextureFormat,
         samples: u32,
         model: ModelBuffers,
-        traits: &crate::field::clumps::FieldTraits,
+        scene: &crate::scene::Scene,
     ) -> Self {
+        let traits = FieldTraits::from_field(&scene.field);
         let device = &gpu.device;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let frame = device.create_buffer(&wgpu::BufferDescriptor {
@@ -495,7 +180,7 @@ impl DrawPass {
             cull_params,
             cull_output,
             levels,
-            traits,
+            &traits,
         );
         let grass_groups = grass.groups(device, model);
         let spheres_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -524,6 +209,7 @@ impl DrawPass {
                 &spheres_layout,
                 &grass.layout,
             ],
+            GrassSpec::of(scene, &traits),
         );
         let sphere = |rings, sectors, label: &str| {
             let (sv, si) = sphere_mesh(rings, sectors);
@@ -558,6 +244,8 @@ impl DrawPass {
             spheres_layout,
             format,
             pipelines,
+            traits,
+            general_grass: false,
             terrain_pass,
             sphere_mesh,
             occluder_sphere,
@@ -610,7 +298,35 @@ impl DrawPass {
                 &self.spheres_layout,
                 &self.grass.layout,
             ],
+            self.pipelines.grass.spec,
         );
+    }
+
+    /// The grass pipelines' specialisation now.
+    pub fn grass_spec(&self) -> GrassSpec {
+        self.pipelines.grass.spec
+    }
+
+    /// Rebuilds the grass pipelines when `scene`'s switches (model, shape, colour view)
+    /// no longer match their specialisation; true when it did. Only on a change: the
+    /// panel's edits, never per frame.
+    pub fn sync_grass_spec(&mut self, device: &wgpu::Device, scene: &crate::scene::Scene) -> bool {
+        let spec = if self.general_grass {
+            GrassSpec::GENERAL
+        } else {
+            GrassSpec::of(scene, &self.traits)
+        };
+        if spec == self.pipelines.grass.spec {
+            return false;
+        }
+        self.pipelines.grass = GrassPipelines::new(
+            device,
+            self.format,
+            self.pipelines.samples,
+            &self.grass.layout,
+            spec,
+        );
+        true
     }
 
     /// Binds the blade models' buffers anew (a new wind grid, the Verlet states allocated).
@@ -620,7 +336,7 @@ impl DrawPass {
 
     /// Whether the grass can be drawn as lines (the adapter supports line rasterisation).
     pub fn has_wireframe(&self) -> bool {
-        self.pipelines.grass_lines.is_some()
+        self.pipelines.grass.grass_lines.is_some()
     }
 
     /// The frame-uniform buffer (the overlay reads it too).
@@ -790,7 +506,7 @@ impl DrawPass {
 
     /// The grass's colour pipeline: filled, or as lines where asked and supported.
     fn grass_pipeline(&self, wireframe: bool) -> &wgpu::RenderPipeline {
-        let p = &self.pipelines;
+        let p = &self.pipelines.grass;
         match (&p.grass_lines, wireframe) {
             (Some(lines), true) => lines,
             _ => &p.grass,
@@ -818,7 +534,7 @@ impl DrawPass {
         pass.set_pipeline(&self.pipelines.shadow_terrain);
         self.draw_terrain(pass);
         if let Some((args, offset)) = grass_args {
-            self.draw_grass(pass, &self.pipelines.shadow_grass, args, offset);
+            self.draw_grass(pass, &self.pipelines.grass.shadow_grass, args, offset);
         }
     }
 

@@ -59,6 +59,7 @@ impl Renderer {
         size: (u32, u32),
     ) {
         self.sync_msaa(gpu);
+        self.draw.sync_grass_spec(&gpu.device, &self.scene);
         if self.samples > 1 {
             let fits = self.msaa.as_ref().is_some_and(|m| m.size == size);
             if !fits {

@@ -14,6 +14,7 @@ pub mod cull;
 pub mod draw;
 mod frame;
 pub mod grass_bind;
+pub mod grass_spec;
 pub mod hiz;
 mod levels;
 pub mod light;
@@ -21,6 +22,7 @@ pub mod mesh;
 pub mod msaa;
 pub mod objects;
 pub mod overlay;
+mod pipelines;
 pub mod post;
 pub mod target;
 pub mod terrain;
@@ -293,7 +295,7 @@ impl Renderer {
                 wind_grid: grid,
                 verlet: &buffers.verlet,
             },
-            &crate::field::clumps::FieldTraits::from_field(&scene.field),
+            &scene,
         );
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(
@@ -674,6 +676,18 @@ impl Renderer {
             blades,
             blades + fluid + pyramid + msaa + self.post.gpu_bytes() + self.draw.gpu_bytes(),
         )
+    }
+
+    /// Specialises the grass pipelines for the scene (the default) or keeps them general,
+    /// every blade model, shape, flower and debug path compiled in and chosen by the
+    /// uniforms (`render::grass_spec`); the pictures are the same, the general one slower.
+    pub fn specialise_grass(&mut self, on: bool) {
+        self.draw.general_grass = !on;
+    }
+
+    /// The grass pipelines' specialisation in use.
+    pub fn grass_spec(&self) -> grass_spec::GrassSpec {
+        self.draw.grass_spec()
     }
 
     /// Whether the grass can be drawn as lines on this adapter.

@@ -6,7 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::draw::{pipeline, PipelineSpec};
+use super::pipelines::{pipeline, PipelineSpec};
 use crate::mesh::Mesh;
 use crate::scene::MeshObject;
 use crate::sim::update::uniform_entry;
@@ -134,12 +134,13 @@ impl ObjectsPass {
             .collect();
         let (colour, depth) = Self::pipelines(device, &layout, format, samples);
         let buffers = vertex_layout();
-        let shadow = super::draw::shadow_pipeline(
+        let shadow = super::pipelines::shadow_pipeline(
             device,
             "sward.objects.shadow",
             ("mesh.wgsl", "vs_main"),
             &layout,
             &buffers,
+            &[],
         );
         Self {
             objects: gpu_objects,
@@ -170,6 +171,7 @@ impl ObjectsPass {
             cull_back: false,
             lines: false,
             depth_only,
+            constants: &[],
         };
         (
             pipeline(device, format, samples, spec("sward.objects.colour", false)),

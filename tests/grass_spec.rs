@@ -1,0 +1,119 @@
+//! The grass pipelines' specialisation (issue 26: the frame on a budget) draws the same
+//! picture as the general pipelines: the scene's blade model, shape, species, clumps,
+//! flowers and colour view folded into constants remove only paths the uniforms would not
+//! take. Each case renders a few frames both ways from the same start and compares every
+//! byte, in scenes that use each switch: species of three shapes in clumps, flowers, the
+//! CWD-Sim and Verlet models, the trail and level views.
+
+mod common;
+
+use std::path::Path;
+
+use sward::render::camera::CameraView;
+use sward::render::grass_spec::GrassSpec;
+use sward::render::target::{Target, COLOR_FORMAT};
+use sward::render::Renderer;
+use sward::scene::{BladeModel, ColorMode, Scene};
+use sward::session::Session;
+
+const SIZE: (u32, u32) = (160, 96);
+const FRAMES: usize = 3;
+
+fn shipped(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(name);
+    let mut s = sward::scene::load_scene(&path).expect("shipped scene");
+    // A small square of the same field: the switches are the field's, not its size.
+    s.terrain.size = 6.0;
+    s.render.msaa = 1;
+    s
+}
+
+/// The last of `FRAMES` frames, and the specialisation it was drawn with.
+fn render(scene: &Scene, specialise: bool) -> (image::RgbaImage, GrassSpec) {
+    let gpu = common::gpu();
+    let session = Session::new(scene.clone(), None, Some(&gpu)).expect("session");
+    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    r.specialise_grass(specialise);
+    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+    let camera = CameraView::from_scene(&session.scene.camera);
+    for _ in 0..FRAMES {
+        r.frame(
+            &gpu,
+            1.0 / 30.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            SIZE,
+        );
+    }
+    gpu.check_errors().expect("no GPU error");
+    (target.read_image(&gpu).expect("image"), r.grass_spec())
+}
+
+fn same_picture(name: &str, scene: Scene) -> GrassSpec {
+    let (general, general_spec) = render(&scene, false);
+    let (special, spec) = render(&scene, true);
+    assert_eq!(general_spec, GrassSpec::GENERAL, "{name}");
+    assert_ne!(spec, GrassSpec::GENERAL, "{name}: nothing was specialised");
+    let differing = general
+        .pixels()
+        .zip(special.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    if let Ok(dir) = std::env::var("GRASS_SPEC_PNG_DIR") {
+        let path = Path::new(&dir).join(format!("{name}.png"));
+        sward::output::save_png(&path, &special).expect("png");
+    }
+    // Grass (or a debug view's colours) fills a good part of the view: pixels whose green
+    // or red channel leads blue, which the sky never does.
+    let grass = general
+        .pixels()
+        .filter(|p| p[1].max(p[0]) > p[2].saturating_add(8))
+        .count();
+    println!("{name}: {spec:?}, {differing} pixels differ, {grass} grass pixels");
+    assert!(
+        grass > (SIZE.0 * SIZE.1 / 4) as usize,
+        "{name}: the grass shows"
+    );
+    assert_eq!(differing, 0, "{name}: specialising changed the picture");
+    spec
+}
+
+#[test]
+fn species_in_clumps_draw_the_same() {
+    let spec = same_picture("mixed meadow", shipped("mixed_meadow.ron"));
+    assert!(spec.species && spec.clumps);
+    assert_eq!(spec.shape, None, "three species of three shapes");
+}
+
+#[test]
+fn flowers_draw_the_same() {
+    let spec = same_picture("flower meadow", shipped("flower_meadow.ron"));
+    assert!(spec.flowers);
+}
+
+#[test]
+fn cwd_blades_in_the_trail_view_draw_the_same() {
+    let mut scene = shipped("mixed_meadow.ron");
+    scene.physics.model = BladeModel::Cwd;
+    scene.render.color_mode = ColorMode::Trail;
+    let spec = same_picture("cwd, trail view", scene);
+    assert_eq!(spec.model, Some(BladeModel::Cwd.id()));
+    assert!(spec.debug_views);
+}
+
+#[test]
+fn verlet_blades_in_the_level_view_draw_the_same() {
+    let mut scene = shipped("meadow.ron");
+    scene.physics.model = BladeModel::Verlet;
+    scene.render.color_mode = ColorMode::Lod;
+    let spec = same_picture("verlet, level view", scene);
+    assert_eq!(spec.model, Some(BladeModel::Verlet.id()));
+    assert_eq!(spec.shape, Some(scene_shape("meadow.ron")));
+}
+
+fn scene_shape(name: &str) -> u32 {
+    shipped(name).field.shape.id()
+}
