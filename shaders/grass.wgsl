@@ -68,12 +68,15 @@ struct VertexOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    // A debug view's colour (w > 0.5; only read with DEBUG_VIEWS).
     @location(3) @interpolate(flat) tint: vec4<f32>,
     // CWD-Sim's Eq. 14 brightness of this vertex (used when frame.debug.y = 1).
     @location(4) shade: f32,
-    // The species' colour (w = 1; w = 0: sward's own palette) and the clump's brightness.
-    @location(5) @interpolate(flat) species_color: vec4<f32>,
-    @location(6) @interpolate(flat) clump_light: f32,
+    // The blade's albedo at its root and at its tip (rgb; `blade_albedo`): the colour
+    // between them is linear in v, so the fragment interpolates instead of recomputing the
+    // species, clump, variation and wave colour of its blade. tip.w: the wave (far flowers).
+    @location(5) @interpolate(flat) root: vec4<f32>,
+    @location(6) @interpolate(flat) tip: vec4<f32>,
     // Flower heads: x 1 on the head's card (interpolated: the wedge between the stem and the
     // card reads below 0.5), -1 for a far flower drawn as a coloured stem; y, z: the card's
     // coordinates in [-1, 1].
@@ -84,9 +87,13 @@ struct VertexOut {
     // The blade's width direction: the fragment bends the normal along it across the
     // blade (the rounded normal).
     @location(10) side: vec3<f32>,
-    // How far the blade is bent from its rest pose, in blade heights: the wind's gusts
-    // as they run over the field (the shading waves).
-    @location(11) @interpolate(flat) gust: f32,
+    // The sky's radiance along the view ray to the blade's root, the colour the fog turns
+    // the blade into (`fog_towards`). Once per blade, not per fragment: where the fog is
+    // strong the blade is far and spans a sliver of sky, and near the camera, where the
+    // sky below the horizon changes fast along a blade, the fog is weak. The same for
+    // every vertex of the blade, so a morphing blade's extra vertices match the coarser
+    // level's exactly.
+    @location(11) @interpolate(flat) sky: vec3<f32>,
     // The sun's visibility through the shadow cascades, looked up per vertex by the lit
     // passes (`vs_lit`): a blade is narrower than a shadow texel, so its vertices along the
     // blade carry the shadow's shape, and the lookup (a 3x3 filtered comparison) runs once
@@ -250,20 +257,44 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
 // The depth-only passes (shadow casters, the coverage measurement): no light bound.
 @vertex
 fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
-    var out = blade_vertex(batch_vid, inst);
+    var out = blade_vertex(batch_vid, inst).out;
     out.sun_lit = 1.0;
     return out;
 }
 
-// The lit passes: the blade's vertex and the sun's visibility at it.
+// The lit passes: the blade's vertex, its colours, the sun's visibility at it and the sky
+// behind it.
 @vertex
 fn vs_lit(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
-    var out = blade_vertex(batch_vid, inst);
+    let b = blade_vertex(batch_vid, inst);
+    var out = b.out;
+    let base = blade_base_albedo(b.tint, b.species_color, b.clump_light);
+    // Shading waves: a blade the gusts bend away from its rest shows its paler, glossier
+    // side, so the gusts read as bright bands running over the field.
+    let wave = clamp(b.gust * 1.5, 0.0, 1.0) * light.shading_b.y;
+    out.root = vec4<f32>(blade_albedo(base, 0.0, wave), 0.0);
+    out.tip = vec4<f32>(blade_albedo(base, 1.0, wave), wave);
     out.sun_lit = sun_visibility(out.world);
+    out.sky = sky_radiance(normalize(b.root - frame.camera_pos.xyz));
     return out;
 }
 
-fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
+// A blade's vertex and what its colours are made of (the lit passes make them).
+struct BladeVertex {
+    out: VertexOut,
+    // The blade's random draws, its species' colour (w = 1; w = 0: sward's own palette),
+    // its clump's brightness, and how far it is bent from its rest pose in blade heights
+    // (the wind's gusts as they run over the field).
+    tint: vec3<f32>,
+    species_color: vec4<f32>,
+    clump_light: f32,
+    gust: f32,
+    // Where the blade is rooted.
+    root: vec3<f32>,
+}
+
+fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
+    var b: BladeVertex;
     // The slot in the visible list: the instance's batch, the blade in the batch.
     var level = draw_level.x;
     // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade with
@@ -300,7 +331,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     if rel >= early && (rel < late_from || rel >= late_from + drawn.late[level]) {
         var none: VertexOut;
         none.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
-        return none;
+        b.out = none;
+        return b;
     }
     let index = visible[slot];
     let blade = blades[index];
@@ -308,7 +340,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     if shadow_pass && distance(v0, frame.camera_pos.xyz) > frame.debug.z {
         var none: VertexOut;
         none.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
-        return none;
+        b.out = none;
+        return b;
     }
     let row = vid / 3u;
     let u = f32(vid % 3u) * 0.5;
@@ -361,7 +394,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     out.card = card;
     out.side = ctx.side;
     let rest_tip = states[index].rest_eta.xyz;
-    out.gust = length(blade.v2_width.xyz - rest_tip) / max(blade.v1_height.w, 1e-4);
+    b.gust = length(blade.v2_width.xyz - rest_tip) / max(blade.v1_height.w, 1e-4);
+    b.root = v0;
     if flower {
         let k = flower_kind(v0.x, v0.z);
         out.petals = traits.flower_kinds[2u * k];
@@ -375,15 +409,16 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
     let bend = clamp(1.0 - dot(blade.v2_width.xyz - v0, up) / h, 0.0, 1.0);
     let s = frame.self_shadow;
     out.shade = clamp(dot(point.p - v0, up) / h - bend * s.z + s.w, s.x, s.y);
-    out.tint = vec4<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u), 0.0);
-    out.species_color = traits.species[0].color;
+    b.tint = vec3<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u));
+    b.species_color = traits.species[0].color;
     if SPECIES {
-        out.species_color = traits.species[species_of(v0.x, v0.z)].color;
+        b.species_color = traits.species[species_of(v0.x, v0.z)].color;
     }
-    out.clump_light = 1.0;
+    b.clump_light = 1.0;
     if CLUMPS && traits.clumps.x > 0.0 {
-        out.clump_light = 1.0 + traits.clumps.w * (clump_of(v0.x, v0.z).tint - 0.5);
+        b.clump_light = 1.0 + traits.clumps.w * (clump_of(v0.x, v0.z).tint - 0.5);
     }
+    out.tint = vec4<f32>(b.tint, 0.0);
     // Debug colours: the level of detail (with the morph towards the next), or the patch.
     let mode = select(0u, u32(frame.debug.x), DEBUG_VIEWS);
     if mode == 1u {
@@ -395,7 +430,32 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> VertexOut {
         // The trail view: η through the same green-to-red ramp as the levels.
         out.tint = vec4<f32>(clamp(states[index].rest_eta.w, 0.0, 1.0), 0.0, 0.0, 1.0);
     }
-    return out;
+    b.out = out;
+    return b;
+}
+
+// A blade's colour before the light: between fresh, deep and dry-ish green by its random
+// draws `tint` (or its species' colour a little lighter or darker) and its clump's
+// brightness; at variation strength 0 every blade has the mean colour.
+fn blade_base_albedo(tint: vec3<f32>, species_color: vec4<f32>, clump_light: f32) -> vec3<f32> {
+    let variation = light.shading_b.x;
+    let fresh = vec3<f32>(0.10, 0.34, 0.05);
+    let dry = vec3<f32>(0.32, 0.40, 0.09);
+    let deep = vec3<f32>(0.05, 0.22, 0.04);
+    let own = mix(mix(fresh, deep, tint.y * 0.7), dry, tint.x * tint.x * 0.8);
+    let mean = mix(mix(fresh, deep, 0.35), dry, 0.27);
+    var albedo = mix(mean, own, variation);
+    if species_color.w > 0.5 {
+        albedo = species_color.rgb * mix(1.0, mix(0.8, 1.2, tint.y), variation);
+    }
+    return albedo * mix(1.0, clump_light, variation);
+}
+
+// The albedo at v along a blade of base colour `base`: lighter towards the tip, where the
+// blade is young and thin, and paler by the shading wave `wave`. Linear in v.
+fn blade_albedo(base: vec3<f32>, v: f32, wave: f32) -> vec3<f32> {
+    let a = mix(base * 0.55, base * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
+    return mix(a, a * 1.7 + vec3<f32>(0.04, 0.05, 0.02), wave * 0.6);
 }
 
 // The flat, lightly shaded colour of the debugging views: a green-to-red ramp over the
@@ -439,35 +499,16 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         }
         let c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
         let head_light = light.ambient.rgb * 0.9 + light.sun.rgb * (abs(dot(flat_n, sun)) * 0.9 * lit);
-        return vec4<f32>(fog(c * head_light, in.world), 1.0);
+        return vec4<f32>(fog_towards(c * head_light, in.world, in.sky), 1.0);
     }
     // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
     // both edges, so that a flat blade reads as curved.
     let n = normalize(flat_n + in.side * (in.uv.x - 0.5) * 1.2 * terms_a.x);
-    // Colour variation: each blade between fresh, deep and dry-ish green (or its species'
-    // colour a little lighter or darker) and each clump its own brightness; at strength 0
-    // every blade has the mean colour.
-    let variation = terms_b.x;
-    let fresh = vec3<f32>(0.10, 0.34, 0.05);
-    let dry = vec3<f32>(0.32, 0.40, 0.09);
-    let deep = vec3<f32>(0.05, 0.22, 0.04);
-    let own = mix(mix(fresh, deep, in.tint.y * 0.7), dry, in.tint.x * in.tint.x * 0.8);
-    let mean = mix(mix(fresh, deep, 0.35), dry, 0.27);
-    var albedo = mix(mean, own, variation);
-    if in.species_color.w > 0.5 {
-        albedo = in.species_color.rgb * mix(1.0, mix(0.8, 1.2, in.tint.y), variation);
-    }
-    albedo *= mix(1.0, in.clump_light, variation);
+    var albedo = mix(in.root.rgb, in.tip.rgb, v);
     if FLOWERS && in.card.x < -0.5 && v > 0.6 {
         // A far flower: its head's colour at the top of the stem.
-        albedo = in.petals.rgb;
+        albedo = blade_albedo(in.petals.rgb, v, in.tip.w);
     }
-    // Lighter towards the tip, where the blade is young and thin.
-    albedo = mix(albedo * 0.55, albedo * 1.25 + vec3<f32>(0.03, 0.04, 0.0), v);
-    // Shading waves: a blade the gusts bend away from its rest shows its paler, glossier
-    // side, so the gusts read as bright bands running over the field.
-    let wave = clamp(in.gust * 1.5, 0.0, 1.0) * terms_b.y;
-    albedo = mix(albedo, albedo * 1.7 + vec3<f32>(0.04, 0.05, 0.02), wave * 0.6);
     // Ambient occlusion: light through the canopy falls off with the leaf area above the
     // point (Beer-Lambert, terms_b.z m² of leaf per m² of ground), so the root is dark and
     // a dense field darker. CWD-Sim's Eq. 14 replaces it where chosen; `Off` drops it.
@@ -490,6 +531,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var color = albedo * (light.ambient.rgb * 0.9 * ao + sun_rgb * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
         + albedo * vec3<f32>(1.0, 1.1, 0.4) * sun_rgb * trans * 1.4 * ao
         + sun_rgb * spec;
-    color = fog(color, in.world);
+    color = fog_towards(color, in.world, in.sky);
     return vec4<f32>(color, 1.0);
 }

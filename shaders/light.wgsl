@@ -111,9 +111,14 @@ fn sky_with_sun(dir: vec3<f32>) -> vec3<f32> {
 // (extinction and in-scattering along the view ray: e^(-d / fog distance)).
 fn fog(color: vec3<f32>, world: vec3<f32>) -> vec3<f32> {
     let to_p = world - frame.camera_pos.xyz;
-    let dist = length(to_p);
+    return fog_towards(color, world, sky_radiance(to_p / max(length(to_p), 1e-4)));
+}
+
+// `fog` with the sky's radiance behind the point given (a pass that looks it up per vertex).
+fn fog_towards(color: vec3<f32>, world: vec3<f32>, sky: vec3<f32>) -> vec3<f32> {
+    let dist = distance(world, frame.camera_pos.xyz);
     let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));
-    return mix(color, sky_radiance(to_p / max(dist, 1e-4)), clamp(f, 0.0, 1.0));
+    return mix(color, sky, clamp(f, 0.0, 1.0));
 }
 
 // Stephen Hill's fit of the ACES RRT + ODT (sRGB input -> AP1 with the RRT's saturation,
