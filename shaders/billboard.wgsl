@@ -20,12 +20,16 @@
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) layer: u32,
     @location(3) @interpolate(flat) fade: f32,
-    // The ground's normal under the card: the card takes the sun as the far ground there.
-    @location(4) @interpolate(flat) ground_n: vec3<f32>,
+    // The light on the card (rgb) and the fog over it: the sky's radiance behind it
+    // (rgb) and the fog's share (w). Once per card, not per fragment: a card is a sliver of
+    // the view far from the camera, where the sun's shadow and the fog do not change
+    // across it, and a CPU adapter (llvmpipe) runs the shadow lookup and the Perez sky
+    // for every fragment of every card whether it would return early or not.
+    @location(4) @interpolate(flat) light_rgb: vec3<f32>,
+    @location(5) @interpolate(flat) fog_sky: vec4<f32>,
 }
 
 @vertex
@@ -50,12 +54,26 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
         p += c.top_scale.xyz;
     }
     out.clip = frame.view_proj * vec4<f32>(p, 1.0);
-    out.world = p;
     out.uv = vec2<f32>(select(1.0 - u, u, c.info.z == 1u), 1.0 - v);
     out.layer = c.info.y;
     out.fade = c.pos_fade.w;
     let g = terrain_height(pos.xz);
-    out.ground_n = normalize(vec3<f32>(-g.y, 1.0, -g.z));
+    let ground_n = normalize(vec3<f32>(-g.y, 1.0, -g.z));
+    // The far ground's grass lighting (terrain.wgsl) with the ground's own normal, so
+    // cards and the ground between them read as one on every slope (with the sun's height
+    // alone, cards on slopes turned from a low sun stood out in bright rows over darker
+    // ground). The shadows of what stands between the card and the sun fall on it too,
+    // looked up at the card's middle.
+    let sun = frame.sun_dir.xyz;
+    let middle = pos + vec3<f32>(0.0, 0.5 * h, 0.0) + 0.5 * c.top_scale.xyz;
+    let lit = sun_visibility(middle);
+    let diffuse = max(dot(ground_n, sun), 0.0);
+    out.light_rgb = light.ambient.rgb * 0.9 * 0.85
+        + light.sun.rgb * lit * light.shading_b.w * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0)));
+    let to_p = middle - frame.camera_pos.xyz;
+    let dist = length(to_p);
+    let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));
+    out.fog_sky = vec4<f32>(sky_radiance(to_p / max(dist, 1e-4)), clamp(f, 0.0, 1.0));
     return out;
 }
 
@@ -76,15 +94,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if tex.a < 0.5 || in.fade < bayer(in.clip.xy) {
         discard;
     }
-    let sun = frame.sun_dir.xyz;
-    // The far ground's grass lighting (terrain.wgsl) with the ground's own normal, so
-    // cards and the ground between them read as one on every slope (with the sun's height
-    // alone, cards on slopes turned from a low sun stood out in bright rows over darker
-    // ground). The shadows of what stands between the card and the sun fall on it too.
-    let lit = sun_visibility(in.world);
-    let diffuse = max(dot(in.ground_n, sun), 0.0);
-    var color = tex.rgb
-        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * lit * light.shading_b.w * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
-    color = fog(color, in.world);
+    let color = mix(tex.rgb * in.light_rgb, in.fog_sky.rgb, in.fog_sky.w);
     return vec4<f32>(color, tex.a);
 }
