@@ -6,10 +6,10 @@
 //! occlusion query. It writes nothing and runs only in frames the counter counts; the
 //! bench counts separate frames from the ones it times.
 
-use super::draw::{DrawPass, DEPTH_FORMAT};
+use super::draw::DrawPass;
 use super::grass_spec::GrassSpec;
+use super::pipelines::{depth_only_pipeline, DepthOnly};
 use crate::gpu::queries::PassQueries;
-use crate::shaders;
 use crate::sim::layout::CullCounters;
 
 /// The coverage pipeline, made on the first counted frame and again when the sample
@@ -79,43 +79,20 @@ fn build(
     (samples, spec): (u32, GrassSpec),
     layout: &wgpu::BindGroupLayout,
 ) -> wgpu::RenderPipeline {
-    let constants = spec.constants();
-    let module = shaders::module(device, "grass.wgsl");
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("sward.coverage.layout"),
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("sward.coverage"),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_main"),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
-            },
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::TriangleList,
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Equal),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: wgpu::MultisampleState {
-            count: samples,
-            ..Default::default()
-        },
-        fragment: None,
-        multiview_mask: None,
-        cache: None,
-    })
+    let depth = DepthOnly {
+        compare: wgpu::CompareFunction::Equal,
+        write: false,
+        bias: Default::default(),
+        samples,
+    };
+    let stage = ("grass.wgsl", "vs_main");
+    depth_only_pipeline(
+        device,
+        "sward.coverage",
+        stage,
+        layout,
+        &[],
+        &spec.constants(),
+        depth,
+    )
 }

@@ -103,15 +103,24 @@ pub(crate) fn pipeline(
     })
 }
 
-/// A shadow caster's pipeline: `entry` of `shader` into a single-sample depth map, both
-/// sides drawn, with a slope-scaled depth bias against acne on surfaces at grazing sun.
-pub(crate) fn shadow_pipeline(
+/// How a depth-only pipeline tests and writes depth (`depth_only_pipeline`).
+pub(crate) struct DepthOnly {
+    pub compare: wgpu::CompareFunction,
+    pub write: bool,
+    pub bias: wgpu::DepthBiasState,
+    pub samples: u32,
+}
+
+/// A vertex stage without a fragment stage, both sides drawn, into a depth target: the
+/// shadow casters and the grass's coverage measurement.
+pub(crate) fn depth_only_pipeline(
     device: &wgpu::Device,
     label: &str,
     (shader, entry): (&str, &str),
     layout: &wgpu::BindGroupLayout,
     buffers: &[Option<wgpu::VertexBufferLayout>],
     constants: &[(&str, f64)],
+    depth: DepthOnly,
 ) -> wgpu::RenderPipeline {
     let module = shaders::module(device, shader);
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -138,20 +147,42 @@ pub(crate) fn shadow_pipeline(
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            depth_write_enabled: Some(depth.write),
+            depth_compare: Some(depth.compare),
             stencil: Default::default(),
-            bias: wgpu::DepthBiasState {
-                constant: 2,
-                slope_scale: 1.5,
-                clamp: 0.0,
-            },
+            bias: depth.bias,
         }),
-        multisample: Default::default(),
+        multisample: wgpu::MultisampleState {
+            count: depth.samples,
+            ..Default::default()
+        },
         fragment: None,
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// A shadow caster's pipeline: `entry` of `shader` into a single-sample depth map, both
+/// sides drawn, with a slope-scaled depth bias against acne on surfaces at grazing sun.
+pub(crate) fn shadow_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    stage: (&str, &str),
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    let depth = DepthOnly {
+        compare: wgpu::CompareFunction::LessEqual,
+        write: true,
+        bias: wgpu::DepthBiasState {
+            constant: 2,
+            slope_scale: 1.5,
+            clamp: 0.0,
+        },
+        samples: 1,
+    };
+    depth_only_pipeline(device, label, stage, layout, buffers, constants, depth)
 }
 
 /// The render pipelines of the draw pass, for one colour format and sample count.
