@@ -9,12 +9,8 @@ mod common;
 
 use std::path::Path;
 
-use sward::render::camera::CameraView;
 use sward::render::grass_spec::GrassSpec;
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
 use sward::scene::{BladeModel, ColorMode, Scene};
-use sward::session::Session;
 
 const SIZE: (u32, u32) = (160, 96);
 const FRAMES: usize = 3;
@@ -32,24 +28,10 @@ fn shipped(name: &str) -> Scene {
 
 /// The last of `FRAMES` frames, and the specialisation it was drawn with.
 fn render(scene: &Scene, specialise: bool) -> (image::RgbaImage, GrassSpec) {
-    let gpu = common::gpu();
-    let session = Session::new(scene.clone(), None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
-    r.specialise_grass(specialise);
-    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
-    let camera = CameraView::from_scene(&session.scene.camera);
-    for _ in 0..FRAMES {
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
-    }
-    gpu.check_errors().expect("no GPU error");
-    (target.read_image(&gpu).expect("image"), r.grass_spec())
+    let (image, r) = common::render_frames(scene.clone(), SIZE, FRAMES, |r| {
+        r.specialise_grass(specialise)
+    });
+    (image, r.grass_spec())
 }
 
 fn same_picture(name: &str, scene: Scene) -> GrassSpec {

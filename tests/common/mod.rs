@@ -31,21 +31,36 @@ pub fn stepped(gpu: &Gpu, session: &Session, steps: u32, dt: f32) -> Renderer {
 /// One frame of `scene` (a whole-field session, one step of 1/30 s) from its camera, at
 /// `size`, read back.
 pub fn render_frame(scene: Scene, size: (u32, u32)) -> image::RgbaImage {
+    render_frames(scene, size, 1, |_| {}).0
+}
+
+/// `frames` frames of `scene` (a whole-field session, steps of 1/30 s) from its camera, at
+/// `size`, by a renderer `setup` has configured first: the last frame read back, and the
+/// renderer.
+pub fn render_frames(
+    scene: Scene,
+    size: (u32, u32),
+    frames: usize,
+    setup: impl FnOnce(&mut Renderer),
+) -> (image::RgbaImage, Renderer) {
     let gpu = gpu();
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
     let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    setup(&mut r);
     let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
     let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");
-    r.frame(
-        &gpu,
-        1.0 / 30.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        size,
-    );
+    for _ in 0..frames {
+        r.frame(
+            &gpu,
+            1.0 / 30.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+    }
     gpu.check_errors().expect("no GPU error");
-    target.read_image(&gpu).expect("image")
+    (target.read_image(&gpu).expect("image"), r)
 }
 
 /// A scene with no forces at all: no gravity, no wind, no colliders.
