@@ -207,7 +207,7 @@ fn blade_shape(blade: Blade) -> u32 {
 }
 
 // The vertex at (u, v) of a blade: Eq. 21-24.
-fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32) -> BladePoint {
+fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f32) -> BladePoint {
     let half_width = 0.5 * blade.v2_width.w;
     let up = blade.up_stiffness.xyz;
     // Eq. 21: the curve point c and the tangent t0.
@@ -237,11 +237,22 @@ fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32) -> Blade
     // Eq. 23, d = w n (0.5 - |u - 0.5| (1 - v)): the middle axis moves along the normal
     // by half the width at the root, a "v" cross-section with a right angle (the unfolded
     // width grows by √2) that flattens towards the tip.
+    // `fold` 1 flattens the fold: the middle axis lies between the edges, as on the
+    // coarser levels' two-column meshes (`lod_columns`); the edges do not move.
     if frame.shape.w > 0.5 {
-        p += blade.v2_width.w * n * (0.5 - abs(u - 0.5) * (1.0 - v));
+        p += blade.v2_width.w * n * (0.5 - mix(abs(u - 0.5), 0.5, fold) * (1.0 - v));
     }
     // The flat blade's normal: the fragment rounds it across the width.
     return BladePoint(p, n);
+}
+
+// Columns of the blade mesh at `level` (twin of `mesh::LOD_COLUMNS`): the finest level
+// keeps the middle axis that the 3D displacement folds the blade along (Eq. 23); the
+// coarser levels, a few pixels wide, are flat, with two columns and half the triangles
+// (every blade shape is linear across the width, so the middle vertex lies between the
+// edges anyway: only the fold is lost).
+fn lod_columns(level: u32) -> u32 {
+    return select(2u, 3u, level == 0u);
 }
 
 // How far a blade drawn at `level` has morphed towards level + 1: 0 above the morph band,
@@ -301,6 +312,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     // the coarsest level's mesh, out to the radius.
     let shadow_pass = frame.debug.z > 0.0;
     var rows = 1u;
+    var cols = 3u;
     var slot = 0u;
     var rel = 0u;
     if level == FROM_INSTANCE {
@@ -309,21 +321,25 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         let region = max(draw_level.y, 1u);
         level = min(inst * DRAW_BATCH / region, 2u);
         rows = max(cull.lod_segments[level], 1u);
+        cols = lod_columns(level);
         if shadow_pass {
             rows = max(cull.lod_segments[2], 1u);
+            cols = lod_columns(2u);
         }
-        slot = inst * DRAW_BATCH + batch_vid / (3u * (rows + 1u));
+        slot = inst * DRAW_BATCH + batch_vid / (cols * (rows + 1u));
         rel = slot - level * region;
     } else {
         // One draw per level, its region bound at an offset: slots count from 0.
         rows = max(cull.lod_segments[level], 1u);
+        cols = lod_columns(level);
         if shadow_pass {
             rows = max(cull.lod_segments[2], 1u);
+            cols = lod_columns(2u);
         }
-        slot = inst * DRAW_BATCH + batch_vid / (3u * (rows + 1u));
+        slot = inst * DRAW_BATCH + batch_vid / (cols * (rows + 1u));
         rel = slot;
     }
-    let vid = batch_vid % (3u * (rows + 1u));
+    let vid = batch_vid % (cols * (rows + 1u));
     // The last batch of a list runs past its end: those slots hold stale indices and draw
     // nothing (a degenerate triangle outside the clip volume).
     let early = drawn.early[level];
@@ -343,8 +359,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         b.out = none;
         return b;
     }
-    let row = vid / 3u;
-    let u = f32(vid % 3u) * 0.5;
+    let row = vid / cols;
+    let u = f32(vid % cols) / f32(cols - 1u);
     var v = f32(row) / f32(rows);
     // A flower (thesis §3.3): with 3 rows or more, the top two rows are its head, a card
     // facing up at the stem's tip, and the stem takes the rows below; coarser, the stem is
@@ -358,7 +374,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         card.x = -1.0;
     }
     let ctx = blade_ctx(blade);
-    var point = blade_point(blade, ctx, index, u, v);
+    var point = blade_point(blade, ctx, index, u, v, 0.0);
     if head && row >= rows - 1u {
         let a = (u - 0.5) * 2.0;
         let b = select(-1.0, 1.0, row == rows);
@@ -371,18 +387,23 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     let h_px = projected_height(v0, blade.v1_height.w, cull);
     let morph = select(morph_factor(level, h_px), 0.0, flower || shadow_pass);
     if morph > 0.0 {
-        // The coarser rows around this one, in exact integer arithmetic so rows the two
-        // levels share are recognised and left alone.
+        // The coarser rows around this one, in exact integer arithmetic so a row the two
+        // levels share is its own target; on a coarser level without the middle axis the
+        // target is flat across the width (fold 1), so the middle column unfolds.
         let coarse = max(cull.lod_segments[level + 1u], 1u);
+        let fold = select(0.0, 1.0, lod_columns(level + 1u) == 2u);
         let num = row * coarse;
         let below = num / rows;
         let rem = num % rows;
+        var coarse_point = blade_point(blade, ctx, index, u, f32(below) / f32(coarse), fold);
         if rem != 0u {
             let f = f32(rem) / f32(rows);
-            let a = blade_point(blade, ctx, index, u, f32(below) / f32(coarse));
-            let b = blade_point(blade, ctx, index, u, f32(below + 1u) / f32(coarse));
-            point.p = mix(point.p, mix(a.p, b.p, f), morph);
-            point.n = normalize(mix(point.n, normalize(mix(a.n, b.n, f)), morph));
+            let b = blade_point(blade, ctx, index, u, f32(below + 1u) / f32(coarse), fold);
+            coarse_point = BladePoint(mix(coarse_point.p, b.p, f), normalize(mix(coarse_point.n, b.n, f)));
+        }
+        if rem != 0u || (fold > 0.5 && cols == 3u && vid % cols == 1u) {
+            point.p = mix(point.p, coarse_point.p, morph);
+            point.n = normalize(mix(point.n, coarse_point.n, morph));
         }
     }
 

@@ -102,7 +102,7 @@ fn gpu_points(gpu: &sward::gpu::Gpu, case: &Case, uv: &[[f32; 2]]) -> Vec<Vec3> 
 @compute @workgroup_size(1)
 fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
     let q = probe_in[id.x];
-    let p = blade_point(blades[0], blade_ctx(blades[0]), 0u, q.x, q.y);
+    let p = blade_point(blades[0], blade_ctx(blades[0]), 0u, q.x, q.y, 0.0);
     probe_out[id.x] = vec4<f32>(p.p, 0.0);
 }
 "#;

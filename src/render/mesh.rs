@@ -68,15 +68,22 @@ pub fn sphere_mesh(rings: u32, sectors: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
     (vertices, indices)
 }
 
-/// Triangle indices of one blade: vertex `row * 3 + column`, two quads per row band (left
-/// and right of the middle axis), so the 3D displacement can fold the blade along its axis.
-pub fn blade_indices(segments: u32) -> Vec<u32> {
-    let mut indices = Vec::with_capacity((segments * 12) as usize);
+/// Columns of each level's blade mesh (twin of `lod_columns` in `grass.wgsl`): the finest
+/// level keeps the middle axis the 3D displacement folds the blade along (Eq. 23), in two
+/// quads per row band; the coarser levels, a few pixels wide, are flat, one quad per band
+/// (every blade shape is linear across the width, so only the fold is lost). On llvmpipe
+/// the grass draw is bound by the vertices and triangles its one vertex thread handles.
+pub const LOD_COLUMNS: [u32; LOD_LEVELS] = [3, 2, 2];
+
+/// Triangle indices of one blade of `columns` (2 or 3) columns: vertex `row * columns +
+/// column`, one quad per row band and pair of neighbouring columns.
+pub fn blade_indices(segments: u32, columns: u32) -> Vec<u32> {
+    let mut indices = Vec::with_capacity((segments * (columns - 1) * 6) as usize);
     for row in 0..segments {
-        for col in 0..2 {
-            let a = row * 3 + col;
+        for col in 0..columns - 1 {
+            let a = row * columns + col;
             let b = a + 1;
-            let c = a + 3;
+            let c = a + columns;
             let d = c + 1;
             indices.extend_from_slice(&[a, b, c, b, d, c]);
         }
@@ -112,8 +119,9 @@ pub fn lod_meshes(segments: u32) -> LodMeshes {
     let mut first_index = [0; LOD_LEVELS];
     for (k, &s) in segments.iter().enumerate() {
         first_index[k] = indices.len() as u32;
-        let blade = blade_indices(s);
-        let vertices = (s + 1) * 3;
+        let columns = LOD_COLUMNS[k];
+        let blade = blade_indices(s, columns);
+        let vertices = (s + 1) * columns;
         for b in 0..DRAW_BATCH {
             indices.extend(blade.iter().map(|i| i + b * vertices));
         }
@@ -134,12 +142,15 @@ mod tests {
     #[test]
     fn blade_indices_cover_every_vertex_of_the_grid() {
         let segments = 5;
-        let idx = blade_indices(segments);
-        assert_eq!(idx.len(), (segments * 12) as usize);
-        let max = *idx.iter().max().unwrap();
-        assert_eq!(max, (segments + 1) * 3 - 1);
-        for v in 0..=max {
-            assert!(idx.contains(&v), "vertex {v} unused");
+        for columns in [2, 3] {
+            let idx = blade_indices(segments, columns);
+            // Two triangles per row band and pair of neighbouring columns.
+            assert_eq!(idx.len(), (segments * (columns - 1) * 6) as usize);
+            let max = *idx.iter().max().unwrap();
+            assert_eq!(max, (segments + 1) * columns - 1);
+            for v in 0..=max {
+                assert!(idx.contains(&v), "{columns} columns: vertex {v} unused");
+            }
         }
     }
 
@@ -148,15 +159,16 @@ mod tests {
         let m = lod_meshes(6);
         let n = DRAW_BATCH;
         assert_eq!(m.segments, [6, 3, 1]);
-        assert_eq!(m.index_count, [72 * n, 36 * n, 12 * n]);
-        assert_eq!(m.first_index, [0, 72 * n, 108 * n]);
-        assert_eq!(m.indices.len() as u32, 120 * n);
-        // Vertices per blade: 21, 12, 6 (3 columns × rows); a batch of blades one after
+        // 6 segments of 3 columns, then 3 and 1 of 2 columns (flat).
+        assert_eq!(m.index_count, [72 * n, 18 * n, 6 * n]);
+        assert_eq!(m.first_index, [0, 72 * n, 90 * n]);
+        assert_eq!(m.indices.len() as u32, 96 * n);
+        // Vertices per blade: 21, 8, 4 (columns × rows); a batch of blades one after
         // the other, each copy the first one moved by a blade's vertices.
         for k in 0..LOD_LEVELS {
             let a = m.first_index[k] as usize;
             let level = &m.indices[a..a + m.index_count[k] as usize];
-            let per_blade = (m.segments[k] + 1) * 3;
+            let per_blade = (m.segments[k] + 1) * LOD_COLUMNS[k];
             assert_eq!(level.iter().max().map(|v| v + 1), Some(per_blade * n));
             let one = level.len() / n as usize;
             for (b, copy) in level.chunks(one).enumerate() {
