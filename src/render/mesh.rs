@@ -165,10 +165,10 @@ mod tests {
         assert_eq!(m.indices.len() as u32, 96 * n);
         // Vertices per blade: 21, 8, 4 (columns × rows); a batch of blades one after
         // the other, each copy the first one moved by a blade's vertices.
-        for k in 0..LOD_LEVELS {
+        for (k, columns) in LOD_COLUMNS.into_iter().enumerate() {
             let a = m.first_index[k] as usize;
             let level = &m.indices[a..a + m.index_count[k] as usize];
-            let per_blade = (m.segments[k] + 1) * LOD_COLUMNS[k];
+            let per_blade = (m.segments[k] + 1) * columns;
             assert_eq!(level.iter().max().map(|v| v + 1), Some(per_blade * n));
             let one = level.len() / n as usize;
             for (b, copy) in level.chunks(one).enumerate() {
