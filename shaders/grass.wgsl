@@ -2,8 +2,9 @@
 // batch of blade meshes; the vertex index says which blade of the batch and which vertex of
 // it), geometry built in the vertex shader from the blade buffer (Jahrmann & Wimmer Section 6.3): De Casteljau on the Bezier curve (Eq. 21),
 // the shape's interpolation parameter (Eq. 22), 3D displacement (Eq. 23) and width
-// correction (Eq. 24). The mesh has 3 columns (u = 0, 0.5, 1) and `segments + 1` rows,
-// where each level of detail has its own segment count (`CullParams::lod_segments`).
+// correction (Eq. 24). The finest level's mesh has 3 columns (u = 0, 0.5, 1), the coarser
+// levels' 2 (u = 0, 1; `lod_columns`), and `segments + 1` rows, where each level of detail
+// has its own segment count (`CullParams::lod_segments`).
 //
 // Level changes do not pop: while a blade's projected height falls through the morph band
 // above its level's threshold, every vertex slides onto the coarser level's mesh (the

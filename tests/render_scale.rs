@@ -1,11 +1,17 @@
 //! The frame budget's first step, a lower render resolution, takes no grass away: the same
 //! frame drawn at full size and at the smallest scale the budget sets, with every cull on
 //! (occlusion by objects and by grass included), culls exactly the same blades by
-//! orientation, frustum and distance, and the occlusion test, whose depth pyramid is
-//! coarser (so more conservative) at a lower resolution, hides no blade the full-size frame
-//! draws: a lower scale draws at least the full frame's blades and at most a measured band
-//! more (on lavapipe: 1521 at full size, 1547 (+1.7 %) at 0.71, 1929 (+26.8 %) at the
-//! budget's smallest scale).
+//! orientation, frustum and distance; only the occlusion test may decide differently, and
+//! for few of the blades it tests.
+//!
+//! Why occlusion is not exact across scales: grass hides grass through the depth the blades
+//! wrote the frame before, and that depth is a different rasterisation at each scale of
+//! blades narrower than a pixel (their levels of detail depend on pixels too). Neither side
+//! is more conservative: with every blade pinned at level 0 and Eq. 24's width correction
+//! off, the 0.71 scale still hid 30 more blades than full size (1456, 1426, 1492 drawn at
+//! 1, 0.71, 0.5), and the smallest scale hides fewer. Measured on lavapipe with flat
+//! far levels: 1494 drawn at full size, 1378 at 0.71 and 1752 at the budget's smallest
+//! scale, of 5128 blades the occlusion test saw: it decided differently for 2.3 % and 5.0 %.
 
 mod common;
 
@@ -16,9 +22,9 @@ use sward::render::upscale::scaled_size;
 use sward::session::Session;
 
 const FULL: (u32, u32) = (320, 180);
-/// At most this share more blades drawn at a lower scale than at full size (measured
-/// 26.8 % at the smallest scale).
-const DRAWN_BAND: f64 = 0.5;
+/// At most this share of the blades the occlusion test sees is decided differently at a
+/// lower scale than at full size, either way (measured 2.3 % and 5.0 %).
+const OCCLUSION_BAND: f64 = 0.1;
 
 #[test]
 fn a_lower_render_scale_draws_the_same_blades() {
@@ -54,7 +60,7 @@ fn a_lower_render_scale_draws_the_same_blades() {
             );
         }
         let c = r.cull.read_counters(&gpu).expect("counters");
-        // Levels of detail depend on pixels; what is drawn at all must not.
+        // Orientation, frustum and distance must not depend on pixels.
         drawn.push((
             c.drawn(),
             c.culled_orientation,
@@ -70,15 +76,18 @@ fn a_lower_render_scale_draws_the_same_blades() {
         full.4 > 0,
         "the occlusion test hides blades in this view: {drawn:?}"
     );
+    // The blades the occlusion test sees: those no earlier cull removed.
+    let tested = f64::from(full.0 + full.4);
     for d in &drawn {
         assert_eq!((d.1, d.2, d.3), (full.1, full.2, full.3), "{drawn:?}");
-        assert!(d.0 >= full.0, "a lower scale hid blades: {drawn:?}");
-        let more = (f64::from(d.0) - f64::from(full.0)) / f64::from(full.0);
+        assert_eq!(d.0 + d.4, full.0 + full.4, "{drawn:?}");
+        let differ = (f64::from(d.0) - f64::from(full.0)).abs() / tested;
         assert!(
-            more < DRAWN_BAND,
-            "drawn {} against {}: {drawn:?}",
+            differ < OCCLUSION_BAND,
+            "drawn {} against {} of {tested} tested ({:.1} %): {drawn:?}",
             d.0,
-            full.0
+            full.0,
+            differ * 100.0
         );
     }
 }
