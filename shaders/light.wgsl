@@ -208,14 +208,15 @@ fn sun_visibility(world: vec3<f32>) -> f32 {
     if k >= count {
         return 1.0;
     }
-    let step = light.shadow.z * light.shadow_map.x;
-    var lit = 0.0;
-    for (var j = -1; j <= 1; j++) {
-        for (var i = -1; i <= 1; i++) {
-            let o = vec2<f32>(f32(i), f32(j)) * step;
-            lit += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, k, c.z);
-        }
-    }
+    // Four bilinear comparisons (each already weighs 2 x 2 texels) at +-(softness / 2 +
+    // 1/4) texels: at the default 1.5 their footprints just touch, a flat-topped tent 4
+    // texels wide. 16 depth texels are read instead of the 36 of a 3 x 3 grid of taps; this
+    // lookup runs per ground and object pixel and per grass vertex.
+    let o = vec2<f32>((0.5 * light.shadow.z + 0.25) * light.shadow_map.x);
+    let lit = textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-o.x, -o.y), k, c.z)
+        + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(o.x, -o.y), k, c.z)
+        + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-o.x, o.y), k, c.z)
+        + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, k, c.z);
     let fade = smoothstep(light.shadow_map.z, last, d);
-    return mix(lit / 9.0, 1.0, fade);
+    return mix(lit / 4.0, 1.0, fade);
 }

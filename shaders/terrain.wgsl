@@ -18,6 +18,8 @@ struct VertexOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    // The sky's radiance along the view ray to this vertex, the fog's colour (`vs_lit`).
+    @location(2) sky: vec3<f32>,
 }
 
 // Past the far plane the ground is not clipped: its depth is squeezed into the last
@@ -50,8 +52,24 @@ fn clipmap_xz(vid: u32, level: u32, eye: vec2<f32>) -> vec2<f32> {
     return xz;
 }
 
+// The depth pass (no light bound): the vertex only.
 @vertex
 fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) -> VertexOut {
+    return terrain_vertex(vid, level);
+}
+
+// The lit pass: the vertex and the sky behind it, looked up per vertex: the Perez sky
+// changes with the view direction only, smoothly across a clipmap cell, and per fragment
+// it cost every ground pixel.
+@vertex
+fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) -> VertexOut {
+    var out = terrain_vertex(vid, level);
+    let to_p = out.world - frame.camera_pos.xyz;
+    out.sky = sky_radiance(to_p / max(length(to_p), 1e-4));
+    return out;
+}
+
+fn terrain_vertex(vid: u32, level: u32) -> VertexOut {
     let xz = clipmap_xz(vid, level, frame.camera_pos.xz);
     let h = terrain_height(xz);
     let world = vec3<f32>(xz.x, h.x, xz.y);
@@ -130,6 +148,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
     var color = mix(near, grass, cover);
-    color = fog(color, in.world);
+    color = fog_towards(color, in.world, in.sky);
     return vec4<f32>(color, 1.0);
 }

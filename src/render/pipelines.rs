@@ -241,7 +241,7 @@ impl Pipelines {
             PipelineSpec {
                 label: "sward.draw.terrain",
                 shader: "terrain.wgsl",
-                vertex: "vs_main",
+                vertex: "vs_lit",
                 layout: terrain_layout,
                 buffers: &[],
                 depth_write: true,

@@ -113,7 +113,8 @@ pub struct Shadows {
     /// The blades cast shadows out to this distance from the camera (m), with their
     /// coarsest level of detail; 0: the grass casts none.
     pub grass_radius: f32,
-    /// Radius of the percentage-closer filter in texels: the shadows' soft edge.
+    /// Spread of the percentage-closer filter in texels, the shadows' soft edge: its four
+    /// bilinear taps sit ±(softness / 2 + 1/4) texels from the point.
     pub softness: f32,
     /// Depth bias in texels of the cascade (against self-shadowing acne).
     pub bias: f32,
