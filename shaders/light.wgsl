@@ -160,10 +160,20 @@ fn agx(c: vec3<f32>) -> vec3<f32> {
     return pow(clamp(v, vec3<f32>(0.0), vec3<f32>(1.0)), vec3<f32>(2.2));
 }
 
+// The tone mapper a pipeline is built for (`render::post::ToneMap`): 0 ACES, 1 AgX, 2 the
+// clamp, or GENERAL_TONE_MAPPER, the uniform's choice. llvmpipe runs every branch of an
+// `if` for the whole SIMD batch, so a full-screen pass with all three curves paid for all
+// three; the constant folds the others away.
+const GENERAL_TONE_MAPPER: u32 = 3u;
+override TONE_MAPPER: u32 = GENERAL_TONE_MAPPER;
+
 // Exposure, then the scene's tone mapper: linear radiance in, linear display colour out.
 fn tonemap(c: vec3<f32>) -> vec3<f32> {
     let x = max(c, vec3<f32>(0.0)) * light.sun.w;
-    let mode = u32(light.ambient.w);
+    var mode = TONE_MAPPER;
+    if mode == GENERAL_TONE_MAPPER {
+        mode = u32(light.ambient.w);
+    }
     if mode == 1u {
         return agx(x);
     }
@@ -174,9 +184,9 @@ fn tonemap(c: vec3<f32>) -> vec3<f32> {
 }
 
 // How much of the sun reaches `world` (1 lit, 0 in shadow): the cascade its distance from
-// the camera falls in, read 3 x 3 times `shadow.z` texels apart with the comparison
-// sampler's bilinear filter (a 4 x 4 texel percentage-closer filter at least), pushed
-// `shadow.w` texels towards the sun against acne, and faded out at the shadows' end.
+// the camera falls in, read four times with the comparison sampler's bilinear filter
+// (a percentage-closer filter; `shadow.z` spreads the taps), pushed `shadow.w` texels
+// towards the sun against acne, and faded out at the shadows' end.
 fn sun_visibility(world: vec3<f32>) -> f32 {
     if light.shadow.x < 0.5 {
         return 1.0;

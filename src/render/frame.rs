@@ -60,6 +60,8 @@ impl Renderer {
     ) {
         self.sync_msaa(gpu);
         self.draw.sync_grass_spec(&gpu.device, &self.scene);
+        self.post
+            .sync_mapper(&gpu.device, self.scene.light.tone_mapping);
         if self.samples > 1 {
             let fits = self.msaa.as_ref().is_some_and(|m| m.size == size);
             if !fits {

@@ -685,6 +685,12 @@ impl Renderer {
         self.draw.general_grass = !on;
     }
 
+    /// Builds the tone-mapping pass for the scene's curve alone (the default) or keeps
+    /// every curve in it, the uniform choosing (`render::post`); the pictures are the same.
+    pub fn specialise_tone_map(&mut self, on: bool) {
+        self.post.general = !on;
+    }
+
     /// The grass pipelines' specialisation in use.
     pub fn grass_spec(&self) -> grass_spec::GrassSpec {
         self.draw.grass_spec()

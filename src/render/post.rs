@@ -11,10 +11,14 @@
 
 use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
+use crate::scene::ToneMapping;
 
 /// The scene target's format: linear radiance with headroom above 1 for the sun's disk
 /// and specular highlights (f16 holds up to 65504).
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// `TONE_MAPPER` for the general pipeline (`GENERAL_TONE_MAPPER` in `light.wgsl`).
+const GENERAL: u32 = 3;
 
 /// The single-sample scene target of one size.
 struct SceneTarget {
@@ -26,6 +30,14 @@ struct SceneTarget {
 /// The tone-mapping pass and the scene target it reads.
 pub struct ToneMap {
     pipeline: wgpu::RenderPipeline,
+    /// The shader's `TONE_MAPPER` constant `pipeline` is built with: a curve's id, or
+    /// [`GENERAL`] (every curve compiled in, the uniform choosing).
+    built: u32,
+    /// Keep the general pipeline (the pictures are the same; the tests compare them).
+    pub general: bool,
+    format: wgpu::TextureFormat,
+    pipeline_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     target: Option<SceneTarget>,
 }
@@ -58,35 +70,33 @@ impl ToneMap {
             immediate_size: 0,
         });
         let module = crate::shaders::module(device, "tonemap.wgsl");
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("sward.tonemap.pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_tonemap"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_tonemap"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let built = ToneMapping::default().id();
+        let pipeline = tonemap_pipeline(device, &pipeline_layout, &module, format, built);
         Self {
             pipeline,
+            built,
+            general: false,
+            format,
+            pipeline_layout,
+            module,
             layout,
             target: None,
+        }
+    }
+
+    /// Rebuilds the pipeline for the scene's curve when it changed (the panel) or
+    /// [`ToneMap::general`] did: never per frame.
+    pub fn sync_mapper(&mut self, device: &wgpu::Device, mapper: ToneMapping) {
+        let wanted = if self.general { GENERAL } else { mapper.id() };
+        if wanted != self.built {
+            self.pipeline = tonemap_pipeline(
+                device,
+                &self.pipeline_layout,
+                &self.module,
+                self.format,
+                wanted,
+            );
+            self.built = wanted;
         }
     }
 
@@ -177,4 +187,45 @@ impl ToneMap {
         pass.draw(0..3, 0..1);
         q.end(&mut pass);
     }
+}
+
+/// The full-screen pass into `format` with `mapper` (a curve's id or [`GENERAL`]) as the
+/// shader's `TONE_MAPPER`.
+fn tonemap_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    format: wgpu::TextureFormat,
+    mapper: u32,
+) -> wgpu::RenderPipeline {
+    let constants = [("TONE_MAPPER", f64::from(mapper))];
+    let options = wgpu::PipelineCompilationOptions {
+        constants: &constants,
+        ..Default::default()
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("sward.tonemap.pipeline"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_tonemap"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_tonemap"),
+            compilation_options: options,
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
