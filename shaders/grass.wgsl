@@ -97,7 +97,7 @@ struct VertexOut {
     @location(11) @interpolate(flat) sky: vec3<f32>,
     // The sun's visibility through the shadow cascades, looked up per vertex by the lit
     // passes (`vs_lit`): a blade is narrower than a shadow texel, so its vertices along the
-    // blade carry the shadow's shape, and the lookup (a 3x3 filtered comparison) runs once
+    // blade carry the shadow's shape, and the lookup (four filtered comparisons) runs once
     // per vertex instead of once per fragment of the overdrawn grass. 1 in `vs_main`.
     @location(12) sun_lit: f32,
 }
@@ -280,27 +280,71 @@ fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst:
 fn vs_lit(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
     let b = blade_vertex(batch_vid, inst);
     var out = b.out;
-    let base = blade_base_albedo(b.tint, b.species_color, b.clump_light);
+    let albedo = blade_albedos(b.index, blades[b.index]);
+    out.root = vec4<f32>(albedo.root, 0.0);
+    out.tip = albedo.tip;
+    out.sun_lit = sun_visibility(out.world);
+    out.sky = blade_sky(b.root);
+    return out;
+}
+
+// The sky's radiance along the view ray to a blade's root: the colour the fog turns the
+// whole blade into (`VertexOut::sky`).
+fn blade_sky(root: vec3<f32>) -> vec3<f32> {
+    return sky_radiance(normalize(root - frame.camera_pos.xyz));
+}
+
+// A blade's random draws: its colour variation (and the debug views' tint).
+fn blade_tint(index: u32) -> vec3<f32> {
+    return vec3<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u));
+}
+
+// A blade's albedo at its root and at its tip (`blade_albedo`; tip.w: the shading wave).
+struct BladeAlbedo {
+    root: vec3<f32>,
+    tip: vec4<f32>,
+}
+
+// The albedos of blade `index`, made of its random draws, its species' colour, its clump's
+// brightness and how far it is bent from its rest pose (the wind's gusts as they run over
+// the field). The lit vertex stage and the deferred shading (`grass_deferred.wgsl`) both
+// make them here.
+fn blade_albedos(index: u32, blade: Blade) -> BladeAlbedo {
+    let v0 = blade.v0_dir.xyz;
+    var species_color = traits.species[0].color;
+    if SPECIES {
+        species_color = traits.species[species_of(v0.x, v0.z)].color;
+    }
+    var clump_light = 1.0;
+    if CLUMPS && traits.clumps.x > 0.0 {
+        clump_light = 1.0 + traits.clumps.w * (clump_of(v0.x, v0.z).tint - 0.5);
+    }
+    let base = blade_base_albedo(blade_tint(index), species_color, clump_light);
+    let rest_tip = states[index].rest_eta.xyz;
+    let gust = length(blade.v2_width.xyz - rest_tip) / max(blade.v1_height.w, 1e-4);
     // Shading waves: a blade the gusts bend away from its rest shows its paler, glossier
     // side, so the gusts read as bright bands running over the field.
-    let wave = clamp(b.gust * 1.5, 0.0, 1.0) * light.shading_b.y;
-    out.root = vec4<f32>(blade_albedo(base, 0.0, wave), 0.0);
-    out.tip = vec4<f32>(blade_albedo(base, 1.0, wave), wave);
-    out.sun_lit = sun_visibility(out.world);
-    out.sky = sky_radiance(normalize(b.root - frame.camera_pos.xyz));
-    return out;
+    let wave = clamp(gust * 1.5, 0.0, 1.0) * light.shading_b.y;
+    return BladeAlbedo(blade_albedo(base, 0.0, wave), vec4<f32>(blade_albedo(base, 1.0, wave), wave));
+}
+
+// Eq. 14 (CWD-Sim's self-shadowing) at point p of a blade: its height above the root after
+// the deformation (in blade heights) minus the blade's bend times c1 (0 upright, 1 pressed
+// flat: how far the tip has sunk from its full height), plus c2, clamped to [m_min, m_max].
+fn blade_self_shade(blade: Blade, p: vec3<f32>) -> f32 {
+    let v0 = blade.v0_dir.xyz;
+    let up = blade.up_stiffness.xyz;
+    let h = max(blade.v1_height.w, 1e-4);
+    let bend = clamp(1.0 - dot(blade.v2_width.xyz - v0, up) / h, 0.0, 1.0);
+    let s = frame.self_shadow;
+    return clamp(dot(p - v0, up) / h - bend * s.z + s.w, s.x, s.y);
 }
 
 // A blade's vertex and what its colours are made of (the lit passes make them).
 struct BladeVertex {
     out: VertexOut,
-    // The blade's random draws, its species' colour (w = 1; w = 0: sward's own palette),
-    // its clump's brightness, and how far it is bent from its rest pose in blade heights
-    // (the wind's gusts as they run over the field).
-    tint: vec3<f32>,
-    species_color: vec4<f32>,
-    clump_light: f32,
-    gust: f32,
+    // The blade's index in the blade buffer.
+    index: u32,
     // Where the blade is rooted.
     root: vec3<f32>,
 }
@@ -352,6 +396,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         return b;
     }
     let index = visible[slot];
+    b.index = index;
     let blade = blades[index];
     let v0 = blade.v0_dir.xyz;
     if shadow_pass && distance(v0, frame.camera_pos.xyz) > frame.debug.z {
@@ -415,32 +460,14 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     out.uv = vec2<f32>(u, v);
     out.card = card;
     out.side = ctx.side;
-    let rest_tip = states[index].rest_eta.xyz;
-    b.gust = length(blade.v2_width.xyz - rest_tip) / max(blade.v1_height.w, 1e-4);
     b.root = v0;
     if flower {
         let k = flower_kind(v0.x, v0.z);
         out.petals = traits.flower_kinds[2u * k];
         out.centre = traits.flower_kinds[2u * k + 1u];
     }
-    // Eq. 14: the vertex's height above the root after the deformation (in blade heights)
-    // minus the blade's bend times c1 (0 upright, 1 pressed flat: how far the tip has sunk
-    // from its full height), plus c2, clamped to [m_min, m_max].
-    let up = blade.up_stiffness.xyz;
-    let h = max(blade.v1_height.w, 1e-4);
-    let bend = clamp(1.0 - dot(blade.v2_width.xyz - v0, up) / h, 0.0, 1.0);
-    let s = frame.self_shadow;
-    out.shade = clamp(dot(point.p - v0, up) / h - bend * s.z + s.w, s.x, s.y);
-    b.tint = vec3<f32>(hash01(index), hash01(index ^ 0x9e3779b9u), hash01(index * 3u + 17u));
-    b.species_color = traits.species[0].color;
-    if SPECIES {
-        b.species_color = traits.species[species_of(v0.x, v0.z)].color;
-    }
-    b.clump_light = 1.0;
-    if CLUMPS && traits.clumps.x > 0.0 {
-        b.clump_light = 1.0 + traits.clumps.w * (clump_of(v0.x, v0.z).tint - 0.5);
-    }
-    out.tint = vec4<f32>(b.tint, 0.0);
+    out.shade = blade_self_shade(blade, point.p);
+    out.tint = vec4<f32>(blade_tint(index), 0.0);
     // Debug colours: the level of detail (with the morph towards the next), or the patch.
     let mode = select(0u, u32(frame.debug.x), DEBUG_VIEWS);
     if mode == 1u {
@@ -496,8 +523,6 @@ fn debug_color(tint: vec4<f32>, n: vec3<f32>, sun: vec3<f32>, v: f32) -> vec3<f3
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let sun = frame.sun_dir.xyz;
     let to_eye = normalize(frame.camera_pos.xyz - in.world);
-    let terms_a = light.shading_a;
-    let terms_b = light.shading_b;
     // Two-sided: light the side that faces the viewer (by the normal itself: the mesh's
     // winding does not say which side of a blade its normal points to).
     var flat_n = normalize(in.normal);
@@ -523,21 +548,35 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let head_light = light.ambient.rgb * 0.9 + light.sun.rgb * (abs(dot(flat_n, sun)) * 0.9 * lit);
         return vec4<f32>(fog_towards(c * head_light, in.world, in.sky), 1.0);
     }
-    // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
-    // both edges, so that a flat blade reads as curved.
-    let n = normalize(flat_n + in.side * (in.uv.x - 0.5) * 1.2 * terms_a.x);
     var albedo = mix(in.root.rgb, in.tip.rgb, v);
     if FLOWERS && in.card.x < -0.5 && v > 0.6 {
         // A far flower: its head's colour at the top of the stem.
         albedo = blade_albedo(in.petals.rgb, v, in.tip.w);
     }
+    let color = shade_blade(in.world, flat_n, in.side, in.uv, albedo, lit, in.shade);
+    return vec4<f32>(fog_towards(color, in.world, in.sky), 1.0);
+}
+
+// The light a blade's point at `world` sends to the eye (before the fog): `flat_n` its
+// normal turned to the viewer, `side` its width direction, (u, v) where it lies on the
+// blade, `albedo` its colour there, `lit` the sun's visibility, `self_shade` CWD-Sim's
+// Eq. 14 there. The forward fragment stage and the deferred shading both light here.
+fn shade_blade(world: vec3<f32>, flat_n: vec3<f32>, side: vec3<f32>, uv: vec2<f32>, albedo: vec3<f32>, lit: f32, self_shade: f32) -> vec3<f32> {
+    let sun = frame.sun_dir.xyz;
+    let to_eye = normalize(frame.camera_pos.xyz - world);
+    let terms_a = light.shading_a;
+    let terms_b = light.shading_b;
+    let v = uv.y;
+    // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
+    // both edges, so that a flat blade reads as curved.
+    let n = normalize(flat_n + side * (uv.x - 0.5) * 1.2 * terms_a.x);
     // Ambient occlusion: light through the canopy falls off with the leaf area above the
     // point (Beer-Lambert, terms_b.z m² of leaf per m² of ground), so the root is dark and
     // a dense field darker. CWD-Sim's Eq. 14 replaces it where chosen; `Off` drops it.
     var ao = mix(1.0, max(exp(-0.35 * terms_b.z * (1.0 - v)), 0.12), terms_a.w);
     let shadow_mode = u32(frame.debug.y);
     if shadow_mode == 1u {
-        ao = in.shade;
+        ao = self_shade;
     } else if shadow_mode == 2u {
         ao = 1.0;
     }
@@ -550,9 +589,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // Specular: the waxy blade's highlight, on the rounded normal.
     let h = normalize(sun + to_eye);
     let spec = pow(max(dot(n, h), 0.0), 12.0) * 0.22 * mix(0.3, 1.0, v) * terms_a.z;
-    var color = albedo * (light.ambient.rgb * 0.9 * ao + sun_rgb * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
+    return albedo * (light.ambient.rgb * 0.9 * ao + sun_rgb * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
         + albedo * vec3<f32>(1.0, 1.1, 0.4) * sun_rgb * trans * 1.4 * ao
         + sun_rgb * spec;
-    color = fog_towards(color, in.world, in.sky);
-    return vec4<f32>(color, 1.0);
 }

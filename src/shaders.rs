@@ -62,6 +62,10 @@ const FILES: &[(&str, &str)] = &[
     ("carry.wgsl", include_str!("../shaders/carry.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
+    (
+        "grass_deferred.wgsl",
+        include_str!("../shaders/grass_deferred.wgsl"),
+    ),
     ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
     (
         "terrain_height.wgsl",
@@ -138,6 +142,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "cull.wgsl",
     "hiz.wgsl",
     "grass.wgsl",
+    "grass_deferred.wgsl",
     "terrain.wgsl",
     "terrain_probe.wgsl",
     "sky.wgsl",

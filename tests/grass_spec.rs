@@ -29,7 +29,10 @@ fn shipped(name: &str) -> Scene {
 /// The last of `FRAMES` frames, and the specialisation it was drawn with.
 fn render(scene: &Scene, specialise: bool) -> (image::RgbaImage, GrassSpec) {
     let (image, r) = common::render_frames(scene.clone(), SIZE, FRAMES, |r| {
-        r.specialise_grass(specialise)
+        r.specialise_grass(specialise);
+        // Both forward: the general pipelines never take the deferred path (they keep the
+        // flower and debug paths), and tests/deferred.rs compares the two paths.
+        r.deferred_grass(false);
     });
     (image, r.grass_spec())
 }

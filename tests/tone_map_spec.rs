@@ -37,6 +37,9 @@ fn every_tone_mapper_draws_the_same_specialised() {
     let total = (SIZE.0 * SIZE.1) as usize;
     for (i, j) in [(0, 1), (0, 2), (1, 2)] {
         let n = differing(&pictures[i], &pictures[j]);
-        assert!(n > total / 2, "curves {i} and {j} differ in {n} pixels only");
+        assert!(
+            n > total / 2,
+            "curves {i} and {j} differ in {n} pixels only"
+        );
     }
 }

@@ -528,6 +528,11 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
         if !has_lines {
             ui.label("(this adapter cannot draw lines)");
         }
+        ui.checkbox(&mut r.deferred_grass, "deferred grass light")
+            .on_hover_text(
+                "Light the grass once per pixel after the draw (without MSAA, flowers or a \
+                 colour view); off: lit as it is drawn",
+            );
         // MSAA: the renderer rebuilds its pipelines and targets before the next frame.
         ui.horizontal(|ui| {
             ui.label("MSAA");

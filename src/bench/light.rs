@@ -51,7 +51,7 @@ pub struct LightRun {
     pub frame_ms: Option<f64>,
     /// The sun's shadow cascades.
     pub shadows_ms: Option<f64>,
-    /// The colour passes (early and late draws).
+    /// The colour passes (early and late draws, and the deferred grass's light).
     pub draw_ms: Option<f64>,
     /// Tone mapping into the output.
     pub tonemap_ms: Option<f64>,
@@ -148,7 +148,7 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
                 let wind: f64 = stats.wind_ms.iter().flatten().map(|(_, m)| m).sum();
                 sums[0] += ms.iter().sum::<f64>() + wind;
                 sums[1] += ms[timing::SHADOWS];
-                sums[2] += ms[timing::DRAW] + ms[timing::LATE_DRAW];
+                sums[2] += ms[timing::DRAW] + ms[timing::LATE_DRAW] + ms[timing::GRASS_LIGHT];
                 sums[3] += ms[timing::TONEMAP];
                 timed += 1;
             }

@@ -132,7 +132,11 @@ pub(super) fn measure(
             .map(|&k| passes[k])
             .sum::<f64>()
                 / t,
-            rendering: (passes[timing::DRAW] + passes[timing::LATE_DRAW]) / t,
+            // The deferred grass's light is the draw's shading, moved to compute.
+            rendering: (passes[timing::DRAW]
+                + passes[timing::LATE_DRAW]
+                + passes[timing::GRASS_LIGHT])
+                / t,
             shadows: passes[timing::SHADOWS] / t,
             tone_map: passes[timing::TONEMAP] / t,
             billboards: passes[timing::BILLBOARDS] / t,

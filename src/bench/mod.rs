@@ -341,7 +341,7 @@ pub struct GpuMs {
     /// and the blade culls (early and late).
     pub visibility: f64,
     /// The paper's "rendering": the draw passes (terrain, colliders, grass, sky; the late
-    /// grass).
+    /// grass) and the deferred grass's light.
     pub rendering: f64,
     /// What the paper's frame did not have: the sun's shadow cascades, the tone mapping,
     /// the billboards' cull and the generation of streamed tiles.

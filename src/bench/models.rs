@@ -129,7 +129,7 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
                 drawn += f64::from(stats.counters.drawn());
                 if let Some(ms) = stats.pass_ms {
                     physics += ms[timing::UPDATE];
-                    draw += ms[timing::DRAW] + ms[timing::LATE_DRAW];
+                    draw += ms[timing::DRAW] + ms[timing::LATE_DRAW] + ms[timing::GRASS_LIGHT];
                     timed += 1;
                 }
             },

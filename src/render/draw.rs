@@ -421,7 +421,9 @@ impl DrawPass {
     }
 
     /// Records the render pass into `color` with `depth`; `depth_loaded` keeps the depth
-    /// of the occluder pass instead of clearing it.
+    /// of the occluder pass instead of clearing it. With `vis` (the deferred path's
+    /// visibility buffer, `render::deferred`) the grass is first drawn into it in a pass of
+    /// its own, and the colour pass draws everything else.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
@@ -429,6 +431,7 @@ impl DrawPass {
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
         depth_loaded: bool,
+        vis: Option<&wgpu::TextureView>,
         indirect: &wgpu::Buffer,
         spheres: &SphereDraw,
         wireframe: bool,
@@ -436,17 +439,36 @@ impl DrawPass {
         light: &wgpu::BindGroup,
         q: PassQueries,
     ) {
-        let depth_load = if depth_loaded {
+        let mut depth_load = if depth_loaded {
             wgpu::LoadOp::Load
         } else {
             wgpu::LoadOp::Clear(1.0)
+        };
+        let deferred = vis.zip(self.deferred());
+        if let Some((vis, pipelines)) = deferred {
+            let mut pass = colour_pass(
+                encoder,
+                "sward.draw.grass_vis",
+                (vis, wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
+                (depth, depth_load),
+                q.render_writes_part(true, false),
+            );
+            q.begin(&mut pass);
+            self.draw_grass(&mut pass, &pipelines.vis, indirect, 0);
+            q.end(&mut pass);
+            depth_load = wgpu::LoadOp::Load;
+        }
+        let writes = if deferred.is_some() {
+            q.render_writes_part(false, true)
+        } else {
+            q.render_writes()
         };
         let mut pass = colour_pass(
             encoder,
             "sward.draw",
             (color, wgpu::LoadOp::Clear(wgpu::Color::BLACK)),
             (depth, depth_load),
-            q.render_writes(),
+            writes,
         );
         pass.set_bind_group(1, light, &[]);
         q.begin(&mut pass);
@@ -461,10 +483,12 @@ impl DrawPass {
 
         // The lit grass is counted apart: its fragments per covered pixel are the figure
         // the frame's shading cost is held to.
-        let grass = q.row(super::work::LIT_GRASS);
-        grass.begin(&mut pass);
-        self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, 0);
-        grass.end(&mut pass);
+        if deferred.is_none() {
+            let grass = q.row(super::work::LIT_GRASS);
+            grass.begin(&mut pass);
+            self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, 0);
+            grass.end(&mut pass);
+        }
         q.begin(&mut pass);
         if let Some(b) = billboards {
             b.draw(&mut pass);
@@ -542,28 +566,53 @@ impl DrawPass {
     /// kept, over the frame the main draw left (colour and depth loaded). Needs
     /// multi-draw: the late lists start mid-region, at their draws' first instance.
     #[allow(clippy::too_many_arguments)]
+    /// With `vis` (the deferred path) into the visibility buffer instead of `color`.
+    #[allow(clippy::too_many_arguments)]
     pub fn encode_late(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
+        vis: Option<&wgpu::TextureView>,
         indirect: &wgpu::Buffer,
         wireframe: bool,
         light: &wgpu::BindGroup,
         q: PassQueries,
     ) {
+        let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
+        let deferred = vis.zip(self.deferred());
+        let (target, label) = match deferred {
+            Some((vis, _)) => (vis, "sward.draw.late_vis"),
+            None => (color, "sward.draw.late"),
+        };
         let mut pass = colour_pass(
             encoder,
-            "sward.draw.late",
-            (color, wgpu::LoadOp::Load),
+            label,
+            (target, wgpu::LoadOp::Load),
             (depth, wgpu::LoadOp::Load),
             q.render_writes(),
         );
-        pass.set_bind_group(1, light, &[]);
         q.begin(&mut pass);
-        let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
-        self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, offset);
+        match deferred {
+            Some((_, pipelines)) => self.draw_grass(&mut pass, &pipelines.vis, indirect, offset),
+            None => {
+                pass.set_bind_group(1, light, &[]);
+                self.draw_grass(&mut pass, self.grass_pipeline(wireframe), indirect, offset);
+            }
+        }
         q.end(&mut pass);
+    }
+
+    /// The deferred shading's pipelines, when the grass pipelines' specialisation and
+    /// sample count allow the path (`render::deferred`).
+    pub(super) fn deferred(&self) -> Option<&super::deferred::DeferredPipelines> {
+        self.pipelines.grass.deferred.as_ref()
+    }
+
+    /// The grass draw's group 0 (the deferred shading binds it: the blades, their states,
+    /// the frame and the field's traits; the visible list's region does not matter).
+    pub(super) fn grass_group(&self) -> &wgpu::BindGroup {
+        &self.grass_groups[0]
     }
 }
 

@@ -3,6 +3,7 @@
 //! one-call [`Renderer::frame`] the headless paths use.
 
 use super::camera::CameraView;
+use super::deferred::DeferredTargets;
 use super::hiz::DepthPyramid;
 use super::timing::{self, timed};
 use super::{msaa, post, Renderer};
@@ -10,6 +11,29 @@ use crate::gpu::Gpu;
 use crate::sim::layout::TEST_GRASS_OCCLUSION;
 
 impl Renderer {
+    /// Whether this frame's grass takes the deferred path (`render::deferred`): asked for
+    /// (`render.deferred_grass`),
+    /// one sample per pixel, filled triangles, pipelines that allow it and buffers the
+    /// adapter can hold; makes sure those buffers match a target of `size`.
+    fn ensure_deferred(&mut self, gpu: &Gpu, size: (u32, u32), wireframe: bool) -> bool {
+        let wanted = self.scene.render.deferred_grass
+            && !wireframe
+            && self.samples == 1
+            && self.draw.deferred().is_some()
+            && DeferredTargets::fits(gpu, size);
+        if !wanted {
+            // Not held while unused (the panel switched it off, MSAA came back on).
+            self.deferred = None;
+            return false;
+        }
+        if self.deferred.as_ref().map(|d| d.size()) != Some(size) {
+            // Dropped first: the old buffers are not held beside the new ones.
+            self.deferred = None;
+            self.deferred = DeferredTargets::new(gpu, size).ok();
+        }
+        self.deferred.is_some()
+    }
+
     /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull.
     fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32)) {
         let samples = self.samples;
@@ -144,6 +168,8 @@ impl Renderer {
             }),
         );
         self.sync_billboards(gpu);
+        let wireframe = self.scene.render.wireframe;
+        let deferred = self.ensure_deferred(gpu, size, wireframe);
         self.last_billboards = self.billboards.as_ref().map(|b| {
             let p = b.prepare(
                 &gpu.queue,
@@ -192,13 +218,16 @@ impl Renderer {
                 })
             });
         }
-        let wireframe = self.scene.render.wireframe;
+        let vis = deferred
+            .then(|| self.deferred.as_ref().map(|d| d.vis_view()))
+            .flatten();
         timed(meters, encoder, timing::DRAW, |e, q| {
             self.draw.encode(
                 e,
                 color,
                 depth,
                 occlusion,
+                vis,
                 &self.cull.args,
                 &self.sphere_draw(),
                 wireframe,
@@ -224,10 +253,26 @@ impl Renderer {
                     e,
                     color,
                     depth,
+                    vis,
                     &self.cull.args,
                     wireframe,
                     self.light.group(),
                     q,
+                )
+            });
+        }
+        // The deferred path lights its grass pixels once the depth is final.
+        if let (Some(d), Some(p), true) = (&self.deferred, self.draw.deferred(), deferred) {
+            let groups = (self.draw.grass_group(), self.light.group());
+            timed(meters, encoder, timing::GRASS_LIGHT, |e, q| {
+                d.encode_light(
+                    &gpu.device,
+                    e,
+                    p,
+                    groups,
+                    depth,
+                    color,
+                    (q.row(super::work::GRASS_PIXELS), q),
                 )
             });
         }

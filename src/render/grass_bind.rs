@@ -41,8 +41,10 @@ impl GrassBindings {
         levels: Vec<(wgpu::Buffer, u64, Option<u64>)>,
         traits: &crate::field::clumps::FieldTraits,
     ) -> Self {
-        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let vertex = wgpu::ShaderStages::VERTEX;
+        // The deferred shading's compute passes bind the same group (`render::deferred`).
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT | compute;
+        let vertex = wgpu::ShaderStages::VERTEX | compute;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.draw.grass_layout"),
             entries: &[

@@ -11,6 +11,7 @@ mod carried;
 pub mod clipmap;
 mod coverage;
 pub mod cull;
+pub mod deferred;
 pub mod draw;
 mod frame;
 pub mod grass_bind;
@@ -130,6 +131,9 @@ pub struct Renderer {
     multi_draw: bool,
     /// The occlusion test's depth pyramid, sized to the last target.
     pyramid: Option<DepthPyramid>,
+    /// The deferred grass shading's visibility buffer and pixel list, sized to the last
+    /// target that took the path.
+    deferred: Option<deferred::DeferredTargets>,
     /// Frames drawn, for the physics throttle's round robin.
     frame_count: u32,
     /// The cull uniforms of the last frame drawn (tests replay them on the CPU twin).
@@ -327,6 +331,7 @@ impl Renderer {
             lod,
             multi_draw,
             pyramid: None,
+            deferred: None,
             frame_count: 0,
             last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),
@@ -667,7 +672,8 @@ impl Renderer {
         .sum::<u64>()
             + self.cull.args.size();
         let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
-        let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes());
+        let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes())
+            + self.deferred.as_ref().map_or(0, |d| d.gpu_bytes());
         // Multisampled half-float colour (8 bytes) and depth (4 bytes) per sample.
         let msaa = self.msaa.as_ref().map_or(0, |m| {
             m.size.0 as u64 * m.size.1 as u64 * m.samples as u64 * 12
@@ -683,6 +689,19 @@ impl Renderer {
     /// uniforms (`render::grass_spec`); the pictures are the same, the general one slower.
     pub fn specialise_grass(&mut self, on: bool) {
         self.draw.general_grass = !on;
+    }
+
+    /// Lets the grass take the deferred shading path where it can (the default) or draws
+    /// it forward (`render::deferred`); the pictures differ only by the light's sampling:
+    /// per pixel on the blade's curve instead of interpolated between its vertices.
+    /// The scene's `render.deferred_grass`.
+    pub fn deferred_grass(&mut self, on: bool) {
+        self.scene.render.deferred_grass = on;
+    }
+
+    /// Whether the last frame's grass took the deferred path.
+    pub fn grass_deferred(&self) -> bool {
+        self.deferred.is_some()
     }
 
     /// Builds the tone-mapping pass for the scene's curve alone (the default) or keeps

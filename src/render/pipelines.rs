@@ -339,6 +339,9 @@ pub(super) struct GrassPipelines {
     pub grass_lines: Option<wgpu::RenderPipeline>,
     /// The blades into a sun's shadow cascade (the coarsest level's mesh).
     pub shadow_grass: wgpu::RenderPipeline,
+    /// The deferred shading's (`render::deferred`): with one sample per pixel and a
+    /// specialisation without flower heads or debug views.
+    pub deferred: Option<super::deferred::DeferredPipelines>,
 }
 
 impl GrassPipelines {
@@ -401,11 +404,14 @@ impl GrassPipelines {
             &[],
             &constants,
         );
+        let deferred = (samples == 1 && !spec.flowers && !spec.debug_views)
+            .then(|| super::deferred::DeferredPipelines::new(device, layout, &constants));
         Self {
             spec,
             grass,
             grass_lines,
             shadow_grass,
+            deferred,
         }
     }
 }

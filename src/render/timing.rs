@@ -15,9 +15,9 @@ use crate::gpu::Gpu;
 /// the patch pass, the blade update, the blade cull and the draw; then, with grass
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
 /// tiles entering a streamed field, the billboards' cull, the sun's shadow maps, the
-/// tone mapping, the overlays and the window's upscale. A pass that did not run in a frame
-/// reads 0.
-pub const PASSES: [&str; 15] = [
+/// tone mapping, the overlays and the window's upscale; and the deferred grass shading
+/// (its pixel list and its light, one scope). A pass that did not run in a frame reads 0.
+pub const PASSES: [&str; 16] = [
     "occluders",
     "pyramid",
     "patches",
@@ -33,6 +33,7 @@ pub const PASSES: [&str; 15] = [
     "tone map",
     "overlay",
     "upscale",
+    "grass light",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -54,6 +55,9 @@ pub const TONEMAP: usize = 12;
 pub const OVERLAY: usize = 13;
 /// The window's upscale of the 3D passes' scaled image to its size.
 pub const UPSCALE: usize = 14;
+/// The deferred grass shading's two compute passes (`render::deferred`): the grass pixels
+/// listed, then lit. With the deferred path the draw scopes draw the visibility buffer.
+pub const GRASS_LIGHT: usize = 15;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

@@ -2,16 +2,17 @@
 //! counts into, the figures built from the rows (the whole frame, the lit grass's
 //! fragments per covered pixel), and the table `render --timings` and the bench print.
 
-use super::timing::{LATE_DRAW, PASSES};
+use super::timing::{GRASS_LIGHT, LATE_DRAW, PASSES};
 use crate::gpu::queries::{Work, WorkFrame};
 
 /// The rows the work counter counts into: a row per timed pass (the same indices), then
 /// the wind solver's passes, the lit grass of the main draw (counted apart from the rest
-/// of the draw pass, whose row is the ground, sky, objects and billboards), and the
-/// coverage pass that measures the pixels the grass covers (a measurement, not part of
-/// the frame: [`frame_work`] leaves it out).
-pub const WORK_ROWS: [&str; PASSES.len() + 3] = {
-    let mut rows = [""; PASSES.len() + 3];
+/// of the draw pass, whose row is the ground, sky, objects and billboards), the coverage
+/// pass that measures the pixels the grass covers (a measurement, not part of the frame:
+/// [`frame_work`] leaves it out), and the deferred shading's pixel list (counted apart
+/// from its light, whose row is [`GRASS_LIGHT`]'s).
+pub const WORK_ROWS: [&str; PASSES.len() + 4] = {
+    let mut rows = [""; PASSES.len() + 4];
     let mut i = 0;
     while i < PASSES.len() {
         rows[i] = PASSES[i];
@@ -20,11 +21,13 @@ pub const WORK_ROWS: [&str; PASSES.len() + 3] = {
     rows[WIND] = "wind";
     rows[LIT_GRASS] = "lit grass";
     rows[COVERAGE] = "coverage";
+    rows[GRASS_PIXELS] = "grass pixels";
     rows
 };
 pub const WIND: usize = PASSES.len();
 pub const LIT_GRASS: usize = PASSES.len() + 1;
 pub const COVERAGE: usize = PASSES.len() + 2;
+pub const GRASS_PIXELS: usize = PASSES.len() + 3;
 
 /// The work of a whole frame: every row but the coverage measurement.
 pub fn frame_work(rows: &[Work]) -> Work {
@@ -37,16 +40,33 @@ pub fn frame_work(rows: &[Work]) -> Work {
     sum
 }
 
-/// The lit grass shading's fragment invocations per pixel the grass covers: the main and
-/// late draws' grass fragments over the coverage pass's samples (per pixel: over
-/// `samples`). `None` without a coverage count or with no grass on screen.
+/// The lit grass shading's invocations: drawn forward, the main and late draws' grass
+/// fragments; deferred (the pixel list was made), the light's compute invocations (the
+/// late draw then writes the visibility buffer, no light). `None` if a row is missing.
+pub fn lit_shading(rows: &[Work]) -> Option<u64> {
+    let deferred = rows.get(GRASS_PIXELS)?.compute_invocations > 0;
+    let late = if deferred {
+        0
+    } else {
+        rows.get(LATE_DRAW)?.fragment_invocations
+    };
+    Some(
+        rows.get(LIT_GRASS)?.fragment_invocations
+            + late
+            + rows.get(GRASS_LIGHT)?.compute_invocations,
+    )
+}
+
+/// The lit grass shading's invocations ([`lit_shading`]) per pixel the grass covers: over
+/// the coverage pass's samples (per pixel: over `samples`). `None` without a coverage count
+/// or with no grass on screen.
 pub fn lit_fragments_per_pixel(
     rows: &[Work],
     coverage_samples: Option<u64>,
     samples: u32,
 ) -> Option<f64> {
     let covered = coverage_samples? as f64 / samples.max(1) as f64;
-    let lit = rows.get(LIT_GRASS)?.fragment_invocations + rows.get(LATE_DRAW)?.fragment_invocations;
+    let lit = lit_shading(rows)?;
     (covered >= 1.0).then(|| lit as f64 / covered)
 }
 
@@ -58,7 +78,8 @@ pub struct WorkSummary {
     pub primitives: u64,
     pub fragment_invocations: u64,
     pub compute_invocations: u64,
-    /// The lit grass's fragment invocations (main and late draws).
+    /// The lit grass shading's invocations ([`lit_shading`]: forward, the main and late
+    /// draws' grass fragments; deferred, the light's compute invocations).
     pub lit_fragments: u64,
     /// Pixels the grass covers in the finished frame.
     pub grass_pixels: u64,
@@ -68,8 +89,7 @@ pub struct WorkSummary {
 impl WorkSummary {
     pub fn of(frame: &WorkFrame, samples: u32) -> Self {
         let all = frame_work(&frame.rows);
-        let lit =
-            frame.rows[LIT_GRASS].fragment_invocations + frame.rows[LATE_DRAW].fragment_invocations;
+        let lit = lit_shading(&frame.rows).unwrap_or(0);
         Self {
             vertex_invocations: all.vertex_invocations,
             primitives: all.primitives,

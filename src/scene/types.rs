@@ -677,6 +677,10 @@ pub struct Render {
     /// used; where the adapter lacks the count asked for, the largest count below it is
     /// used (with a warning).
     pub msaa: u32,
+    /// Light the grass once per pixel, after the draw (a visibility buffer and a compute
+    /// pass; `render::deferred`), where it can: one sample per pixel, filled triangles, no
+    /// flower heads or debug colour view. Otherwise, or false, it is lit as it is drawn.
+    pub deferred_grass: bool,
 }
 
 /// Self-shadowing among the blades, without shadow maps.
@@ -759,6 +763,7 @@ impl Default for Render {
             self_shadow: SelfShadow::Height,
             billboard_distance: 0.0,
             msaa: 4,
+            deferred_grass: true,
         }
     }
 }

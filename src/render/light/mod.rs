@@ -33,11 +33,11 @@ const GRADIENT_AMBIENT: Vec3 = Vec3::new(0.36, 0.44, 0.55);
 /// Where the shadows start to fade out, as a share of their distance.
 const FADE_START: f32 = 0.85;
 
-/// The light's bind group layout (group 1 of every lit pass): the uniforms, the shadow map
-/// array and its comparison sampler. wgpu deduplicates equal layouts, so each pipeline may
-/// build its own.
+/// The light's bind group layout (group 1 of every lit pass and of the deferred grass
+/// shading's compute passes): the uniforms, the shadow map array and its comparison
+/// sampler. wgpu deduplicates equal layouts, so each pipeline may build its own.
 pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
+    let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sward.light.layout"),
         entries: &[

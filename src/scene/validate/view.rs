@@ -64,6 +64,7 @@ pub(super) const RULES: &[(&str, Rule)] = &[
         Rule::Choice("one of Natural, Lod, Patch, Trail"),
     ),
     ("render.wireframe", Rule::Bool),
+    ("render.deferred_grass", Rule::Bool),
     (
         "render.self_shadow",
         Rule::Choice("Height, Cwd(min: .., max: .., c1: .., c2: ..) or Off"),

@@ -1,0 +1,346 @@
+//! Deferred grass shading (`shaders/grass_deferred.wgsl`; issue 26, point 5): the grass
+//! draw writes a visibility buffer (which blade, where on it, its depth) instead of lit
+//! colours, and the light runs once per grass pixel in two compute passes: one lists the
+//! pixels where the grass is still the nearest surface, one lights them into the scene
+//! target.
+//!
+//! Why: a software rasteriser shades a fragment for every pixel of each 4 x 4 block a
+//! triangle touches, so blades a pixel or two wide ran the lit shading about 25 times per
+//! pixel they cover (nature at 1280x720: 24.5 lit fragments per covered pixel), and the
+//! rasteriser's threads spent a third of the draw on it. The compute passes run on every
+//! core and shade each grass pixel once.
+//!
+//! The path is taken with one sample per pixel, filled triangles and grass pipelines
+//! specialised without flower heads or debug views (`DrawPass::deferred`); everything else
+//! is drawn forward, as before.
+
+use crate::error::{Error, Result};
+use crate::gpu::queries::PassQueries;
+use crate::gpu::Gpu;
+
+/// The visibility buffer: blade index, `pack2x16unorm(u, v)`, the depth's bits, and 1
+/// where grass was drawn (0 cleared).
+pub const VIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+/// Invocations per workgroup of the shading pass (`SHADE_GROUP` in the shader).
+pub const SHADE_GROUP: u32 = 64;
+
+/// Bytes of the indirect dispatch arguments and the list length (`ShadeArgs`).
+const ARGS_BYTES: u64 = 16;
+
+/// The deferred path's bind group layout (group 2 of its compute passes): the visibility
+/// buffer, the depth, the scene target, the pixel list and the shading's arguments.
+pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let compute = wgpu::ShaderStages::COMPUTE;
+    let storage = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: compute,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sward.deferred.layout"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: compute,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: compute,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: compute,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: super::post::HDR_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            },
+            storage(3),
+            storage(4),
+        ],
+    })
+}
+
+/// The deferred path's pipelines for one grass specialisation.
+pub(super) struct DeferredPipelines {
+    /// The blades into the visibility buffer.
+    pub vis: wgpu::RenderPipeline,
+    /// Lists the pixels the grass is nearest in.
+    pub pixels: wgpu::ComputePipeline,
+    /// Lights the listed pixels.
+    pub shade: wgpu::ComputePipeline,
+}
+
+impl DeferredPipelines {
+    /// `grass_layout`: the grass draw's group 0; `constants`: the specialisation's.
+    pub fn new(
+        device: &wgpu::Device,
+        grass_layout: &wgpu::BindGroupLayout,
+        constants: &[(&str, f64)],
+    ) -> Self {
+        let module = crate::shaders::module(device, "grass_deferred.wgsl");
+        let options = || wgpu::PipelineCompilationOptions {
+            constants,
+            ..Default::default()
+        };
+        let vis_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.deferred.vis.layout"),
+            bind_group_layouts: &[Some(grass_layout)],
+            immediate_size: 0,
+        });
+        let vis = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("sward.deferred.vis"),
+            layout: Some(&vis_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_vis"),
+                compilation_options: options(),
+                buffers: &[],
+            },
+            // Blades have no back: both sides are drawn.
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: super::draw::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_vis"),
+                compilation_options: options(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: VIS_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let light = super::light::layout(device);
+        let own = layout(device);
+        let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sward.deferred.compute.layout"),
+            bind_group_layouts: &[Some(grass_layout), Some(&light), Some(&own)],
+            immediate_size: 0,
+        });
+        let compute = |label: &str, entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: Some(&compute_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: options(),
+                cache: None,
+            })
+        };
+        Self {
+            vis,
+            pixels: compute("sward.deferred.pixels", "grass_pixels"),
+            shade: compute("sward.deferred.shade", "shade_pixels"),
+        }
+    }
+}
+
+/// The visibility buffer and the pixel list, sized to the 3D passes' target.
+pub struct DeferredTargets {
+    size: (u32, u32),
+    vis_view: wgpu::TextureView,
+    /// `PixelList`: the length, then one packed pixel per grass pixel at most (width x
+    /// height entries).
+    list: wgpu::Buffer,
+    /// `ShadeArgs`: x (workgroups), y = z = 1.
+    args: wgpu::Buffer,
+    /// Bound in `args`'s place to the shading pass, which reads `args` as its indirect
+    /// arguments.
+    stand_in: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl DeferredTargets {
+    /// Whether the adapter can hold the path's buffers for a target of `size` (the list
+    /// is one storage binding of width x height words).
+    pub fn fits(gpu: &Gpu, size: (u32, u32)) -> bool {
+        let limits = gpu.device.limits();
+        let bytes = list_bytes(size);
+        bytes <= limits.max_storage_buffer_binding_size
+            && bytes <= limits.max_buffer_size
+            && size.0 <= 1 << 16
+            && size.1 <= 1 << 16
+    }
+
+    /// Buffers for a target of `size`; an error when the adapter cannot hold them.
+    pub fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
+        if !Self::fits(gpu, size) {
+            return Err(Error::Limits(format!(
+                "the deferred grass shading's pixel list for {}x{} ({} bytes) exceeds the \
+                 adapter's storage binding limit",
+                size.0,
+                size.1,
+                list_bytes(size)
+            )));
+        }
+        let device = &gpu.device;
+        let vis = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sward.deferred.vis_buffer"),
+            size: wgpu::Extent3d {
+                width: size.0.max(1),
+                height: size.1.max(1),
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: VIS_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let list = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.deferred.pixel_list"),
+            size: list_bytes(size),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let args = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("sward.deferred.shade_args"),
+                contents: bytemuck::cast_slice(&[0u32, 1, 1, 0]),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::INDIRECT
+                    | wgpu::BufferUsages::COPY_DST,
+            },
+        );
+        let stand_in = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.deferred.args_stand_in"),
+            size: ARGS_BYTES,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            size,
+            vis_view: vis.create_view(&Default::default()),
+            list,
+            args,
+            stand_in,
+            layout: layout(device),
+        })
+    }
+
+    /// The size the buffers were made for.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    /// The visibility buffer, the grass draws' colour attachment.
+    pub fn vis_view(&self) -> &wgpu::TextureView {
+        &self.vis_view
+    }
+
+    /// Bytes of GPU memory held: the visibility buffer and the list.
+    pub fn gpu_bytes(&self) -> u64 {
+        let pixels = u64::from(self.size.0) * u64::from(self.size.1);
+        pixels * 16 + list_bytes(self.size) + 2 * ARGS_BYTES
+    }
+
+    /// Records the two compute passes: the grass pixels of the finished depth listed, then
+    /// lit into `scene` (the single-sample scene target, the size of these buffers).
+    /// `groups`: the grass draw's group 0 and the light's group 1.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn encode_light(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &DeferredPipelines,
+        groups: (&wgpu::BindGroup, &wgpu::BindGroup),
+        depth: &wgpu::TextureView,
+        scene: &wgpu::TextureView,
+        queries: (PassQueries, PassQueries),
+    ) {
+        // Per frame, like the pyramid's: they bind the caller's depth and scene views.
+        let group = |args: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sward.deferred.group"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&self.vis_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(depth),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(scene),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: self.list.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: args.as_entire_binding(),
+                    },
+                ],
+            })
+        };
+        // The workgroup count and the list's length start at 0; y and z stay 1.
+        encoder.clear_buffer(&self.args, 0, Some(4));
+        encoder.clear_buffer(&self.list, 0, Some(4));
+        let (q_pixels, q_shade) = queries;
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sward.deferred.pixels"),
+                timestamp_writes: q_pixels.compute_writes_part(true, false),
+            });
+            q_pixels.begin(&mut pass);
+            pass.set_pipeline(&pipelines.pixels);
+            pass.set_bind_group(0, groups.0, &[]);
+            pass.set_bind_group(1, groups.1, &[]);
+            pass.set_bind_group(2, &group(&self.args), &[]);
+            pass.dispatch_workgroups(self.size.0.div_ceil(8), self.size.1.div_ceil(8), 1);
+            q_pixels.end(&mut pass);
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.deferred.shade"),
+            timestamp_writes: q_shade.compute_writes_part(false, true),
+        });
+        q_shade.begin(&mut pass);
+        pass.set_pipeline(&pipelines.shade);
+        pass.set_bind_group(0, groups.0, &[]);
+        pass.set_bind_group(1, groups.1, &[]);
+        pass.set_bind_group(2, &group(&self.stand_in), &[]);
+        pass.dispatch_workgroups_indirect(&self.args, 0);
+        q_shade.end(&mut pass);
+    }
+}
+
+/// Bytes of the pixel list for a target of `size`: its length, then a word per pixel.
+fn list_bytes(size: (u32, u32)) -> u64 {
+    4 + u64::from(size.0.max(1)) * u64::from(size.1.max(1)) * 4
+}
