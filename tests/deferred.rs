@@ -13,7 +13,7 @@ use sward::render::camera::CameraView;
 use sward::render::target::Target;
 use sward::render::work::WorkSummary;
 use sward::render::Renderer;
-use sward::scene::Scene;
+use sward::scene::{BladeModel, Scene};
 use sward::session::Session;
 
 const SIZE: (u32, u32) = (192, 108);
@@ -26,17 +26,18 @@ const MEAN_DIFFERENCE: f64 = 5.0;
 /// (measured 0.57 %: single pixels at blade tips, whose highlight is now per pixel).
 const FAR_OFF: f64 = 0.01;
 
-fn scene() -> Scene {
+fn scene(model: BladeModel) -> Scene {
     let mut s = Scene::default();
     s.render.msaa = 1;
+    s.physics.model = model;
     s
 }
 
-/// `FRAMES` frames of the default scene, the last counted: its picture, its work and
-/// whether its grass took the deferred path.
-fn render(deferred: bool) -> (image::RgbaImage, WorkSummary, bool) {
+/// `FRAMES` frames of the default scene with the blade model `model`, the last counted:
+/// its picture, its work and whether its grass took the deferred path.
+fn render_model(model: BladeModel, deferred: bool) -> (image::RgbaImage, WorkSummary, bool) {
     let gpu = common::gpu();
-    let session = Session::new(scene(), None, Some(&gpu)).expect("field");
+    let session = Session::new(scene(model), None, Some(&gpu)).expect("field");
     let mut r = Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
         .expect("renderer");
     r.deferred_grass(deferred);
@@ -60,6 +61,10 @@ fn render(deferred: bool) -> (image::RgbaImage, WorkSummary, bool) {
     let summary = WorkSummary::of(&work, r.samples());
     let image = target.read_image(&gpu).expect("image");
     (image, summary, r.grass_deferred())
+}
+
+fn render(deferred: bool) -> (image::RgbaImage, WorkSummary, bool) {
+    render_model(BladeModel::Jahrmann, deferred)
 }
 
 #[test]
@@ -86,15 +91,9 @@ fn deferred_grass_is_lit_once_per_covered_pixel() {
     assert!(per_pixel(&forward) > 2.0, "{forward:?}");
 }
 
-#[test]
-fn deferred_grass_draws_the_forward_picture() {
-    let (deferred, _, _) = render(true);
-    let (forward, _, _) = render(false);
-    if let Ok(dir) = std::env::var("DEFERRED_PNG_DIR") {
-        let dir = std::path::Path::new(&dir);
-        sward::output::save_png(&dir.join("deferred.png"), &deferred).expect("png");
-        sward::output::save_png(&dir.join("forward.png"), &forward).expect("png");
-    }
+/// The deferred picture against the forward one: the mean difference per channel and the
+/// share of pixels far off (a pixel the deferred path failed to light would be black).
+fn compare(name: &str, deferred: &image::RgbaImage, forward: &image::RgbaImage) {
     let mut sum = 0u64;
     let mut far_off = 0usize;
     for (a, b) in deferred.pixels().zip(forward.pixels()) {
@@ -105,9 +104,34 @@ fn deferred_grass_draws_the_forward_picture() {
         }
     }
     let mean = sum as f64 / (3 * SIZE.0 * SIZE.1) as f64;
-    println!("mean difference {mean:.2} levels; {far_off} pixels off by more than 64");
-    assert!(mean <= MEAN_DIFFERENCE, "mean difference {mean:.2}");
-    // No hole: a pixel the deferred path failed to light would show black.
     let share = far_off as f64 / f64::from(SIZE.0 * SIZE.1);
-    assert!(share <= FAR_OFF, "{far_off} pixels far off");
+    println!("{name}: mean difference {mean:.2} levels; {far_off} pixels off by more than 64");
+    assert!(mean <= MEAN_DIFFERENCE, "{name}: mean difference {mean:.2}");
+    assert!(share <= FAR_OFF, "{name}: {far_off} pixels far off");
+}
+
+#[test]
+fn deferred_grass_draws_the_forward_picture() {
+    let (deferred, _, _) = render(true);
+    let (forward, _, _) = render(false);
+    if let Ok(dir) = std::env::var("DEFERRED_PNG_DIR") {
+        let dir = std::path::Path::new(&dir);
+        sward::output::save_png(&dir.join("deferred.png"), &deferred).expect("png");
+        sward::output::save_png(&dir.join("forward.png"), &forward).expect("png");
+    }
+    compare("jahrmann", &deferred, &forward);
+}
+
+/// The shading rebuilds each pixel's point on its blade with the blade model's own curve:
+/// the thesis's cubic (Verlet states) and CWD-Sim's wind-bent blades as well.
+#[test]
+fn every_blade_model_draws_the_forward_picture_deferred() {
+    for model in [BladeModel::Verlet, BladeModel::Cwd] {
+        let (deferred, work, took) = render_model(model, true);
+        assert!(took, "{model:?}: the deferred path");
+        let lit = work.lit_fragments_per_pixel.expect("grass on screen");
+        assert!((0.95..=1.25).contains(&lit), "{model:?}: {work:?}");
+        let (forward, _, _) = render_model(model, false);
+        compare(&format!("{model:?}"), &deferred, &forward);
+    }
 }
