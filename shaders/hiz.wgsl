@@ -5,7 +5,8 @@
 //
 // `copy_depth` writes level 0 from the depth buffer (a storage texture cannot be a depth
 // format, and textureLoad on r32float is core); `downsample` writes level k from level k-1,
-// one dispatch per level. The two entry points use disjoint bindings except `dst`, so each
+// one dispatch per level. With two levels or more, `copy_depth2` writes levels 0 and 1 in
+// one dispatch (level 0 is 3/4 of the pyramid; reading it again cost as much as the copy). The two entry points use disjoint bindings except `dst`, so each
 // gets its own bind group layout.
 //
 // With MSAA the 3D passes draw into a multisampled depth buffer: `copy_depth_ms` writes
@@ -19,6 +20,67 @@
 @group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
 @group(0) @binding(3) var depth_ms: texture_depth_multisampled_2d;
 @group(0) @binding(4) var<storage, read_write> samples_out: array<f32>;
+// Level 1, written by the fused copies with level 0.
+@group(0) @binding(5) var dst1: texture_storage_2d<r32float, write>;
+
+// The texels of level 0 under texel `p` of level 1: 2 x 2, and for the last column/row of
+// an odd-sized level 0 the extra one too (as `downsample` reads them). Returns [start, end).
+fn footprint(p: vec2<u32>, size1: vec2<u32>, size0: vec2<u32>) -> vec4<u32> {
+    let start = p * 2u;
+    var end = min(start + vec2<u32>(2u), size0);
+    if p.x == size1.x - 1u {
+        end.x = size0.x;
+    }
+    if p.y == size1.y - 1u {
+        end.y = size0.y;
+    }
+    return vec4<u32>(start, end);
+}
+
+// Level 0 and level 1 in one pass (a pyramid of two levels or more): one invocation per
+// texel of level 1 copies the depth texels under it into level 0 and writes their
+// farthest into level 1, so level 0 is not read back by a second pass.
+@compute @workgroup_size(8, 8)
+fn copy_depth2(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size1 = textureDimensions(dst1);
+    if gid.x >= size1.x || gid.y >= size1.y {
+        return;
+    }
+    let f = footprint(gid.xy, size1, textureDimensions(dst));
+    var far = 0.0;
+    for (var y = f.y; y < f.w; y++) {
+        for (var x = f.x; x < f.z; x++) {
+            let p = vec2<i32>(vec2<u32>(x, y));
+            let d = textureLoad(depth, p, 0);
+            textureStore(dst, p, vec4<f32>(d, 0.0, 0.0, 0.0));
+            far = max(far, d);
+        }
+    }
+    textureStore(dst1, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
+}
+
+// `copy_depth2` from a multisampled depth: each pixel's farthest sample.
+@compute @workgroup_size(8, 8)
+fn copy_depth2_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size1 = textureDimensions(dst1);
+    if gid.x >= size1.x || gid.y >= size1.y {
+        return;
+    }
+    let f = footprint(gid.xy, size1, textureDimensions(dst));
+    var far = 0.0;
+    for (var y = f.y; y < f.w; y++) {
+        for (var x = f.x; x < f.z; x++) {
+            let p = vec2<i32>(vec2<u32>(x, y));
+            var d = 0.0;
+            for (var s = 0u; s < textureNumSamples(depth_ms); s++) {
+                d = max(d, textureLoad(depth_ms, p, i32(s)));
+            }
+            textureStore(dst, p, vec4<f32>(d, 0.0, 0.0, 0.0));
+            far = max(far, d);
+        }
+    }
+    textureStore(dst1, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
+}
 
 @compute @workgroup_size(8, 8)
 fn copy_depth(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -101,16 +101,21 @@ impl DepthPyramid {
             },
             count: None,
         };
+        // With two levels or more the copy writes level 1 as well (`copy_depth2`).
+        let fused = levels >= 2;
+        let depth_entry = if samples > 1 {
+            multisampled_depth_entry(3)
+        } else {
+            texture_entry(0, wgpu::TextureSampleType::Depth)
+        };
+        let level1_entry = wgpu::BindGroupLayoutEntry {
+            binding: 5,
+            ..dst_entry
+        };
+        let copy_entries = [depth_entry, dst_entry, level1_entry];
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.hiz.copy_layout"),
-            entries: &[
-                if samples > 1 {
-                    multisampled_depth_entry(3)
-                } else {
-                    texture_entry(0, wgpu::TextureSampleType::Depth)
-                },
-                dst_entry,
-            ],
+            entries: &copy_entries[..if fused { 3 } else { 2 }],
         });
         // R32Float is not filterable without a feature; textureLoad needs no filtering.
         let downsample_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -135,10 +140,11 @@ impl DepthPyramid {
                 cache: None,
             })
         };
-        let copy_entry = if samples > 1 {
-            "copy_depth_ms"
-        } else {
-            "copy_depth"
+        let copy_entry = match (fused, samples > 1) {
+            (true, true) => "copy_depth2_ms",
+            (true, false) => "copy_depth2",
+            (false, true) => "copy_depth_ms",
+            (false, false) => "copy_depth",
         };
         let copy = make(&copy_layout, copy_entry, "sward.hiz.copy");
         let downsample = make(&downsample_layout, "downsample", "sward.hiz.downsample");
@@ -204,8 +210,9 @@ impl DepthPyramid {
     /// Records the build of every level from `depth`, a Depth32Float view of this
     /// pyramid's size and sample count with TEXTURE_BINDING usage.
     ///
-    /// One compute pass per level: each pass reads the level the previous one wrote, and a
-    /// pass boundary is where that read-after-write is synchronised for certain. With
+    /// One compute pass per level (levels 0 and 1 share the first): each pass reads the
+    /// level the previous one wrote, and a pass boundary is where that read-after-write is
+    /// synchronised for certain. With
     /// `q`'s timestamps, the first pass writes the start and the last one the end; every
     /// level's pass is counted.
     pub fn encode(
@@ -216,23 +223,38 @@ impl DepthPyramid {
         q: PassQueries,
     ) {
         // Made per call: the depth view is the caller's and is replaced on resize.
+        let fused = self.levels() >= 2;
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: if self.samples > 1 { 3 } else { 0 },
+                resource: wgpu::BindingResource::TextureView(depth),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&self.mip_views[0]),
+            },
+        ];
+        if fused {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(&self.mip_views[1]),
+            });
+        }
         let copy_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.hiz.copy"),
             layout: &self.copy_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: if self.samples > 1 { 3 } else { 0 },
-                    resource: wgpu::BindingResource::TextureView(depth),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&self.mip_views[0]),
-                },
-            ],
+            entries: &entries,
         });
-        let last = self.levels() - 1;
-        for level in 0..self.levels() {
-            let (w, h) = self.level_size(level);
+        // The last pass: the fused copy itself when there are only levels 0 and 1.
+        let last = if fused && self.levels() == 2 {
+            0
+        } else {
+            self.levels() - 1
+        };
+        // The fused copy writes level 1 too: its dispatch covers level 1's texels.
+        let passes = std::iter::once(0).chain(if fused { 2 } else { 1 }..self.levels());
+        for level in passes {
+            let (w, h) = self.level_size(if level == 0 && fused { 1 } else { level });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(&format!("sward.hiz.level{level}")),
                 timestamp_writes: q.compute_writes_part(level == 0, level == last),
