@@ -619,10 +619,14 @@ impl AppState {
         self.arrows.prepare(gpu, &mesh, view.view_proj(aspect), sun);
         let (scene_color, scene_depth) = self.renderer.scene_views(color, depth);
         let arrows = &self.arrows;
-        self.renderer
-            .encode_timed(encoder, timing::OVERLAY, |e, q| {
-                arrows.encode(e, scene_color, scene_depth, q)
-            });
+        // Timed only when drawn: a scope whose pass never ran reads the stale timestamps of
+        // an earlier frame (the window's Stats showed 5-8 ms of "overlay" with no arrows).
+        if !arrows.is_empty() {
+            self.renderer
+                .encode_timed(encoder, timing::OVERLAY, |e, q| {
+                    arrows.encode(e, scene_color, scene_depth, q)
+                });
+        }
         self.renderer.resolve(encoder, color);
         if scaled {
             let upscale = &self.upscale;

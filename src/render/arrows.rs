@@ -506,6 +506,12 @@ impl ArrowPass {
 
     /// Draws the prepared mesh into `color`, depth tested (LessEqual) against and writing
     /// `depth`; both are loaded, never cleared. Records nothing when the mesh is empty.
+    /// Whether the last prepared mesh has nothing to draw ([`ArrowPass::encode`] then
+    /// records no pass).
+    pub fn is_empty(&self) -> bool {
+        self.index_count == 0
+    }
+
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
