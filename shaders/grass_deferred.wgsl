@@ -9,7 +9,7 @@
 //    each fragment writes (blade index, pack2x16unorm(u, v), its depth's bits, 1).
 // 2. `grass_pixels`: one invocation per pixel keeps the pixels whose visibility texel is
 //    grass and whose depth is still the grass's (an object or the ground drawn later in
-//    front of it changed the depth), appending them to a list; every 64th appended pixel
+//    front of it changed the depth), appending them to a list; every 256th appended pixel
 //    adds a workgroup to the shading's indirect dispatch.
 // 3. `shade_pixels`: one invocation per listed pixel rebuilds the blade's point at (u, v)
 //    on its curve (Eq. 21-24, as the vertex stage does), its colours and the sun's
@@ -43,8 +43,10 @@ struct ShadeArgs {
     pad: u32,
 }
 
-// Invocations per workgroup of `shade_pixels` (twin: `deferred::SHADE_GROUP`).
-const SHADE_GROUP: u32 = 64u;
+// Invocations per workgroup of `shade_pixels` (twin: `deferred::SHADE_GROUP`): 256, the
+// most every adapter allows, so a 4K frame's grass needs at most 32,400 workgroups, under
+// the 65,535 a dispatch may have along x.
+const SHADE_GROUP: u32 = 256u;
 
 struct VisOut {
     // Invariant: the same depth as the lit pass and the coverage measurement.
@@ -88,7 +90,7 @@ fn grass_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     pixel_list.pixels[i] = (gid.y << 16u) | gid.x;
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(256)
 fn shade_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= atomicLoad(&pixel_list.count) {
         return;

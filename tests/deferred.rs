@@ -135,3 +135,15 @@ fn every_blade_model_draws_the_forward_picture_deferred() {
         compare(&format!("{model:?}"), &deferred, &forward);
     }
 }
+
+/// A target the adapter cannot hold the path's pixel list or dispatch for is drawn
+/// forward, not refused: 1920 x 1080 fits on lavapipe, 16384 x 16384 (a list of 1 GiB,
+/// over a million shading workgroups) does not.
+#[test]
+fn targets_too_large_for_the_path_are_drawn_forward() {
+    let gpu = common::gpu();
+    use sward::render::deferred::DeferredTargets;
+    assert!(DeferredTargets::fits(&gpu, (1920, 1080)));
+    assert!(!DeferredTargets::fits(&gpu, (16384, 16384)));
+    assert!(DeferredTargets::new(&gpu, (16384, 16384)).is_err());
+}

@@ -23,7 +23,7 @@ use crate::gpu::Gpu;
 pub const VIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 /// Invocations per workgroup of the shading pass (`SHADE_GROUP` in the shader).
-pub const SHADE_GROUP: u32 = 64;
+pub const SHADE_GROUP: u32 = 256;
 
 /// Bytes of the indirect dispatch arguments and the list length (`ShadeArgs`).
 const ARGS_BYTES: u64 = 16;
@@ -182,14 +182,20 @@ pub struct DeferredTargets {
 
 impl DeferredTargets {
     /// Whether the adapter can hold the path's buffers for a target of `size` (the list
-    /// is one storage binding of width x height words).
+    /// is one storage binding of width x height words) and dispatch its shading (a
+    /// workgroup per [`SHADE_GROUP`] pixels along x, when every pixel is grass).
     pub fn fits(gpu: &Gpu, size: (u32, u32)) -> bool {
         let limits = gpu.device.limits();
         let bytes = list_bytes(size);
+        let pixels = u64::from(size.0) * u64::from(size.1);
         bytes <= limits.max_storage_buffer_binding_size
             && bytes <= limits.max_buffer_size
             && size.0 <= 1 << 16
             && size.1 <= 1 << 16
+            && limits.max_compute_invocations_per_workgroup >= SHADE_GROUP
+            && limits.max_compute_workgroup_size_x >= SHADE_GROUP
+            && pixels.div_ceil(u64::from(SHADE_GROUP))
+                <= u64::from(limits.max_compute_workgroups_per_dimension)
     }
 
     /// Buffers for a target of `size`; an error when the adapter cannot hold them.
