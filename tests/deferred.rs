@@ -9,15 +9,12 @@
 
 mod common;
 
-use sward::render::camera::CameraView;
-use sward::render::target::Target;
 use sward::render::work::WorkSummary;
-use sward::render::Renderer;
 use sward::scene::{BladeModel, Scene};
 use sward::session::Session;
 
 const SIZE: (u32, u32) = (192, 108);
-const FRAMES: u32 = 3;
+const FRAMES: usize = 3;
 /// The forward and deferred pictures' mean absolute difference per channel, at most
 /// (levels of 255; measured 3.56 on lavapipe: the coarse levels' blades, one or two
 /// segments long, were lit between their vertices and are now lit per pixel).
@@ -38,25 +35,9 @@ fn scene(model: BladeModel) -> Scene {
 fn render_model(model: BladeModel, deferred: bool) -> (image::RgbaImage, WorkSummary, bool) {
     let gpu = common::gpu();
     let session = Session::new(scene(model), None, Some(&gpu)).expect("field");
-    let mut r = Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-        .expect("renderer");
-    r.deferred_grass(deferred);
-    let camera = CameraView::from_scene(&session.scene.camera);
-    let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
-    for k in 0..FRAMES {
-        if k == FRAMES - 1 {
-            assert!(r.count_work(&gpu, true), "lavapipe counts");
-        }
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
-    }
-    gpu.check_errors().expect("no GPU error");
+    let (mut r, target) = common::draw_frames(&gpu, &session, SIZE, FRAMES, true, |r| {
+        r.deferred_grass(deferred)
+    });
     let work = r.read_work(&gpu).expect("read").expect("a counted frame");
     let summary = WorkSummary::of(&work, r.samples());
     let image = target.read_image(&gpu).expect("image");

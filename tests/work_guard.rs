@@ -27,7 +27,7 @@ const BAND: f64 = 0.10;
 const SMALL: f64 = 200.0;
 const SIZE: (u32, u32) = (160, 90);
 /// Frames before the counted one: the two-phase occlusion settles on what it saw.
-const FRAMES: u32 = 3;
+const FRAMES: usize = 3;
 
 fn expected_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/expected/work.json")
@@ -44,28 +44,7 @@ fn counted_frame(
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/scenes/{scene}.ron"));
     let scene = load_scene_with_sets(&path, sets).expect("shipped scene");
     let session = Session::new(scene, None, Some(gpu)).expect("session");
-    let mut r = Renderer::from_session(gpu, &session, sward::render::target::COLOR_FORMAT)
-        .expect("renderer");
-    let camera = CameraView::from_scene(&session.scene.camera);
-    let target = Target::new(gpu, size.0, size.1).expect("target");
-    for k in 0..=FRAMES {
-        if k == FRAMES {
-            assert!(
-                r.count_work(gpu, true),
-                "lavapipe has pipeline-statistics queries: the guard must count"
-            );
-        }
-        r.frame(
-            gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-    }
-    gpu.check_errors().expect("no GPU error");
-    r
+    common::draw_frames(gpu, &session, size, FRAMES + 1, true, |_| {}).0
 }
 
 /// The counted figures of one scene's frame.

@@ -45,13 +45,35 @@ pub fn render_frames(
 ) -> (image::RgbaImage, Renderer) {
     let gpu = gpu();
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let (r, target) = draw_frames(&gpu, &session, size, frames, false, setup);
+    (target.read_image(&gpu).expect("image"), r)
+}
+
+/// `frames` frames of `session`'s scene (steps of 1/30 s) from its camera, at `size`, by a
+/// renderer `setup` has configured first; with `count_last`, the last frame's work is
+/// counted (pipeline statistics: lavapipe has them, so the count must start). The renderer
+/// (a counted frame ready for `read_work`) and the target the frames were drawn into.
+pub fn draw_frames(
+    gpu: &Gpu,
+    session: &Session,
+    size: (u32, u32),
+    frames: usize,
+    count_last: bool,
+    setup: impl FnOnce(&mut Renderer),
+) -> (Renderer, sward::render::target::Target) {
+    let mut r = Renderer::from_session(gpu, session, COLOR_FORMAT).expect("renderer");
     setup(&mut r);
     let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
-    let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");
-    for _ in 0..frames {
+    let target = sward::render::target::Target::new(gpu, size.0, size.1).expect("target");
+    for k in 0..frames {
+        if count_last && k + 1 == frames {
+            assert!(
+                r.count_work(gpu, true),
+                "lavapipe has pipeline-statistics queries: the frame must be counted"
+            );
+        }
         r.frame(
-            &gpu,
+            gpu,
             1.0 / 30.0,
             &camera,
             &target.color_view,
@@ -60,7 +82,7 @@ pub fn render_frames(
         );
     }
     gpu.check_errors().expect("no GPU error");
-    (target.read_image(&gpu).expect("image"), r)
+    (r, target)
 }
 
 /// A scene with no forces at all: no gravity, no wind, no colliders.
