@@ -9,7 +9,6 @@ mod common;
 use glam::{Mat4, Vec3};
 use sward::render::camera::CameraView;
 use sward::render::light::{sky, tone};
-use sward::render::target::{Target, COLOR_FORMAT};
 use sward::render::Renderer;
 use sward::scene::{HeightSource, Motion, Scene, Shading, Sphere, ToneMapping};
 use sward::session::Session;
@@ -26,20 +25,8 @@ fn render_on(
     frames: u32,
 ) -> (image::RgbaImage, Renderer, CameraView) {
     let session = Session::new(scene, None, Some(gpu)).expect("field");
-    let mut r = Renderer::from_session(gpu, &session, COLOR_FORMAT).expect("renderer");
     let camera = CameraView::from_scene(&session.scene.camera);
-    let target = Target::new(gpu, size.0, size.1).expect("target");
-    for _ in 0..frames {
-        r.frame(
-            gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-    }
-    gpu.check_errors().expect("no GPU error");
+    let (r, target) = common::draw_frames(gpu, &session, size, frames as usize, false, |_| {});
     (target.read_image(gpu).expect("image"), r, camera)
 }
 
