@@ -36,7 +36,7 @@ fn walk_bvh(start: u32, root: vec3<f32>, reach: f32, limit: u32, contact: ptr<fu
 }
 
 // The spheres on the patch's broad-phase list (in index order, like the CPU twin that tests
-// all of them), or, when the hierarchy is on, the walk under each node on the patch's list
+// all of them; in the pool when longer than the patch's slots), or, when the hierarchy is on, the walk under each node on the patch's list
 // (the broad phase's cut of the tree, in the order a walk from the root meets them, so
 // that the pushes come as the twin's walk from the root makes them; from the root when
 // the list overflowed).
@@ -63,8 +63,11 @@ fn collide_listed(patch_id: u32, root: vec3<f32>, reach: f32, limit: u32, contac
     }
     let all = listed == SPHERES_ALL;
     let n = select(listed, params.sphere_count, all);
+    // A list longer than the patch's slots lies in the shared pool (`broad_phase`).
+    let pooled = !all && listed > PATCH_SPHERE_STRIDE - 1u;
+    let start = select(base + 1u, patch_spheres[base + 1u], pooled);
     for (var k = 0u; k < n; k++) {
-        let sphere = spheres[select(patch_spheres[base + 1u + k], k, all)];
+        let sphere = spheres[select(patch_spheres[start + k], k, all)];
         push_sphere(sphere.xyz, sphere.w, contact);
     }
 }

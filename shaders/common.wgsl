@@ -100,17 +100,24 @@ struct CullParams {
     hiz: vec4<u32>,
     // x: near, y: far.
     clip: vec4<f32>,
-    // Collision broad phase: x sphere count, y 1 = collisions on, z the hierarchy's node
-    // count (0: flat lists), w its depth.
+    // Collision broad phase: x sphere count, y bit 0 collisions on and bit 1
+    // (COLLIDE_HIERARCHY) the blades walk the hierarchy, z the tree's node count (0: no
+    // tree), w its depth.
     collide: vec4<u32>,
     // The hierarchy's precision camera (xyz) and exact distance (w).
     bvh: vec4<f32>,
 }
 
-// Slots per patch in the broad phase's sphere lists (count + indices) and the count of a
-// patch whose list overflowed (it tests every sphere). PATCH_SPHERE_STRIDE in Rust.
+// Slots per patch in the broad phase's sphere lists (count + indices; a longer flat list
+// has its count here, its start in the shared pool in the next slot), the pool's entries
+// after the slots, and the count of a patch whose list found the pool full (it tests every
+// sphere; with the hierarchy, a list of more than PATCH_SPHERE_STRIDE - 1 nodes: the
+// blades walk from the root). PATCH_SPHERE_STRIDE, PATCH_SPHERE_POOL in Rust.
 const PATCH_SPHERE_STRIDE: u32 = 64u;
+const PATCH_SPHERE_POOL: u32 = 262144u;
 const SPHERES_ALL: u32 = 0xffffffffu;
+// CullParams.collide.y: the blades walk the colliders' hierarchy (COLLIDE_HIERARCHY in Rust).
+const COLLIDE_HIERARCHY: u32 = 2u;
 // Words of CullCounters.spheres_used (MAX_SPHERES / 32) and where the hierarchy's nodes
 // start in the spheres buffer (BVH_NODE_BASE in Rust).
 const SPHERE_WORDS: u32 = 512u;

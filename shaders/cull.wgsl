@@ -49,7 +49,8 @@ struct CullOutput {
     // in whole batches of DRAW_BATCH.
     blades: array<atomic<u32>, 3>,
     late_blades: array<atomic<u32>, 3>,
-    pad: u32,
+    // Entries of the broad phase's shared pool taken this frame.
+    pool_used: atomic<u32>,
     spheres_used: array<atomic<u32>, SPHERE_WORDS>,
 }
 
@@ -149,6 +150,7 @@ fn reset() {
     atomicStore(&out.culled_occlusion_patch, 0u);
     atomicStore(&out.patch_sphere_pairs, 0u);
     atomicStore(&out.culled_occlusion_grass, 0u);
+    atomicStore(&out.pool_used, 0u);
     for (var w = 0u; w < SPHERE_WORDS; w++) {
         atomicStore(&out.spheres_used[w], 0u);
     }
@@ -342,10 +344,10 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             atomicAdd(&out.throttled_patches, 1u);
         }
         patch_lists[update_list() + 1u + slot] = entry;
-        if params.collide.z > 0u {
+        if (params.collide.y & COLLIDE_HIERARCHY) != 0u && params.collide.z > 0u {
             broad_phase_bvh(p, pbox, !every_frame);
         } else {
-            broad_phase(p, pbox, n);
+            broad_phase(p, pbox);
         }
     }
 }
@@ -355,37 +357,97 @@ fn mark_used(s: u32) {
 }
 
 // The spheres a stepped patch's blades are tested against: those within one radius of the
-// patch box (which holds every pose of its blades). The extra radius keeps the list exact
-// in practice: a push by an earlier sphere moves a tip by at most that sphere's radius
-// (four times that through the midpoint, which is rarer), before validation pulls it back.
-fn broad_phase(p: u32, pbox: PatchBox, n: u32) {
+// patch box (which holds every pose of its blades), in index order, like the CPU twin that
+// tests them all (`reference::patch_spheres`). The extra radius keeps the list exact in
+// practice: a push by an earlier sphere moves a tip by at most that sphere's radius (four
+// times that through the midpoint, which is rarer), before validation pulls it back.
+//
+// Most patches touch no sphere: the colliders' tree (built whenever there are colliders)
+// answers that in O(log n), and only a patch it cannot rule out scans the spheres. Up to
+// PATCH_SPHERE_STRIDE - 1 fit the patch's own slots; a longer list goes to the shared pool
+// after the slots (its start in slot 1), and only when the pool is full does the patch test
+// every sphere (SPHERES_ALL), which is what every long list did before: a patch under a
+// packed bunny then tested all 1,002 of its spheres per blade.
+fn broad_phase(p: u32, pbox: PatchBox) {
     let base = p * PATCH_SPHERE_STRIDE;
-    if params.collide.y == 0u {
+    if params.collide.y == 0u || !tree_may_touch(pbox) {
         patch_spheres[base] = 0u;
         return;
     }
     var count = 0u;
     for (var s = 0u; s < params.collide.x; s++) {
-        let sphere = spheres[s];
-        let q = clamp(sphere.xyz, pbox.min.xyz, pbox.max.xyz);
-        if distance(q, sphere.xyz) < 2.0 * sphere.w {
+        if sphere_near_box(s, pbox) {
             if count < PATCH_SPHERE_STRIDE - 1u {
                 patch_spheres[base + 1u + count] = s;
-                mark_used(s);
             }
             count++;
         }
     }
     if count > PATCH_SPHERE_STRIDE - 1u {
-        patch_spheres[base] = SPHERES_ALL;
-        for (var s = 0u; s < params.collide.x; s++) {
-            mark_used(s);
+        let at = atomicAdd(&out.pool_used, count);
+        if at + count <= PATCH_SPHERE_POOL {
+            // Listed again, now into the pool: the slots held only the first ones.
+            let start = params.patch_count * PATCH_SPHERE_STRIDE + at;
+            var k = 0u;
+            for (var s = 0u; s < params.collide.x; s++) {
+                if sphere_near_box(s, pbox) && k < count {
+                    patch_spheres[start + k] = s;
+                    mark_used(s);
+                    k++;
+                }
+            }
+            patch_spheres[base] = k;
+            patch_spheres[base + 1u] = start;
+            count = k;
+        } else {
+            patch_spheres[base] = SPHERES_ALL;
+            for (var s = 0u; s < params.collide.x; s++) {
+                mark_used(s);
+            }
+            count = params.collide.x;
         }
-        count = params.collide.x;
     } else {
         patch_spheres[base] = count;
+        for (var k = 0u; k < count; k++) {
+            mark_used(patch_spheres[base + 1u + k]);
+        }
     }
     atomicAdd(&out.patch_sphere_pairs, count);
+}
+
+// The broad phase's test of one sphere against a patch box: its centre within two radii.
+fn sphere_near_box(s: u32, pbox: PatchBox) -> bool {
+    let sphere = spheres[s];
+    let q = clamp(sphere.xyz, pbox.min.xyz, pbox.max.xyz);
+    return distance(q, sphere.xyz) < 2.0 * sphere.w;
+}
+
+// Whether any sphere may pass `sphere_near_box` for the box: false only when the colliders'
+// tree rules every one out. A node's sphere holds its children's whole, so a sphere within
+// two of its radii of the box lies under a node within two of the node's radius (a hair
+// more here, against rounding); true without a tree.
+fn tree_may_touch(pbox: PatchBox) -> bool {
+    if params.collide.z == 0u {
+        return true;
+    }
+    var stack: array<u32, BVH_STACK>;
+    var top = 1u;
+    stack[0] = 0u;
+    while top > 0u {
+        top -= 1u;
+        let node = bvh_node(stack[top]);
+        let c = node.sphere.xyz;
+        if distance(clamp(c, pbox.min.xyz, pbox.max.xyz), c) >= 2.0 * node.sphere.w * 1.0001 + 1e-6 {
+            continue;
+        }
+        if node.link.z < BVH_LOOSE || top + 2u > BVH_STACK {
+            return true;
+        }
+        stack[top] = node.link.y;
+        stack[top + 1u] = node.link.x;
+        top += 2u;
+    }
+    return false;
 }
 
 // The broad phase with the colliders' hierarchy (Qiu et al.; the twin is

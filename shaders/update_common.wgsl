@@ -19,7 +19,7 @@
 // starts at patch_count + 1.
 @group(0) @binding(5) var<storage, read> patch_lists: array<u32>;
 // The broad phase's list per patch: [count or SPHERES_ALL, sphere or (with the hierarchy)
-// node, ...].
+// node, ...], a longer flat list [count, start] with its spheres in the pool at `start`.
 @group(0) @binding(6) var<storage, read> patch_spheres: array<u32>;
 // Blades reset to their rest pose because their new state was non-finite or absurd,
 // counted since the start (never cleared); then the collision pushes of this step per cell

@@ -434,7 +434,8 @@ pub fn simulate_cpu_from(
         );
         if scene.collision_hierarchy() {
             let eye = glam::Vec3::from(scene.camera.eye);
-            crate::sim::bvh::fill_params(&mut params, &crate::sim::bvh::build(&spheres), eye);
+            let nodes = crate::sim::bvh::build(&spheres);
+            crate::sim::bvh::fill_params(&mut params, &nodes, true, eye);
         }
         let zero = [[0.0f32; 2]];
         let grid = reference::WindGrid {

@@ -328,9 +328,10 @@ impl CullPass {
         }))
     }
 
-    /// Reads the broad phase's sphere list of every patch back (blocking): `None` where the
-    /// list overflowed and the patch tests every sphere. Lists of patches not stepped in the
-    /// last frame are stale.
+    /// Reads the broad phase's sphere list of every patch back (blocking), a long flat list
+    /// from the shared pool: `None` where the patch tests every sphere (the pool was full;
+    /// with the hierarchy, the list overflowed and the blades walk from the root). Lists of
+    /// patches not stepped in the last frame are stale.
     pub fn read_patch_spheres(
         &self,
         gpu: &Gpu,
@@ -343,6 +344,10 @@ impl CullPass {
             .take(buffers.patch_count as usize)
             .map(|c| match c[0] {
                 SPHERES_ALL => None,
+                n if n >= PATCH_SPHERE_STRIDE => {
+                    let start = c[1] as usize;
+                    all.get(start..start + n as usize).map(<[u32]>::to_vec)
+                }
                 n => Some(c[1..1 + n as usize].to_vec()),
             })
             .collect())

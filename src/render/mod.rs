@@ -386,7 +386,9 @@ impl Renderer {
     fn upload_colliders(&mut self, gpu: &Gpu) {
         let spheres = self.frame_spheres();
         self.sphere_count = self.buffers.upload_spheres(&gpu.queue, &spheres);
-        self.bvh = if self.scene.collision_hierarchy() {
+        // Built whenever the blades collide: the flat broad phase skips with it the patches
+        // that no sphere is near.
+        self.bvh = if self.scene.physics.collisions {
             crate::sim::bvh::build(&spheres[..self.sphere_count as usize])
         } else {
             Vec::new()
@@ -490,7 +492,12 @@ impl Renderer {
         );
         params.patch_size = self.buffers.patch_size;
         params.patch_count = self.buffers.patch_count;
-        crate::sim::bvh::fill_params(&mut params, &self.bvh, eye);
+        crate::sim::bvh::fill_params(
+            &mut params,
+            &self.bvh,
+            self.scene.collision_hierarchy(),
+            eye,
+        );
         // The grid's corner and cell now (a following grid moves; the blades and the
         // billboards must sample it where it is).
         if let Some(f) = &self.fluid {
@@ -559,6 +566,7 @@ impl Renderer {
         crate::sim::bvh::fill_cull_params(
             &mut p,
             &self.bvh,
+            self.scene.collision_hierarchy(),
             camera.eye,
             self.scene.physics.hierarchy_precision_distance,
         );

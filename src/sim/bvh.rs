@@ -149,27 +149,39 @@ fn node(spheres: &[[f32; 4]], members: &mut [u32], depth: u32, nodes: &mut Vec<B
 }
 
 /// Puts this step's tree (`nodes`, built from the uploaded spheres) and the camera into
-/// `params` (whose `bvh_info.x` and `bvh_camera.w` come from the scene).
-pub fn fill_params(params: &mut crate::sim::layout::SimParams, nodes: &[BvhNode], camera: Vec3) {
+/// `params`; the blades walk the tree with `hierarchy` (`Scene::collision_hierarchy`) and a
+/// tree to walk.
+pub fn fill_params(
+    params: &mut crate::sim::layout::SimParams,
+    nodes: &[BvhNode],
+    hierarchy: bool,
+    camera: Vec3,
+) {
     params.bvh_camera[0] = camera.x;
     params.bvh_camera[1] = camera.y;
     params.bvh_camera[2] = camera.z;
-    // A tree is built only when the scene walks it (`Scene::collision_hierarchy`).
-    params.bvh_info[0] = u32::from(!nodes.is_empty());
+    // The tree is built whenever there are colliders (the flat broad phase prunes with it
+    // too); the blades walk it only when the scene says so.
+    params.bvh_info[0] = u32::from(hierarchy && !nodes.is_empty());
     params.bvh_info[1] = nodes.len() as u32;
     params.bvh_info[2] = depth(nodes);
 }
 
 /// Puts the tree's size and depth and the precision camera into the cull pass's
-/// parameters, whose broad phase then lists each stepped patch's cut of the tree
-/// (`broad_phase_bvh` in `cull.wgsl`, twin `reference::patch_nodes`). `near` is
-/// `physics.hierarchy_precision_distance`.
+/// parameters. With `hierarchy` the broad phase then lists each stepped patch's cut of the
+/// tree (`broad_phase_bvh` in `cull.wgsl`, twin `reference::patch_nodes`); without, it
+/// lists the spheres near each patch and uses the tree only to skip the patches near none.
+/// `near` is `physics.hierarchy_precision_distance`.
 pub fn fill_cull_params(
     params: &mut crate::sim::layout::CullParams,
     nodes: &[BvhNode],
+    hierarchy: bool,
     camera: Vec3,
     near: f32,
 ) {
+    if hierarchy {
+        params.collide[1] |= crate::sim::layout::COLLIDE_HIERARCHY;
+    }
     params.collide[2] = nodes.len() as u32;
     params.collide[3] = depth(nodes);
     params.bvh = [camera.x, camera.y, camera.z, near];

@@ -15,8 +15,19 @@ pub const BVH_NODE_BASE: usize = MAX_SPHERES;
 /// Bytes of the spheres buffer: the spheres, then up to `2 · MAX_SPHERES` nodes.
 pub const SPHERE_BUFFER_BYTES: u64 = (MAX_SPHERES * 16 + 2 * MAX_SPHERES * 32) as u64;
 /// u32 slots per patch in the collision broad phase's lists: a count, then up to
-/// `PATCH_SPHERE_STRIDE - 1` sphere indices (more: `SPHERES_ALL`, the patch tests them all).
+/// `PATCH_SPHERE_STRIDE - 1` sphere indices. A longer flat list keeps its count in the first
+/// slot and its start in the second, its indices in the shared pool of
+/// [`PATCH_SPHERE_POOL`] entries after every patch's slots; when the pool is full the count
+/// is `SPHERES_ALL` and the patch tests every sphere. With the hierarchy, a list of more
+/// than `PATCH_SPHERE_STRIDE - 1` nodes is `SPHERES_ALL`: the blades walk from the root.
 pub const PATCH_SPHERE_STRIDE: u32 = 64;
+/// Entries of the broad phase's shared pool for flat lists longer than a patch's slots
+/// (1 MiB: a thousand patches under a thousand-sphere packing, eight times the nature
+/// scene's need).
+pub const PATCH_SPHERE_POOL: u32 = 1 << 18;
+/// `CullParams::collide[1]` bit: the blades walk the colliders' hierarchy (bit 0:
+/// collisions on).
+pub const COLLIDE_HIERARCHY: u32 = 2;
 
 /// Blades per instance of the grass draw (`DRAW_BATCH` in `common.wgsl`). One instance per
 /// blade costs a software rasteriser a whole pass through its vertex pipeline per blade
@@ -183,8 +194,9 @@ pub struct CullParams {
     /// x: near plane, y: far plane of the culling camera, z: the grass-occlusion test's
     /// bias (a fraction of the view distance, like `occlusion_bias`).
     pub clip: [f32; 4],
-    /// Collision broad phase: sphere count, 1 = collisions on, the hierarchy's node count
-    /// (0: the flat lists), the hierarchy's depth.
+    /// Collision broad phase: sphere count; bit 0 collisions on, bit 1
+    /// ([`COLLIDE_HIERARCHY`]) the blades walk the hierarchy; the tree's node count (0: no
+    /// tree); its depth.
     pub collide: [u32; 4],
     /// The hierarchy's precision camera (xyz) and the distance within which it is exact
     /// (w), as `SimParams::bvh_camera`.
@@ -254,7 +266,9 @@ pub struct CullCounters {
     pub blades: [u32; LOD_LEVELS],
     /// Blades in each level's late list.
     pub late_blades: [u32; LOD_LEVELS],
-    pub _pad: [u32; 1],
+    /// Entries of the broad phase's shared pool taken this frame (at most
+    /// [`PATCH_SPHERE_POOL`] are used).
+    pub pool_used: u32,
     /// Bit s set: sphere s is on some stepped patch's list.
     pub spheres_used: [u32; MAX_SPHERES / 32],
 }

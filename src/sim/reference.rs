@@ -791,18 +791,14 @@ pub fn patch_update(p: u32, patch: &PatchBox, params: &CullParams) -> Option<boo
 }
 
 /// The collision broad phase of a stepped patch: the indices of the spheres within one
-/// radius of its box, in order; `None` when more than `PATCH_SPHERE_STRIDE - 1` qualify (the
-/// patch then tests every sphere). Empty with collisions off.
-pub fn patch_spheres(
-    patch: &PatchBox,
-    params: &CullParams,
-    spheres: &[[f32; 4]],
-) -> Option<Vec<u32>> {
+/// radius of its box, in order (more than `PATCH_SPHERE_STRIDE - 1` go to the GPU's shared
+/// pool; only a full pool makes a patch test every sphere). Empty with collisions off.
+pub fn patch_spheres(patch: &PatchBox, params: &CullParams, spheres: &[[f32; 4]]) -> Vec<u32> {
     if params.collide[1] == 0 {
-        return Some(Vec::new());
+        return Vec::new();
     }
     let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
-    let listed: Vec<u32> = spheres
+    spheres
         .iter()
         .take(params.collide[0] as usize)
         .enumerate()
@@ -811,8 +807,7 @@ pub fn patch_spheres(
             c.clamp(min, max).distance(c) < 2.0 * s[3]
         })
         .map(|(k, _)| k as u32)
-        .collect();
-    (listed.len() < PATCH_SPHERE_STRIDE as usize).then_some(listed)
+        .collect()
 }
 
 /// The collision broad phase of a stepped patch with the colliders' hierarchy

@@ -7,7 +7,8 @@ use wgpu::util::DeviceExt;
 use super::bvh::BvhNode;
 use super::layout::{
     Blade, BladeState, PatchBox, PatchDispatch, SimParams, VerletState, BVH_NODE_BASE, DRAW_BATCH,
-    LOD_LEVELS, MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES, WORKGROUP_SIZE,
+    LOD_LEVELS, MAX_SPHERES, PATCH_SPHERE_POOL, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES,
+    WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
 use crate::field::tiles::{empty_patch, TileLayout};
@@ -30,7 +31,8 @@ pub struct BladeBuffers {
     /// the patch tests (the blade cull's list), then `[count, patch | throttled bit, ...]`,
     /// the patches the update steps this frame.
     pub patch_lists: wgpu::Buffer,
-    /// Collision broad phase: `PATCH_SPHERE_STRIDE` slots per patch, `[count, sphere, ...]`.
+    /// Collision broad phase: `PATCH_SPHERE_STRIDE` slots per patch, `[count, sphere, ...]`,
+    /// then the pool of `PATCH_SPHERE_POOL` entries for longer lists (`layout`).
     pub patch_spheres: wgpu::Buffer,
     /// `PatchDispatch`: indirect dispatches of the blade cull and of the update.
     pub dispatch: wgpu::Buffer,
@@ -60,6 +62,7 @@ impl BladeBuffers {
         count * super::layout::BYTES_PER_BLADE as u64
             + patches
                 * (std::mem::size_of::<PatchBox>() as u64 + 8 + PATCH_SPHERE_STRIDE as u64 * 4)
+            + PATCH_SPHERE_POOL as u64 * 4
             + SPHERE_BUFFER_BYTES
             + 8
             + std::mem::size_of::<PatchDispatch>() as u64
@@ -190,7 +193,9 @@ impl BladeBuffers {
         });
         let patch_spheres = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.patch_spheres"),
-            size: patch_count.max(1) as u64 * PATCH_SPHERE_STRIDE as u64 * 4,
+            size: (patch_count.max(1) as u64 * PATCH_SPHERE_STRIDE as u64
+                + PATCH_SPHERE_POOL as u64)
+                * 4,
             usage: storage,
             mapped_at_creation: false,
         });

@@ -216,7 +216,7 @@ fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
         let name = at("boundary");
         let message = format!(
             "{name} = Periodic does not go with wind.fluid.extent = {} (a grid that follows \
-             the camera): use Open or Closed, or extent 0",
+             the camera): allowed there are Open or Closed, or Periodic with extent 0",
             fluid.extent
         );
         return Err(check.error(&name, message));
@@ -419,7 +419,8 @@ mod tests {
                 s.wind.fluid.extent = 64.0;
             }),
             "wind.fluid.boundary = Periodic does not go with wind.fluid.extent = 64 (a grid \
-             that follows the camera): use Open or Closed, or extent 0"
+             that follows the camera): allowed there are Open or Closed, or Periodic with \
+             extent 0"
         );
         let m = rejected(|s| s.wind.fluid.vorticity = f32::NAN);
         assert!(
