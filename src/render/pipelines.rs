@@ -245,7 +245,7 @@ impl Pipelines {
                 layout: terrain_layout,
                 buffers: &[],
                 depth_write: true,
-                cull_back: false,
+                cull_back: true,
                 lines: false,
                 depth_only: false,
                 constants: &[],
@@ -268,7 +268,7 @@ impl Pipelines {
                 constants: &[],
             },
         );
-        let depth_only = |label, shader, layout, buffers| {
+        let depth_only = |label, shader, layout, buffers, cull_back| {
             pipeline(
                 device,
                 format,
@@ -280,7 +280,7 @@ impl Pipelines {
                     layout,
                     buffers,
                     depth_write: true,
-                    cull_back: false,
+                    cull_back,
                     lines: false,
                     depth_only: true,
                     constants: &[],
@@ -292,12 +292,14 @@ impl Pipelines {
             "terrain.wgsl",
             terrain_layout,
             &[],
+            true,
         );
         let spheres_depth = depth_only(
             "sward.draw.spheres_depth",
             "spheres.wgsl",
             spheres_layout,
             &sphere_buffers,
+            false,
         );
         let shadow_terrain = shadow_pipeline(
             device,
