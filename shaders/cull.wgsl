@@ -97,8 +97,18 @@ const MAX_GROUPS: u32 = 65535u;
 // Two lists of patch_count + 1 slots: [count, patch, ...], the patches that passed the
 // patch tests; then [count, patch | THROTTLED?, ...], the patches the update steps.
 @group(0) @binding(5) var<storage, read_write> patch_lists: array<u32>;
-// Max-depth pyramid of the opaque objects (level 0 = the depth buffer).
+// Max-depth pyramid of the opaque objects: levels 1 and up (mip k is level k + 1), and
+// level 0, the depth buffer itself (with MSAA its farthest sample per pixel).
 @group(0) @binding(7) var hiz: texture_2d<f32>;
+@group(0) @binding(8) var hiz0: texture_2d<f32>;
+
+// Texel `p` of pyramid level `level`.
+fn hiz_texel(p: vec2<i32>, level: u32) -> f32 {
+    if level == 0u {
+        return textureLoad(hiz0, p, 0).r;
+    }
+    return textureLoad(hiz, p, i32(level) - 1).r;
+}
 // Written by the patch step only (the blade cull reads `dispatch` as its indirect
 // argument, which may not be bound at the same time).
 @group(1) @binding(0) var<storage, read_write> dispatch: PatchDispatch;
@@ -209,7 +219,7 @@ fn point_occluded(p: vec3<f32>, bias: f32) -> bool {
     if any(abs(ndc) > vec2<f32>(1.0)) {
         return false;
     }
-    let d = textureLoad(hiz, to_pixel(ndc), 0).r;
+    let d = textureLoad(hiz0, to_pixel(ndc), 0).r;
     return behind(c.w, d, bias);
 }
 
@@ -258,7 +268,7 @@ fn box_occluded(bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
     var d = 0.0;
     for (var y = a.y; y <= b.y; y++) {
         for (var x = a.x; x <= b.x; x++) {
-            d = max(d, textureLoad(hiz, vec2<i32>(x, y), i32(level)).r);
+            d = max(d, hiz_texel(vec2<i32>(x, y), level));
         }
     }
     return behind(z_near, d, params.occlusion_bias);

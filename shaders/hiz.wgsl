@@ -3,24 +3,26 @@
 // (farthest) depth of the pixels it covers: a blade nearer than that texel somewhere is
 // possibly visible, one behind it everywhere is hidden. CPU twin: `reference::hiz`.
 //
-// `copy_depth` writes level 0 from the depth buffer (a storage texture cannot be a depth
-// format, and textureLoad on r32float is core); `downsample` writes level k from level k-1,
-// one dispatch per level. With two levels or more, `copy_depth2` writes levels 0 and 1 in
-// one dispatch (level 0 is 3/4 of the pyramid; reading it again cost as much as the copy). The two entry points use disjoint bindings except `dst`, so each
-// gets its own bind group layout.
+// Level 0 is the depth buffer itself: the cull reads it directly, so it is not copied
+// (writing a copy of every pixel cost about 4 ms of a 1280x720 pyramid on llvmpipe). The
+// pyramid texture holds levels 1 and up. `reduce_depth` writes level 1 from the depth
+// buffer (a storage texture cannot be a depth format, and textureLoad on r32float is core);
+// `downsample` writes level k from level k-1, one dispatch per level.
 //
-// With MSAA the 3D passes draw into a multisampled depth buffer: `copy_depth_ms` writes
-// level 0 as the FARTHEST of each pixel's samples, so a blade hidden by the texel is hidden
-// behind every sample of it (occlusion stays conservative). `dump_samples` copies every
-// sample into a buffer (multisampled textures cannot be copied out): the test of that
-// reduction compares level 0 with the CPU max over the dumped samples.
+// With MSAA the 3D passes draw into a multisampled depth buffer: `copy_depth2_ms` writes a
+// level 0 of its own, the FARTHEST of each pixel's samples (so a blade hidden by the texel
+// is hidden behind every sample of it, and occlusion stays conservative), and level 1 from
+// it in the same dispatch; `copy_depth_ms` writes level 0 alone for a 1 x 1 target.
+// `dump_samples` copies every sample into a buffer (multisampled textures cannot be copied
+// out): the test of that reduction compares level 0 with the CPU max over the dumped
+// samples.
 
 @group(0) @binding(0) var depth: texture_depth_2d;
 @group(0) @binding(1) var src: texture_2d<f32>;
 @group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
 @group(0) @binding(3) var depth_ms: texture_depth_multisampled_2d;
 @group(0) @binding(4) var<storage, read_write> samples_out: array<f32>;
-// Level 1, written by the fused copies with level 0.
+// Level 1, written by the multisampled copy with level 0.
 @group(0) @binding(5) var dst1: texture_storage_2d<r32float, write>;
 
 // The texels of level 0 under texel `p` of level 1: 2 x 2, and for the last column/row of
@@ -37,29 +39,27 @@ fn footprint(p: vec2<u32>, size1: vec2<u32>, size0: vec2<u32>) -> vec4<u32> {
     return vec4<u32>(start, end);
 }
 
-// Level 0 and level 1 in one pass (a pyramid of two levels or more): one invocation per
-// texel of level 1 copies the depth texels under it into level 0 and writes their
-// farthest into level 1, so level 0 is not read back by a second pass.
+// Level 1 from the depth buffer (level 0): one invocation per texel of level 1 (`dst`
+// here) keeps the farthest of the depth texels under it.
 @compute @workgroup_size(8, 8)
-fn copy_depth2(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let size1 = textureDimensions(dst1);
+fn reduce_depth(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size1 = textureDimensions(dst);
     if gid.x >= size1.x || gid.y >= size1.y {
         return;
     }
-    let f = footprint(gid.xy, size1, textureDimensions(dst));
+    let f = footprint(gid.xy, size1, textureDimensions(depth));
     var far = 0.0;
     for (var y = f.y; y < f.w; y++) {
         for (var x = f.x; x < f.z; x++) {
-            let p = vec2<i32>(vec2<u32>(x, y));
-            let d = textureLoad(depth, p, 0);
-            textureStore(dst, p, vec4<f32>(d, 0.0, 0.0, 0.0));
-            far = max(far, d);
+            far = max(far, textureLoad(depth, vec2<i32>(vec2<u32>(x, y)), 0));
         }
     }
-    textureStore(dst1, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
+    textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
 }
 
-// `copy_depth2` from a multisampled depth: each pixel's farthest sample.
+// Level 0 (the farthest sample of each pixel, into `dst`) and level 1 (into `dst1`) in
+// one pass: one invocation per texel of level 1 writes the level-0 texels under it and
+// their farthest, so level 0 is not read back by a second pass.
 @compute @workgroup_size(8, 8)
 fn copy_depth2_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     let size1 = textureDimensions(dst1);
@@ -83,16 +83,6 @@ fn copy_depth2_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8)
-fn copy_depth(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let size = textureDimensions(dst);
-    if gid.x >= size.x || gid.y >= size.y {
-        return;
-    }
-    let d = textureLoad(depth, vec2<i32>(gid.xy), 0);
-    textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(d, 0.0, 0.0, 0.0));
-}
-
-@compute @workgroup_size(8, 8)
 fn copy_depth_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     let size = textureDimensions(dst);
     if gid.x >= size.x || gid.y >= size.y {
@@ -103,6 +93,16 @@ fn copy_depth_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
         far = max(far, textureLoad(depth_ms, vec2<i32>(gid.xy), i32(s)));
     }
     textureStore(dst, vec2<i32>(gid.xy), vec4<f32>(far, 0.0, 0.0, 0.0));
+}
+
+// Pixel (x, y) of a single-sample depth goes to samples_out[y * width + x].
+@compute @workgroup_size(8, 8)
+fn dump_depth(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(depth);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    samples_out[gid.y * size.x + gid.x] = textureLoad(depth, vec2<i32>(gid.xy), 0);
 }
 
 // Sample s of pixel (x, y) goes to samples_out[(y * width + x) * samples + s].

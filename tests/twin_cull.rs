@@ -60,12 +60,7 @@ fn run(
     }
     let (blades, _) = r.buffers.read(&gpu).expect("blades");
     let cp = *r.last_cull_params();
-    let pyramid_levels: Option<Vec<Vec<f32>>> = (cp.hiz[3] == 1).then(|| {
-        let p = r.pyramid().expect("a pyramid when occlusion ran");
-        (0..p.levels())
-            .map(|k| p.read_level(&gpu, k).expect("pyramid level"))
-            .collect()
-    });
+    let pyramid_levels: Option<Vec<Vec<f32>>> = (cp.hiz[3] == 1).then(|| read_pyramid(&gpu, &r));
     let pyramid = pyramid_levels.as_ref().map(|levels| Pyramid {
         levels,
         width: SIZE.0,
@@ -253,10 +248,9 @@ fn switching_every_test_off_draws_every_blade() {
 
 /// The whole pyramid of the last frame, read back.
 fn read_pyramid(gpu: &sward::gpu::Gpu, r: &sward::render::Renderer) -> Vec<Vec<f32>> {
-    let p = r.pyramid().expect("a pyramid when occlusion ran");
-    (0..p.levels())
-        .map(|k| p.read_level(gpu, k).expect("pyramid level"))
-        .collect()
+    r.read_pyramid(gpu)
+        .expect("a pyramid when occlusion ran")
+        .expect("pyramid levels")
 }
 
 #[test]

@@ -127,9 +127,7 @@ fn build(gpu: &Gpu, pyramid: &DepthPyramid, depth: &wgpu::TextureView) -> Vec<Ve
         sward::gpu::queries::PassQueries::NONE,
     );
     gpu.queue.submit([encoder.finish()]);
-    (0..pyramid.levels())
-        .map(|level| pyramid.read_level(gpu, level).expect("pyramid read-back"))
-        .collect()
+    pyramid.read_levels(gpu, depth).expect("pyramid read-back")
 }
 
 /// Renders the scene at `width` x `height`, builds the pyramid, checks it against the twin.
@@ -167,7 +165,8 @@ fn check(gpu: &Gpu, pipeline: &wgpu::RenderPipeline, width: u32, height: u32) {
     assert_eq!(pyramid.size(), (width, height));
     let expected_levels = 32 - width.max(height).leading_zeros();
     assert_eq!(pyramid.levels(), expected_levels, "{at}");
-    let bytes: u64 = (0..expected_levels)
+    // Level 0 is the depth buffer itself: the pyramid holds the levels above it.
+    let bytes: u64 = (1..expected_levels)
         .map(|k| {
             let (w, h) = level_size(width, height, k);
             w as u64 * h as u64 * 4
@@ -176,7 +175,8 @@ fn check(gpu: &Gpu, pipeline: &wgpu::RenderPipeline, width: u32, height: u32) {
     assert_eq!(pyramid.gpu_bytes(), bytes, "{at}");
 
     let gpu_levels = build(gpu, &pyramid, &view);
-    // (a) Level 0 is the depth buffer, bit for bit.
+    // (a) Level 0, as the cull reads it (the depth view bound as a float texture), is the
+    // depth buffer, bit for bit.
     assert_eq!(
         gpu_levels[0], depth,
         "{at}: level 0 is not the depth buffer"
@@ -248,6 +248,9 @@ fn reading_a_missing_level_is_an_error() {
     let pyramid = DepthPyramid::new(&gpu, 8, 4);
     assert_eq!(pyramid.levels(), 4);
     assert!(pyramid.read_level(&gpu, 4).is_err());
+    // Level 0 is the depth buffer, not the pyramid's: `read_levels` reads it from there.
+    assert!(pyramid.read_level(&gpu, 0).is_err());
+    assert!(pyramid.read_level(&gpu, 3).is_ok());
 }
 
 #[test]

@@ -40,7 +40,7 @@ fn bind_group(
     params: &wgpu::Buffer,
     args: &wgpu::Buffer,
     buffers: &BladeBuffers,
-    pyramid: &wgpu::TextureView,
+    (level0, pyramid): (&wgpu::TextureView, &wgpu::TextureView),
 ) -> wgpu::BindGroup {
     let buffer_entries = [
         &buffers.blades,
@@ -66,6 +66,10 @@ fn bind_group(
         binding: 7,
         resource: wgpu::BindingResource::TextureView(pyramid),
     });
+    entries.push(wgpu::BindGroupEntry {
+        binding: 8,
+        resource: wgpu::BindingResource::TextureView(level0),
+    });
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("sward.cull.bind_group"),
         layout,
@@ -86,16 +90,10 @@ impl CullPass {
                 compute_storage_entry(3, false),
                 compute_storage_entry(4, false),
                 compute_storage_entry(5, false),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 7,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
+                pyramid_entry(7),
+                // Level 0: the depth buffer itself (a depth view binds as unfilterable
+                // float) or, with MSAA, the pyramid's farthest-sample copy.
+                pyramid_entry(8),
             ],
         });
         // The dispatch arguments are written by the patch pass only: the blade cull uses
@@ -157,7 +155,14 @@ impl CullPass {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        let bind_group = bind_group(device, &layout, &params, &args, buffers, &no_pyramid);
+        let bind_group = bind_group(
+            device,
+            &layout,
+            &params,
+            &args,
+            buffers,
+            (&no_pyramid, &no_pyramid),
+        );
         let dispatch_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.cull.dispatch_group"),
             layout: &dispatch_layout,
@@ -212,12 +217,14 @@ impl CullPass {
         }
     }
 
-    /// Binds a depth pyramid (all mips of an R32Float texture) for the occlusion test; call
-    /// when the pyramid is created or resized.
+    /// Binds a depth pyramid for the occlusion test: `level0` (the depth buffer, or with
+    /// MSAA the pyramid's own level 0) and `pyramid`, levels 1 and up (`DepthPyramid::view`).
+    /// Call when the pyramid or the depth buffer is created or resized.
     pub fn set_pyramid(
         &mut self,
         device: &wgpu::Device,
         buffers: &BladeBuffers,
+        level0: &wgpu::TextureView,
         pyramid: &wgpu::TextureView,
     ) {
         self.bind_group = bind_group(
@@ -226,7 +233,7 @@ impl CullPass {
             &self.params,
             &self.args,
             buffers,
-            pyramid,
+            (level0, pyramid),
         );
     }
 
@@ -356,5 +363,19 @@ impl CullPass {
     /// Reads the visible blade indices of the last frame back, all levels (blocking).
     pub fn read_visible(&self, gpu: &Gpu, buffers: &BladeBuffers) -> Result<Vec<u32>> {
         Ok(self.read_visible_levels(gpu, buffers)?.concat())
+    }
+}
+
+/// A texture the cull reads levels of the depth pyramid from (`textureLoad` only).
+fn pyramid_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
     }
 }

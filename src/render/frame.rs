@@ -34,20 +34,27 @@ impl Renderer {
         self.deferred.is_some()
     }
 
-    /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull.
-    fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32)) {
+    /// Makes sure the depth pyramid matches a target of `size` and is bound to the cull
+    /// with `depth`, the depth buffer it is built from (its level 0).
+    fn ensure_pyramid(&mut self, gpu: &Gpu, size: (u32, u32), depth: &wgpu::TextureView) {
         let samples = self.samples;
-        if self
+        let fits = self
             .pyramid
             .as_ref()
-            .is_some_and(|p| p.size() == size && p.samples() == samples)
-        {
+            .is_some_and(|p| p.size() == size && p.samples() == samples);
+        if fits && self.pyramid_depth.as_ref() == Some(depth) {
             return;
         }
-        let pyramid = DepthPyramid::with_samples(gpu, size.0, size.1, samples);
-        self.cull
-            .set_pyramid(&gpu.device, &self.buffers, pyramid.view());
-        self.pyramid = Some(pyramid);
+        if !fits {
+            // Dropped first: the old levels are not held beside the new ones.
+            self.pyramid = None;
+            self.pyramid = Some(DepthPyramid::with_samples(gpu, size.0, size.1, samples));
+        }
+        if let Some(p) = &self.pyramid {
+            self.cull
+                .set_pyramid(&gpu.device, &self.buffers, p.level0_view(depth), p.view());
+        }
+        self.pyramid_depth = Some(depth.clone());
     }
 
     /// Records a whole frame (step by `dt`, cull, draw into `color`, resolve) into
@@ -132,7 +139,7 @@ impl Renderer {
         // A frozen culling camera sees other depths than the drawn view: no occlusion then.
         let occlusion = self.scene.culling.occlusion && self.cull_camera.is_none();
         let hiz = if occlusion {
-            self.ensure_pyramid(gpu, size);
+            self.ensure_pyramid(gpu, size, depth);
             let p = self.pyramid.as_ref().map_or((0, 0, 0), |p| {
                 let (w, h) = p.size();
                 (w, h, p.levels())

@@ -1,9 +1,10 @@
 //! The hierarchical depth pyramid ("Hi-Z", `shaders/hiz.wgsl`) for occlusion culling: an
-//! R32Float mip chain whose level 0 is a copy of the depth buffer and whose every texel
-//! above holds the farthest depth of the texels below it. A cull shader reads it with
-//! `textureLoad(hiz, coord, level)` through [`DepthPyramid::view`]. With MSAA the depth is
-//! multisampled and level 0 keeps the farthest sample of each pixel. CPU twin:
-//! [`crate::sim::reference::hiz`].
+//! R32Float mip chain above the depth buffer, each texel the farthest depth of the texels
+//! below it. Level 0 is the depth buffer itself (not copied: the cull binds it beside the
+//! pyramid, [`DepthPyramid::level0_view`]); the pyramid texture holds levels 1 and up, which
+//! the cull reads with `textureLoad(hiz, coord, level - 1)` through [`DepthPyramid::view`].
+//! With MSAA the depth is multisampled and the pyramid keeps a level 0 of its own, the
+//! farthest sample of each pixel. CPU twin: [`crate::sim::reference::hiz`].
 
 use crate::error::{Error, Result};
 use crate::gpu::queries::PassQueries;
@@ -19,19 +20,26 @@ pub const HIZ_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// The pyramid texture, its views, and the two pipelines that build it.
 pub struct DepthPyramid {
+    /// Size of level 0 (the depth buffer's).
+    size: (u32, u32),
+    /// Levels in all, level 0 included: a full chain down to 1 x 1.
+    levels: u32,
+    /// Levels 1 and up as mips 0 and up (a 1 x 1 stand-in when level 0 is all there is).
     texture: wgpu::Texture,
-    /// All levels, for the culling shader.
+    /// Levels 1 and up, for the culling shader.
     view: wgpu::TextureView,
-    /// One view per level: each is the storage target of its own level and the sampled
-    /// source of the next (a storage binding needs a single-mip view).
+    /// One view per level from 1: `mip_views[k - 1]` is level k, the storage target of its
+    /// own level and the sampled source of the next (a storage binding needs one mip).
     mip_views: Vec<wgpu::TextureView>,
+    /// With MSAA, level 0: the farthest sample of each pixel.
+    level0: Option<(wgpu::Texture, wgpu::TextureView)>,
     /// Samples per pixel of the depth buffers it is built from.
     samples: u32,
     copy_layout: wgpu::BindGroupLayout,
     copy: wgpu::ComputePipeline,
     downsample: wgpu::ComputePipeline,
-    /// `level_groups[k - 1]` reads level k - 1 and writes level k. They never change, so
-    /// they are built once; only level 0's depends on the caller's depth view.
+    /// `level_groups[k - 2]` reads level k - 1 and writes level k. They never change, so
+    /// they are built once; only the first pass's depends on the caller's depth view.
     level_groups: Vec<wgpu::BindGroup>,
 }
 
@@ -52,33 +60,49 @@ impl DepthPyramid {
         // A full chain down to 1x1; wgpu's own mip rules (halve, round down, at least 1)
         // so that the sizes here are the texture's.
         let levels = size.max_mips(wgpu::TextureDimension::D2);
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sward.hiz.pyramid"),
-            size,
-            mip_level_count: levels,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: HIZ_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let r32 = |label: &str, size: wgpu::Extent3d, mips: u32| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: mips,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: HIZ_FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::STORAGE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let upper = levels.saturating_sub(1);
+        let texture = r32(
+            "sward.hiz.pyramid",
+            size.mip_level_size(upper.min(1), wgpu::TextureDimension::D2),
+            upper.max(1),
+        );
         let view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("sward.hiz.view"),
             usage: Some(wgpu::TextureUsages::TEXTURE_BINDING),
             ..Default::default()
         });
-        let mip_views: Vec<_> = (0..levels)
-            .map(|level| {
+        let mip_views: Vec<_> = (0..upper)
+            .map(|mip| {
                 texture.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some(&format!("sward.hiz.level{level}")),
-                    base_mip_level: level,
+                    label: Some(&format!("sward.hiz.level{}", mip + 1)),
+                    base_mip_level: mip,
                     mip_level_count: Some(1),
                     ..Default::default()
                 })
             })
             .collect();
+        let level0 = (samples > 1).then(|| {
+            let t = r32("sward.hiz.level0", size, 1);
+            let v = t.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("sward.hiz.level0_view"),
+                ..Default::default()
+            });
+            (t, v)
+        });
 
         let module = shaders::module(device, "hiz.wgsl");
         let dst_entry = wgpu::BindGroupLayoutEntry {
@@ -101,21 +125,24 @@ impl DepthPyramid {
             },
             count: None,
         };
-        // With two levels or more the copy writes level 1 as well (`copy_depth2`).
-        let fused = levels >= 2;
-        let depth_entry = if samples > 1 {
-            multisampled_depth_entry(3)
+        // Single-sample: the depth into level 1 (`dst`). MSAA: the samples into level 0
+        // (`dst`) and, with two levels or more, level 1 (`dst1`) too.
+        let copy_entries = if samples > 1 {
+            let level1_entry = wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                ..dst_entry
+            };
+            let mut e = vec![multisampled_depth_entry(3), dst_entry];
+            if levels >= 2 {
+                e.push(level1_entry);
+            }
+            e
         } else {
-            texture_entry(0, wgpu::TextureSampleType::Depth)
+            vec![texture_entry(0, wgpu::TextureSampleType::Depth), dst_entry]
         };
-        let level1_entry = wgpu::BindGroupLayoutEntry {
-            binding: 5,
-            ..dst_entry
-        };
-        let copy_entries = [depth_entry, dst_entry, level1_entry];
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.hiz.copy_layout"),
-            entries: &copy_entries[..if fused { 3 } else { 2 }],
+            entries: &copy_entries,
         });
         // R32Float is not filterable without a feature; textureLoad needs no filtering.
         let downsample_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -140,15 +167,14 @@ impl DepthPyramid {
                 cache: None,
             })
         };
-        let copy_entry = match (fused, samples > 1) {
+        let copy_entry = match (samples > 1, levels >= 2) {
             (true, true) => "copy_depth2_ms",
-            (true, false) => "copy_depth2",
-            (false, true) => "copy_depth_ms",
-            (false, false) => "copy_depth",
+            (true, false) => "copy_depth_ms",
+            (false, _) => "reduce_depth",
         };
         let copy = make(&copy_layout, copy_entry, "sward.hiz.copy");
         let downsample = make(&downsample_layout, "downsample", "sward.hiz.downsample");
-        let level_groups = (1..levels as usize)
+        let level_groups = (2..levels as usize)
             .map(|level| {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some(&format!("sward.hiz.downsample{level}")),
@@ -156,20 +182,23 @@ impl DepthPyramid {
                     entries: &[
                         wgpu::BindGroupEntry {
                             binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&mip_views[level - 1]),
+                            resource: wgpu::BindingResource::TextureView(&mip_views[level - 2]),
                         },
                         wgpu::BindGroupEntry {
                             binding: 2,
-                            resource: wgpu::BindingResource::TextureView(&mip_views[level]),
+                            resource: wgpu::BindingResource::TextureView(&mip_views[level - 1]),
                         },
                     ],
                 })
             })
             .collect();
         Self {
+            size: (width, height),
+            levels,
             texture,
             view,
             mip_views,
+            level0,
             samples,
             copy_layout,
             copy,
@@ -180,14 +209,16 @@ impl DepthPyramid {
 
     /// Size of level 0 (the depth buffer's size).
     pub fn size(&self) -> (u32, u32) {
-        (self.texture.width(), self.texture.height())
+        self.size
     }
 
     fn level_size(&self, level: u32) -> (u32, u32) {
-        let e = self
-            .texture
-            .size()
-            .mip_level_size(level, wgpu::TextureDimension::D2);
+        let e = wgpu::Extent3d {
+            width: self.size.0,
+            height: self.size.1,
+            depth_or_array_layers: 1,
+        }
+        .mip_level_size(level, wgpu::TextureDimension::D2);
         (e.width, e.height)
     }
 
@@ -196,25 +227,31 @@ impl DepthPyramid {
         self.samples
     }
 
-    /// Number of levels, the last one 1x1.
+    /// Number of levels, level 0 included, the last one 1x1.
     pub fn levels(&self) -> u32 {
-        self.mip_views.len() as u32
+        self.levels
     }
 
-    /// The whole mip chain as an unfilterable-float 2D texture, for
-    /// `textureLoad(hiz, coord, level)`.
+    /// Levels 1 and up as an unfilterable-float 2D texture, for
+    /// `textureLoad(hiz, coord, level - 1)`.
     pub fn view(&self) -> &wgpu::TextureView {
         &self.view
     }
 
-    /// Records the build of every level from `depth`, a Depth32Float view of this
-    /// pyramid's size and sample count with TEXTURE_BINDING usage.
+    /// Level 0 for a pyramid built from `depth`: `depth` itself (bound as an
+    /// unfilterable-float texture), or with MSAA the pyramid's own farthest-sample level.
+    pub fn level0_view<'a>(&'a self, depth: &'a wgpu::TextureView) -> &'a wgpu::TextureView {
+        self.level0.as_ref().map_or(depth, |(_, v)| v)
+    }
+
+    /// Records the build of every level above the depth buffer from `depth`, a
+    /// Depth32Float view of this pyramid's size and sample count with TEXTURE_BINDING usage.
     ///
-    /// One compute pass per level (levels 0 and 1 share the first): each pass reads the
-    /// level the previous one wrote, and a pass boundary is where that read-after-write is
-    /// synchronised for certain. With
-    /// `q`'s timestamps, the first pass writes the start and the last one the end; every
-    /// level's pass is counted.
+    /// One compute pass per level (with MSAA, levels 0 and 1 share the first): each pass
+    /// reads the level the previous one wrote, and a pass boundary is where that
+    /// read-after-write is synchronised for certain. With `q`'s timestamps, the first pass
+    /// writes the start and the last one the end; every level's pass is counted. A 1 x 1
+    /// single-sample target has nothing to build: one empty pass keeps the timestamps.
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -222,57 +259,63 @@ impl DepthPyramid {
         depth: &wgpu::TextureView,
         q: PassQueries,
     ) {
-        // Made per call: the depth view is the caller's and is replaced on resize.
-        let fused = self.levels() >= 2;
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: if self.samples > 1 { 3 } else { 0 },
-                resource: wgpu::BindingResource::TextureView(depth),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(&self.mip_views[0]),
-            },
-        ];
-        if fused {
+        // The first pass's group is made per call: the depth view is the caller's and is
+        // replaced on resize.
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: if self.samples > 1 { 3 } else { 0 },
+            resource: wgpu::BindingResource::TextureView(depth),
+        }];
+        let first_target = match &self.level0 {
+            Some((_, level0)) => Some(level0),
+            None => self.mip_views.first(),
+        };
+        if let Some(target) = first_target {
             entries.push(wgpu::BindGroupEntry {
-                binding: 5,
-                resource: wgpu::BindingResource::TextureView(&self.mip_views[1]),
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(target),
             });
         }
-        let copy_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sward.hiz.copy"),
-            layout: &self.copy_layout,
-            entries: &entries,
+        if self.level0.is_some() && self.levels >= 2 {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(&self.mip_views[0]),
+            });
+        }
+        let copy_group = first_target.map(|_| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sward.hiz.copy"),
+                layout: &self.copy_layout,
+                entries: &entries,
+            })
         });
-        // The last pass: the fused copy itself when there are only levels 0 and 1.
-        let last = if fused && self.levels() == 2 {
-            0
-        } else {
-            self.levels() - 1
-        };
-        // The fused copy writes level 1 too: its dispatch covers level 1's texels.
-        let passes = std::iter::once(0).chain(if fused { 2 } else { 1 }..self.levels());
+        // The first pass writes level 1 (and with MSAA level 0): its dispatch covers the
+        // texels of the level it reduces to, level 1, or level 0 when that is all there is.
+        let passes = std::iter::once(1).chain(2..self.levels);
+        let last = self.levels.max(2) - 1;
         for level in passes {
-            let (w, h) = self.level_size(if level == 0 && fused { 1 } else { level });
+            let (w, h) = self.level_size(level.min(self.levels - 1));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(&format!("sward.hiz.level{level}")),
-                timestamp_writes: q.compute_writes_part(level == 0, level == last),
+                timestamp_writes: q.compute_writes_part(level == 1, level == last),
             });
             q.begin(&mut pass);
-            if level == 0 {
-                pass.set_pipeline(&self.copy);
-                pass.set_bind_group(0, &copy_group, &[]);
+            if level == 1 {
+                if let Some(group) = &copy_group {
+                    pass.set_pipeline(&self.copy);
+                    pass.set_bind_group(0, group, &[]);
+                    pass.dispatch_workgroups(w.div_ceil(TILE), h.div_ceil(TILE), 1);
+                }
             } else {
                 pass.set_pipeline(&self.downsample);
-                pass.set_bind_group(0, &self.level_groups[level as usize - 1], &[]);
+                pass.set_bind_group(0, &self.level_groups[level as usize - 2], &[]);
+                pass.dispatch_workgroups(w.div_ceil(TILE), h.div_ceil(TILE), 1);
             }
-            pass.dispatch_workgroups(w.div_ceil(TILE), h.div_ceil(TILE), 1);
             q.end(&mut pass);
         }
     }
 
-    /// Reads one level back, row-major (blocking; for tests).
+    /// Reads one level back, row-major (blocking; for tests). Level 0 of a single-sample
+    /// pyramid is the depth buffer: [`DepthPyramid::read_levels`] reads it from there.
     pub fn read_level(&self, gpu: &Gpu, level: u32) -> Result<Vec<f32>> {
         if level >= self.levels() {
             return Err(Error::Invalid(format!(
@@ -280,11 +323,20 @@ impl DepthPyramid {
                 self.levels()
             )));
         }
+        let (texture, mip_level) = match (level, &self.level0) {
+            (0, Some((t, _))) => (t, 0),
+            (0, None) => {
+                return Err(Error::Invalid(
+                    "level 0 of a single-sample pyramid is the depth buffer itself".into(),
+                ))
+            }
+            (k, _) => (&self.texture, k - 1),
+        };
         let bytes = super::target::read_texels(
             gpu,
             wgpu::TexelCopyTextureInfo {
-                texture: &self.texture,
-                mip_level: level,
+                texture,
+                mip_level,
                 origin: wgpu::Origin3d::ZERO,
                 aspect: wgpu::TextureAspect::All,
             },
@@ -292,6 +344,19 @@ impl DepthPyramid {
             "sward.hiz.readback",
         )?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Every level of the pyramid built from `depth` (its level 0 read from `depth` itself
+    /// when single-sample), row-major (blocking; for tests).
+    pub fn read_levels(&self, gpu: &Gpu, depth: &wgpu::TextureView) -> Result<Vec<Vec<f32>>> {
+        let level0 = if self.samples > 1 {
+            self.read_level(gpu, 0)?
+        } else {
+            self.dump_depth(gpu, depth, 1)?
+        };
+        std::iter::once(Ok(level0))
+            .chain((1..self.levels).map(|k| self.read_level(gpu, k)))
+            .collect()
     }
 
     /// Every sample of a multisampled Depth32Float `depth` of this pyramid's size, at
@@ -303,9 +368,15 @@ impl DepthPyramid {
                 "read_depth_samples needs a multisampled pyramid".into(),
             ));
         }
+        self.dump_depth(gpu, depth, self.samples)
+    }
+
+    /// Every sample of `depth` (this pyramid's size, `samples` per pixel) through a compute
+    /// copy into a buffer: a depth texture of either kind read as the cull reads it.
+    fn dump_depth(&self, gpu: &Gpu, depth: &wgpu::TextureView, samples: u32) -> Result<Vec<f32>> {
         let device = &gpu.device;
         let (w, h) = self.size();
-        let size = w as u64 * h as u64 * self.samples as u64 * 4;
+        let size = w as u64 * h as u64 * samples as u64 * 4;
         let buffer = |label, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -325,7 +396,7 @@ impl DepthPyramid {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.hiz.dump_layout"),
             entries: &[
-                multisampled_depth_entry(3),
+                depth_entry(samples),
                 wgpu::BindGroupLayoutEntry {
                     binding: 4,
                     visibility: wgpu::ShaderStages::COMPUTE,
@@ -347,7 +418,11 @@ impl DepthPyramid {
             label: Some("sward.hiz.dump"),
             layout: Some(&pipeline_layout),
             module: &shaders::module(device, "hiz.wgsl"),
-            entry_point: Some("dump_samples"),
+            entry_point: Some(if samples > 1 {
+                "dump_samples"
+            } else {
+                "dump_depth"
+            }),
             compilation_options: Default::default(),
             cache: None,
         });
@@ -356,7 +431,7 @@ impl DepthPyramid {
             layout: &layout,
             entries: &[
                 wgpu::BindGroupEntry {
-                    binding: 3,
+                    binding: depth_entry(samples).binding,
                     resource: wgpu::BindingResource::TextureView(depth),
                 },
                 wgpu::BindGroupEntry {
@@ -383,14 +458,33 @@ impl DepthPyramid {
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
-    /// GPU memory of the pyramid (all levels, 4 bytes a texel).
+    /// GPU memory of the pyramid (its levels, level 0 only with MSAA; 4 bytes a texel).
     pub fn gpu_bytes(&self) -> u64 {
-        (0..self.levels())
+        let first = if self.level0.is_some() { 0 } else { 1 };
+        (first..self.levels)
             .map(|level| {
                 let (w, h) = self.level_size(level);
                 w as u64 * h as u64 * 4
             })
             .sum()
+    }
+}
+
+/// The depth binding of `dump_depth` (`texture_depth_2d` at 0) or `dump_samples`
+/// (`texture_depth_multisampled_2d` at 3).
+fn depth_entry(samples: u32) -> wgpu::BindGroupLayoutEntry {
+    if samples > 1 {
+        return multisampled_depth_entry(3);
+    }
+    wgpu::BindGroupLayoutEntry {
+        binding: 0,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Depth,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
     }
 }
 

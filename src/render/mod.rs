@@ -131,6 +131,9 @@ pub struct Renderer {
     multi_draw: bool,
     /// The occlusion test's depth pyramid, sized to the last target.
     pyramid: Option<DepthPyramid>,
+    /// The depth buffer the cull reads as the pyramid's level 0 (bound with the pyramid;
+    /// a resized target brings a new one).
+    pyramid_depth: Option<wgpu::TextureView>,
     /// The deferred grass shading's visibility buffer and pixel list, sized to the last
     /// target that took the path.
     deferred: Option<deferred::DeferredTargets>,
@@ -331,6 +334,7 @@ impl Renderer {
             lod,
             multi_draw,
             pyramid: None,
+            pyramid_depth: None,
             deferred: None,
             frame_count: 0,
             last_cull: CullParams::default(),
@@ -736,6 +740,13 @@ impl Renderer {
     /// The occlusion test's depth pyramid of the last frame, if occlusion ran.
     pub fn pyramid(&self) -> Option<&DepthPyramid> {
         self.pyramid.as_ref()
+    }
+
+    /// Every level of the last frame's depth pyramid, level 0 (the depth buffer) included,
+    /// read back (blocking; for tests). `None` before a frame with occlusion.
+    pub fn read_pyramid(&self, gpu: &Gpu) -> Option<Result<Vec<Vec<f32>>>> {
+        let (p, depth) = self.pyramid.as_ref().zip(self.pyramid_depth.as_ref())?;
+        Some(p.read_levels(gpu, depth))
     }
 
     /// Keeps every frame's GPU scopes from now on, for [`Renderer::take_trace`]. Returns
