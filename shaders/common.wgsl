@@ -126,6 +126,9 @@ const BVH_NODE_BASE: u32 = 16384u;
 // Blades per instance of the grass draw (DRAW_BATCH in Rust): each level's mesh is this
 // many copies of its blade mesh. A level's visible region is a multiple of it.
 const DRAW_BATCH: u32 = 32u;
+// Vertices per blade of the shadow casters' mesh: the root's corners and the tip
+// (`mesh::CASTER_VERTICES` in Rust).
+const CASTER_VERTICES: u32 = 3u;
 
 // What the grass draw reads of the cull's output (the whole buffer, bound read-only): how
 // many blades each level's early and late lists hold (`CullOutput.blades`, `late_blades`),

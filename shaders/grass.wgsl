@@ -360,6 +360,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     var cols = 3u;
     var slot = 0u;
     var rel = 0u;
+    var per_blade = 0u;
     if level == FROM_INSTANCE {
         // Multi-draw: the level is the region the batch lies in. The regions are whole
         // batches, so a batch never straddles two of them.
@@ -371,7 +372,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
             rows = max(cull.lod_segments[2], 1u);
             cols = lod_columns(2u);
         }
-        slot = inst * DRAW_BATCH + batch_vid / (cols * (rows + 1u));
+        per_blade = select(cols * (rows + 1u), CASTER_VERTICES, shadow_pass);
+        slot = inst * DRAW_BATCH + batch_vid / per_blade;
         rel = slot - level * region;
     } else {
         // One draw per level, its region bound at an offset: slots count from 0.
@@ -381,10 +383,11 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
             rows = max(cull.lod_segments[2], 1u);
             cols = lod_columns(2u);
         }
-        slot = inst * DRAW_BATCH + batch_vid / (cols * (rows + 1u));
+        per_blade = select(cols * (rows + 1u), CASTER_VERTICES, shadow_pass);
+        slot = inst * DRAW_BATCH + batch_vid / per_blade;
         rel = slot;
     }
-    let vid = batch_vid % (cols * (rows + 1u));
+    let vid = batch_vid % per_blade;
     // The last batch of a list runs past its end: those slots hold stale indices and draw
     // nothing (a degenerate triangle outside the clip volume).
     let early = drawn.early[level];
@@ -406,7 +409,11 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         return b;
     }
     let row = vid / cols;
-    let u = f32(vid % cols) / f32(cols - 1u);
+    var u = f32(vid % cols) / f32(cols - 1u);
+    // A caster's third vertex is the tip, at the middle of the width.
+    if shadow_pass && vid == 2u {
+        u = 0.5;
+    }
     var v = f32(row) / f32(rows);
     // A flower (thesis §3.3): with 3 rows or more, the top two rows are its head, a card
     // facing up at the stem's tip, and the stem takes the rows below; coarser, the stem is

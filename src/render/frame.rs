@@ -159,7 +159,6 @@ impl Renderer {
         self.last_cull = cp;
         let frame = self.frame_uniforms(camera, size.0, size.1);
         self.draw.prepare(&gpu.queue, &frame, camera);
-        let coarsest = crate::sim::layout::LOD_LEVELS - 1;
         self.light.prepare(
             gpu,
             &self.scene,
@@ -167,10 +166,7 @@ impl Renderer {
             self.aspect(size.0, size.1),
             &frame,
             self.grass_shadows.then_some(super::light::GrassCasters {
-                mesh: (
-                    self.lod.index_count[coarsest],
-                    self.lod.first_index[coarsest],
-                ),
+                mesh: self.lod.caster,
                 lod: cp.lod,
             }),
         );

@@ -101,8 +101,16 @@ pub struct LodMeshes {
     pub segments: [u32; LOD_LEVELS],
     pub index_count: [u32; LOD_LEVELS],
     pub first_index: [u32; LOD_LEVELS],
+    /// The shadow casters' mesh after the levels: one triangle per blade, its root's two
+    /// corners and its tip (3 vertices, [`CASTER_VERTICES`]), as (index count, first).
+    pub caster: (u32, u32),
     pub indices: Vec<u32>,
 }
+
+/// Vertices per blade of the shadow casters' mesh: the root's two corners and the tip.
+/// Blades narrow to their tip, so the triangle casts the coarsest level's two-triangle
+/// shadow (llvmpipe's shadow pass costs per vertex submitted: a quarter less).
+pub const CASTER_VERTICES: u32 = 3;
 
 /// Segments per level of detail for a full mesh of `segments`: every coarser level keeps the
 /// root and the tip rows, so all of them lie on the same curve.
@@ -127,10 +135,15 @@ pub fn lod_meshes(segments: u32) -> LodMeshes {
         }
         index_count[k] = indices.len() as u32 - first_index[k];
     }
+    let caster_first = indices.len() as u32;
+    for b in 0..DRAW_BATCH {
+        indices.extend((0..CASTER_VERTICES).map(|i| i + b * CASTER_VERTICES));
+    }
     LodMeshes {
         segments,
         index_count,
         first_index,
+        caster: (indices.len() as u32 - caster_first, caster_first),
         indices,
     }
 }
@@ -162,7 +175,14 @@ mod tests {
         // 6 segments of 3 columns, then 3 and 1 of 2 columns (flat).
         assert_eq!(m.index_count, [72 * n, 18 * n, 6 * n]);
         assert_eq!(m.first_index, [0, 72 * n, 90 * n]);
-        assert_eq!(m.indices.len() as u32, 96 * n);
+        assert_eq!(m.indices.len() as u32, 99 * n);
+        // The casters' triangles after the levels, one per blade of the batch.
+        assert_eq!(m.caster, (3 * n, 96 * n));
+        let casters = &m.indices[96 * n as usize..];
+        assert!(casters
+            .chunks(3)
+            .enumerate()
+            .all(|(b, t)| { t == [3 * b as u32, 3 * b as u32 + 1, 3 * b as u32 + 2] }));
         // Vertices per blade: 21, 8, 4 (columns × rows); a batch of blades one after
         // the other, each copy the first one moved by a blade's vertices.
         for (k, columns) in LOD_COLUMNS.into_iter().enumerate() {
