@@ -8,36 +8,18 @@
 
 mod common;
 
-use std::path::Path;
-
 use glam::Vec3;
 use sward::commands::simulate_cpu;
-use sward::scene::{MeshCollider, MeshObject, Scene, SpherePacking};
+use sward::scene::Scene;
 use sward::session::Session;
 use sward::sim::layout::PATCH_SPHERE_STRIDE;
 use sward::sim::reference::{patch_spheres, patch_update};
 
 /// A packed bunny of 1,000 spheres on still grass, plus a ball: the patches under the bunny
-/// are near far more spheres than their slots hold.
+/// are near far more spheres than their slots hold. The flat lists, not the hierarchy.
 fn scene() -> Scene {
-    let mut scene = common::still_scene();
-    scene.physics.gravity_acceleration = 9.81;
+    let mut scene = common::packed_bunny_scene(0.35, 1000);
     scene.physics.collision_hierarchy = false;
-    // Every patch every frame: the twin has no throttle.
-    scene.culling.physics_throttle = 1;
-    scene.colliders = vec![common::rolling_sphere(-4.0, 0.3, 0.35, 2.0)];
-    scene.objects = vec![MeshObject {
-        mesh: Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("assets/models/bunny.obj")
-            .display()
-            .to_string(),
-        scale: 0.35,
-        collider: MeshCollider::Spheres(SpherePacking {
-            count: 1000,
-            ..Default::default()
-        }),
-        ..Default::default()
-    }];
     scene
 }
 

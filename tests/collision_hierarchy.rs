@@ -8,34 +8,16 @@
 
 mod common;
 
-use std::path::Path;
-
 use glam::Vec3;
 use sward::commands::simulate_cpu;
-use sward::scene::{MeshCollider, MeshObject, Scene, SpherePacking};
+use sward::scene::{MeshCollider, Scene, SpherePacking};
 use sward::session::Session;
 use sward::sim::layout::{Blade, BladeState};
 
 fn scene(hierarchy: bool, precision: f32) -> Scene {
-    let mut scene = common::still_scene();
-    scene.physics.gravity_acceleration = 9.81;
+    let mut scene = common::packed_bunny_scene(0.2, 300);
     scene.physics.collision_hierarchy = hierarchy;
     scene.physics.hierarchy_precision_distance = precision;
-    // Every patch every frame: the twin has no throttle.
-    scene.culling.physics_throttle = 1;
-    scene.colliders = vec![common::rolling_sphere(-4.0, 0.3, 0.35, 2.0)];
-    scene.objects = vec![MeshObject {
-        mesh: Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("assets/models/bunny.obj")
-            .display()
-            .to_string(),
-        scale: 0.2,
-        collider: MeshCollider::Spheres(SpherePacking {
-            count: 300,
-            ..Default::default()
-        }),
-        ..Default::default()
-    }];
     scene
 }
 

@@ -7,7 +7,7 @@ pub mod shapes;
 use sward::gpu::{AdapterChoice, Gpu};
 use sward::render::target::COLOR_FORMAT;
 use sward::render::Renderer;
-use sward::scene::{Motion, Scene, Sphere, Wind};
+use sward::scene::{MeshCollider, MeshObject, Motion, Scene, Sphere, SpherePacking, Wind};
 use sward::session::Session;
 
 /// Opens the test adapter. Fails (never skips) when none exists: CI installs lavapipe.
@@ -97,6 +97,29 @@ pub fn still_scene() -> Scene {
     };
     s.colliders.clear();
     s
+}
+
+/// Still grass under gravity with the Stanford bunny at `scale`, packed with `count`
+/// collision spheres, and a ball rolling towards it; every patch stepped every frame (the
+/// CPU twin has no throttle). The collision tests' scene.
+pub fn packed_bunny_scene(scale: f32, count: u32) -> Scene {
+    let mut scene = still_scene();
+    scene.physics.gravity_acceleration = 9.81;
+    scene.culling.physics_throttle = 1;
+    scene.colliders = vec![rolling_sphere(-4.0, 0.3, 0.35, 2.0)];
+    scene.objects = vec![MeshObject {
+        mesh: std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("assets/models/bunny.obj")
+            .display()
+            .to_string(),
+        scale,
+        collider: MeshCollider::Spheres(SpherePacking {
+            count,
+            ..Default::default()
+        }),
+        ..Default::default()
+    }];
+    scene
 }
 
 /// A sphere of radius `r` crossing the field along x at `speed` m/s, its centre `height`
