@@ -127,19 +127,13 @@ impl DepthPyramid {
         };
         // Single-sample: the depth into level 1 (`dst`). MSAA: the samples into level 0
         // (`dst`) and, with two levels or more, level 1 (`dst1`) too.
-        let copy_entries = if samples > 1 {
-            let level1_entry = wgpu::BindGroupLayoutEntry {
+        let mut copy_entries = vec![depth_entry(samples), dst_entry];
+        if samples > 1 && levels >= 2 {
+            copy_entries.push(wgpu::BindGroupLayoutEntry {
                 binding: 5,
                 ..dst_entry
-            };
-            let mut e = vec![multisampled_depth_entry(3), dst_entry];
-            if levels >= 2 {
-                e.push(level1_entry);
-            }
-            e
-        } else {
-            vec![texture_entry(0, wgpu::TextureSampleType::Depth), dst_entry]
-        };
+            });
+        }
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.hiz.copy_layout"),
             entries: &copy_entries,
@@ -470,8 +464,9 @@ impl DepthPyramid {
     }
 }
 
-/// The depth binding of `dump_depth` (`texture_depth_2d` at 0) or `dump_samples`
-/// (`texture_depth_multisampled_2d` at 3).
+/// The depth binding of a pass reading a depth of `samples` per pixel: `texture_depth_2d`
+/// at 0 (`reduce_depth`, `dump_depth`) or `texture_depth_multisampled_2d` at 3 (the
+/// multisampled copies, `dump_samples`).
 fn depth_entry(samples: u32) -> wgpu::BindGroupLayoutEntry {
     if samples > 1 {
         return multisampled_depth_entry(3);
