@@ -18,10 +18,12 @@ mod tests;
 pub mod tiles;
 
 pub use density::DensityMap;
-pub use noise::{fbm, fbm_grad, hash32, octave_offset, octave_seeds, value_noise};
+pub use noise::{
+    fbm, fbm_grad, fbm_max_gradient, hash32, octave_offset, octave_seeds, value_noise,
+};
 pub use patches::morton;
 pub use placement::rest_state;
-pub use terrain::{HeightField, NoiseSurface, Surface, MAX_RESOLUTION};
+pub use terrain::{slope_may_shadow, HeightField, NoiseSurface, Surface, MAX_RESOLUTION};
 
 use crate::scene::types::Field;
 use crate::sim::layout::{Blade, BladeState, PatchBox, WORKGROUP_SIZE};

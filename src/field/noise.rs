@@ -107,6 +107,26 @@ pub fn fbm_grad(seeds: &[u32], wavelength: f64, x: f64, z: f64) -> (f64, f64, f6
     }
 }
 
+/// An upper bound of `|∇ fbm|` (1/m) for `octaves` octaves of lattice spacing
+/// `wavelength`: per octave `|∂v/∂x| ≤ 2 · max fade′ = 3.75` (two lattice values in
+/// [−1, 1] apart, the quintic fade's steepest slope 15/8), the same for z, at the octave's
+/// frequency and weight, over the total weight as [`fbm_grad`] divides.
+pub fn fbm_max_gradient(octaves: u32, wavelength: f64) -> f64 {
+    let per_octave = 2.0 * 15.0 / 8.0 * std::f64::consts::SQRT_2;
+    let (mut sum, mut weight, mut amplitude, mut frequency) = (0.0, 0.0, 1.0, 1.0 / wavelength);
+    for _ in 0..octaves {
+        sum += amplitude * frequency * per_octave;
+        weight += amplitude;
+        amplitude *= GAIN;
+        frequency *= LACUNARITY;
+    }
+    if weight > 0.0 {
+        sum / weight
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

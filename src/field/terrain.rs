@@ -264,6 +264,43 @@ impl HeightField {
         }
     }
 
+    /// An upper bound of the surface's steepest slope, `|∇h|` (rise over run), anywhere:
+    /// for a grid the largest height step between neighbouring vertices along x and along
+    /// z over the spacing (bilinear cells slope no more than their edges; outside the square
+    /// the edge heights continue), for analytic noise [`crate::field::fbm_max_gradient`] times the
+    /// height scale. 0 for flat ground. Where the sun stands higher than this slope
+    /// (`tan(elevation) > max_slope`) a ray towards it from anything on or above the ground
+    /// rises faster than any hill, so the ground shadows nothing (`render::light`).
+    pub fn max_slope(&self) -> f32 {
+        if let Surface::Noise(n) = &self.surface {
+            if n.seeds.is_empty() || n.scale == 0.0 {
+                return 0.0;
+            }
+            return (super::fbm_max_gradient(n.seeds.len() as u32, n.wavelength) * n.scale.abs())
+                as f32;
+        }
+        let r = self.resolution as usize;
+        let (mut dx, mut dz) = (0.0f32, 0.0f32);
+        for j in 0..r {
+            for i in 0..r {
+                let h = self.heights[j * r + i];
+                if i + 1 < r {
+                    dx = dx.max((self.heights[j * r + i + 1] - h).abs());
+                }
+                if j + 1 < r {
+                    dz = dz.max((self.heights[(j + 1) * r + i] - h).abs());
+                }
+            }
+        }
+        dx.hypot(dz) / self.spacing()
+    }
+
+    /// Whether the ground may shadow anything under a sun whose direction has height
+    /// `sun_y` ([`slope_may_shadow`] of [`Self::max_slope`]).
+    pub fn may_shadow(&self, sun_y: f32) -> bool {
+        slope_may_shadow(self.max_slope(), sun_y)
+    }
+
     /// Lowest and highest grid height.
     pub fn min_max(&self) -> (f32, f32) {
         self.heights
@@ -272,6 +309,14 @@ impl HeightField {
                 (lo.min(h), hi.max(h))
             })
     }
+}
+
+/// Whether ground whose slopes are at most `max_slope` may shadow anything under a sun
+/// whose direction has height `sun_y`: only if the sun is no higher than the steepest
+/// slope (`tan(elevation) ≤ max_slope`), or below the horizon.
+pub fn slope_may_shadow(max_slope: f32, sun_y: f32) -> bool {
+    let y = sun_y.clamp(-1.0, 1.0);
+    y <= 0.0 || max_slope * (1.0 - y * y).sqrt() >= y
 }
 
 /// fBm heights on the grid, rescaled to `amplitude` peak to peak around 0 m. Rescaling to
@@ -340,6 +385,67 @@ mod tests {
             density_map: None,
             unbounded: true,
         }
+    }
+
+    /// `max_slope` bounds the slope everywhere, inside the square and far outside it, and
+    /// is not so loose that it stops meaning anything (within 6× of the steepest slope
+    /// found); a grid's bound is its steepest cell edge, flat ground has none.
+    #[test]
+    fn max_slope_bounds_every_slope() {
+        let tan = |n: Vec3| n.x.hypot(n.z) / n.y;
+        let noise = HeightField::from_scene(&noise_terrain()).unwrap();
+        let grid = HeightField {
+            surface: Surface::Grid,
+            ..noise.clone()
+        };
+        for (field, outside) in [(&noise, 4000.0), (&grid, 0.0)] {
+            let bound = field.max_slope();
+            let mut steepest = 0.0f32;
+            for k in 0..40_000 {
+                let k = k as f32;
+                let x = (k * 0.618_034).fract() * 40.0 - 20.0 + outside;
+                let z = (k * 0.414_214).fract() * 40.0 - 20.0;
+                steepest = steepest.max(tan(field.normal(x, z)));
+            }
+            assert!(steepest <= bound * 1.0001, "{steepest} > {bound}");
+            assert!(steepest > bound / 6.0, "{steepest} vs {bound}");
+        }
+        assert_eq!(HeightField::flat(10.0, 9).max_slope(), 0.0);
+    }
+
+    /// Under a sun higher than `max_slope`, a ray towards it from any point on the ground
+    /// (or above it) never passes under the ground again: marched in 5 cm steps over 60 m
+    /// from 2,000 points. Under a sun low enough, some rays do, and `may_shadow` says so.
+    #[test]
+    fn ground_below_the_sun_height_shadows_nothing() {
+        let field = HeightField::from_scene(&noise_terrain()).unwrap();
+        let slope = field.max_slope();
+        let occluded = |sun: Vec3| {
+            (0..2000).any(|k| {
+                let k = k as f32;
+                let x = (k * 0.618_034).fract() * 40.0 - 20.0;
+                let z = (k * 0.414_214).fract() * 40.0 - 20.0;
+                let p = Vec3::new(x, field.height(x, z) + 1e-4, z);
+                (1..1200).any(|s| {
+                    let q = p + sun * (s as f32 * 0.05);
+                    q.y < field.height(q.x, q.z)
+                })
+            })
+        };
+        let high_sun = Vec3::new(0.3, 1.0, 0.2).normalize();
+        // The sun just above the bound: no point is shadowed by the ground.
+        let just_above = {
+            let e = slope.atan() * 1.02;
+            Vec3::new(e.cos() * 0.8, e.sin(), e.cos() * 0.6)
+        };
+        for sun in [just_above, high_sun] {
+            assert!(!field.may_shadow(sun.y), "{sun}");
+            assert!(!occluded(sun), "{sun} shadowed with max slope {slope}");
+        }
+        let low = Vec3::new(0.99, 0.05, 0.1).normalize();
+        assert!(occluded(low) && field.may_shadow(low.y));
+        assert!(HeightField::flat(10.0, 9).may_shadow(-0.1));
+        assert!(!HeightField::flat(10.0, 9).may_shadow(0.01));
     }
 
     #[test]

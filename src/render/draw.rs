@@ -72,6 +72,9 @@ pub struct DrawPass {
     pub general_grass: bool,
     /// The clipmap terrain's buffers and bind group.
     terrain_pass: TerrainPass,
+    /// Whether the ground goes into the shadow maps under this frame's sun
+    /// (`TerrainPass::casts_shadow`).
+    terrain_casts: std::cell::Cell<bool>,
     sphere_mesh: Mesh,
     /// A coarse sphere for the occluder pass: its vertices lie on the sphere, so it is
     /// inside it and occludes no more than the sphere does (and the colour pass's finer
@@ -247,6 +250,7 @@ impl DrawPass {
             traits,
             general_grass: false,
             terrain_pass,
+            terrain_casts: std::cell::Cell::new(true),
             sphere_mesh,
             occluder_sphere,
             blade_indices,
@@ -363,6 +367,8 @@ impl DrawPass {
 
     pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms, camera: &CameraView) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
+        self.terrain_casts
+            .set(self.terrain_pass.casts_shadow(frame.sun_dir[1]));
         let [w, h, _, fog] = frame.viewport_time;
         self.terrain_pass
             .prepare(queue, camera, w / h.max(1.0), fog);
@@ -555,8 +561,10 @@ impl DrawPass {
         if let Some(o) = &self.objects {
             o.draw_shadow(pass);
         }
-        pass.set_pipeline(&self.pipelines.shadow_terrain);
-        self.draw_terrain(pass);
+        if self.terrain_casts.get() {
+            pass.set_pipeline(&self.pipelines.shadow_terrain);
+            self.draw_terrain(pass);
+        }
         if let Some((args, offset)) = grass_args {
             self.draw_grass(pass, &self.pipelines.grass.shadow_grass, args, offset);
         }

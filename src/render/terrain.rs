@@ -38,6 +38,8 @@ pub struct TerrainPass {
     pub grass_albedo: glam::Vec3,
     /// What `prepare` placed: the variant each level draws, and the level count.
     drawn: Cell<([u8; MAX_LEVELS], u32)>,
+    /// The ground's steepest slope, bounded (`HeightField::max_slope`).
+    max_slope: f32,
 }
 
 /// The height grid a `Png` terrain binds (a single 0 for analytic terrains).
@@ -210,7 +212,16 @@ impl TerrainPass {
             grass_everywhere: false,
             grass_albedo: super::clipmap::far_grass_albedo(),
             drawn: Cell::new(([0; MAX_LEVELS], 0)),
+            max_slope: terrain.max_slope(),
         }
+    }
+
+    /// Whether the ground goes into the shadow maps under a sun whose direction has height
+    /// `sun_y` (`HeightField::may_shadow`): flat ground and gentle hills under a high sun
+    /// are left out, which filled the maps with depth for nothing (on llvmpipe the ground
+    /// was half the shadow pass's fragments: a whole map per cascade).
+    pub fn casts_shadow(&self, sun_y: f32) -> bool {
+        crate::field::slope_may_shadow(self.max_slope, sun_y)
     }
 
     /// Bytes of the terrain's buffers and texture.
