@@ -29,11 +29,15 @@ const DISSIPATION: Allowed = Allowed::closed(0.0, 100.0, "1/s");
 const VISCOSITY: Allowed = Allowed::closed(0.0, 10.0, "m²/s");
 const DIFFUSION_ITERATIONS: Integers = Integers::new(1, 200, "");
 const RESPONSE: Allowed = Allowed::closed(0.0, 100.0, "1/s");
-/// 0 (the terrain square) or the side of a grid that follows the camera.
 const LAYERS: Integers = Integers::new(1, 16, "layers");
 const LAYER_HEIGHT: Allowed = Allowed::closed(0.05, 100.0, "m");
 const GROUND_DRAG: Allowed = Allowed::closed(0.0, 100.0, "1/s");
+/// 0 (the terrain square) or the side of a grid that follows the camera, whose cells are
+/// then at least MIN_CELL wide.
 const EXTENT: Allowed = Allowed::closed(0.0, 100000.0, "m");
+/// The smallest cell of a grid that follows the camera (m): a side of 1e-38 m made cells
+/// of 1e-41 m, whose divisions by the cell size overflowed into a non-finite update.
+const MIN_CELL: f32 = 0.01;
 const GUIDE_RADIUS_TEXT: &str = "0 < radius <= terrain.size m";
 
 /// The rules of every `wind` value.
@@ -207,6 +211,16 @@ fn fluid(check: &Checker, fluid: &Fluid) -> Result<()> {
     )?;
     check.real(&at("response"), fluid.response, RESPONSE)?;
     check.real(&at("extent"), fluid.extent, EXTENT)?;
+    let min_extent = MIN_CELL * fluid.resolution as f32;
+    if fluid.extent > 0.0 && fluid.extent < min_extent {
+        let name = at("extent");
+        let message = format!(
+            "{name} = {} is out of range: allowed 0 (the terrain's square) or {min_extent} <= \
+             extent <= 100000 m (cells of at least {MIN_CELL} m at wind.fluid.resolution = {})",
+            fluid.extent, fluid.resolution
+        );
+        return Err(check.error(&name, message));
+    }
     check.integer(&at("layers"), fluid.layers, LAYERS)?;
     check.real(&at("layer_height"), fluid.layer_height, LAYER_HEIGHT)?;
     check.real(&at("ground_drag"), fluid.ground_drag, GROUND_DRAG)?;
@@ -366,6 +380,16 @@ mod tests {
         check(&mut scene).unwrap();
         assert_eq!(scene.wind.global.as_ref().unwrap().direction, (0.0, -1.0));
 
+        assert_eq!(
+            rejected(|s| s.wind.fluid.extent = 1e-38),
+            format!(
+                "wind.fluid.extent = 0.00000000000000000000000000000000000001 is out of range: \
+                 allowed 0 (the terrain's square) or {} <= extent <= 100000 m (cells of at \
+                 least 0.01 m at wind.fluid.resolution = {})",
+                0.01 * Scene::default().wind.fluid.resolution as f32,
+                Scene::default().wind.fluid.resolution
+            )
+        );
         assert_eq!(
             rejected(|s| s.wind.fluid.resolution = 4096),
             "wind.fluid.resolution = 4096 is out of range: allowed 8 <= resolution <= 2048 \
