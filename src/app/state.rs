@@ -635,8 +635,13 @@ impl AppState {
                     upscale.encode(e, output, q)
                 });
         }
-        self.renderer.resolve_queries(encoder);
         self.frame += 1;
+    }
+
+    /// Ends the frame's recording after the caller's own passes (the window's panel, timed
+    /// as `timing::UI`): resolves the frame's timestamp and work queries.
+    pub fn finish_frame(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.renderer.resolve_queries(encoder);
     }
 
     /// The size the 3D passes draw at: the window's, scaled by the frame budget.

@@ -425,26 +425,33 @@ impl Running {
             &jobs,
             &screen,
         );
-        {
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("sward.window.egui"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &ui_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
+        // The panel is part of the frame: timed and counted like the 3D passes.
+        let egui_renderer = &self.egui_renderer;
+        self.app
+            .renderer
+            .encode_timed(&mut encoder, crate::render::timing::UI, |e, q| {
+                let pass = e.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("sward.window.egui"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &ui_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: q.render_writes(),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                let mut pass = pass.forget_lifetime();
+                q.begin(&mut pass);
+                egui_renderer.render(&mut pass, &jobs, &screen);
+                q.end(&mut pass);
             });
-            let mut pass = pass.forget_lifetime();
-            self.egui_renderer.render(&mut pass, &jobs, &screen);
-        }
+        self.app.finish_frame(&mut encoder);
         for id in &out.textures_delta.free {
             self.egui_renderer.free_texture(id);
         }

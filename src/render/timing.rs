@@ -15,9 +15,10 @@ use crate::gpu::Gpu;
 /// the patch pass, the blade update, the blade cull and the draw; then, with grass
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
 /// tiles entering a streamed field, the billboards' cull, the sun's shadow maps, the
-/// tone mapping, the overlays and the window's upscale; and the deferred grass shading
-/// (its pixel list and its light, one scope). A pass that did not run in a frame reads 0.
-pub const PASSES: [&str; 16] = [
+/// tone mapping, the overlays and the window's upscale; the deferred grass shading (its
+/// pixel list and its light, one scope); and the window's panel (egui). A pass that did not
+/// run in a frame reads 0.
+pub const PASSES: [&str; 17] = [
     "occluders",
     "pyramid",
     "patches",
@@ -34,6 +35,7 @@ pub const PASSES: [&str; 16] = [
     "overlay",
     "upscale",
     "grass light",
+    "ui",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -58,6 +60,8 @@ pub const UPSCALE: usize = 14;
 /// The deferred grass shading's two compute passes (`render::deferred`): the grass pixels
 /// listed, then lit. With the deferred path the draw scopes draw the visibility buffer.
 pub const GRASS_LIGHT: usize = 15;
+/// The window's panel: egui's render pass over the upscaled frame.
+pub const UI: usize = 16;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the
