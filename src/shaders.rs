@@ -81,6 +81,10 @@ const FILES: &[(&str, &str)] = &[
     ("overlay.wgsl", include_str!("../shaders/overlay.wgsl")),
     ("arrows.wgsl", include_str!("../shaders/arrows.wgsl")),
     ("upscale.wgsl", include_str!("../shaders/upscale.wgsl")),
+    (
+        "ui_composite.wgsl",
+        include_str!("../shaders/ui_composite.wgsl"),
+    ),
     ("tonemap.wgsl", include_str!("../shaders/tonemap.wgsl")),
     (
         "fluid_common.wgsl",
@@ -151,6 +155,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "overlay.wgsl",
     "arrows.wgsl",
     "upscale.wgsl",
+    "ui_composite.wgsl",
     "tonemap.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",

@@ -16,6 +16,7 @@ pub mod picking;
 pub mod replay;
 pub mod state;
 pub mod surface;
+pub mod ui_cache;
 pub mod window;
 
 use std::path::PathBuf;

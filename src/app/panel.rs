@@ -512,7 +512,7 @@ fn culling_section(ui: &mut Ui, app: &mut AppState) {
             );
             app.budget.target_ms = on.then_some(ms);
         });
-        ui.label(app.budget.status());
+        ui.label(&app.shown.budget);
     });
 }
 
@@ -667,9 +667,11 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     egui::CollapsingHeader::new("Stats")
         .default_open(true)
         .show(ui, |ui| {
-            let last = app.frame_times.back().copied().unwrap_or(0.0);
-            let n = app.frame_times.len().max(1) as f32;
-            let mean = app.frame_times.iter().sum::<f32>() / n;
+            // The figures of the last refresh (every few frames, with the GPU times).
+            let times = &app.shown.frame_times;
+            let last = times.last().copied().unwrap_or(0.0);
+            let n = times.len().max(1) as f32;
+            let mean = times.iter().sum::<f32>() / n;
             ui.label(format!(
                 "{:.1} fps   frame {:.1} ms (mean {:.1} ms)",
                 if mean > 0.0 { 1000.0 / mean } else { 0.0 },
@@ -727,7 +729,7 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                     app.tile_rate
                 ));
             }
-            ui.label(format!("frame budget: {}", app.budget.status()));
+            ui.label(format!("frame budget: {}", app.shown.budget));
             let (w, h) = app.render_size();
             ui.label(format!(
                 "resolution scale {:.2}: 3D passes at {w}x{h} of {}x{}",
@@ -750,19 +752,18 @@ fn frame_plot(ui: &mut Ui, app: &AppState) {
         ui.allocate_painter(egui::vec2(ui.available_width(), 70.0), egui::Sense::hover());
     let rect = response.rect;
     painter.rect_filled(rect, 2.0, Color32::from_gray(24));
-    let top = app
-        .frame_times
+    let times = &app.shown.frame_times;
+    let top = times
         .iter()
         .copied()
         .fold(app.budget.target_ms.unwrap_or(16.7), f32::max)
         * 1.1;
     let y = |ms: f32| rect.bottom() - (ms / top).clamp(0.0, 1.0) * rect.height();
-    let n = app.frame_times.len();
+    let n = times.len();
     if n > 1 {
         let step = rect.width() / (super::state::PLOT_FRAMES - 1) as f32;
         let x0 = rect.right() - step * (n - 1) as f32;
-        let points: Vec<egui::Pos2> = app
-            .frame_times
+        let points: Vec<egui::Pos2> = times
             .iter()
             .enumerate()
             .map(|(i, &ms)| egui::pos2(x0 + step * i as f32, y(ms)))

@@ -28,6 +28,13 @@ use crate::scene::save::save_scene;
 use crate::scene::{load_scene, parse_scene, Scene, WindSource};
 use crate::session::Session;
 
+/// The Stats' frame times and budget line as last refreshed.
+#[derive(Clone, Debug, Default)]
+pub struct ShownStats {
+    pub frame_times: Vec<f32>,
+    pub budget: String,
+}
+
 /// What a left click does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
@@ -85,6 +92,10 @@ pub struct AppState {
     pub show_help: bool,
     /// Wall-clock milliseconds of the last frames (the Stats plot).
     pub frame_times: VecDeque<f32>,
+    /// What the Stats show of the frame times and the budget, refreshed with the GPU
+    /// figures (`read_stats`) rather than every frame, so the panel's picture holds still
+    /// between refreshes and its cache is reused (`app::ui_cache`).
+    pub shown: ShownStats,
     pub stats: FrameStats,
     /// Tiles generated per second, measured between the last two stats read-backs.
     pub tile_rate: f32,
@@ -179,6 +190,7 @@ impl AppState {
             status,
             show_help: false,
             frame_times: VecDeque::with_capacity(PLOT_FRAMES),
+            shown: ShownStats::default(),
             stats: FrameStats::default(),
             tile_rate: 0.0,
             tile_mark: None,
@@ -652,6 +664,10 @@ impl AppState {
     /// Reads the last frame's counters and GPU times for the Stats section (blocks until
     /// the frame is done, so the window calls it every few frames).
     pub fn read_stats(&mut self, gpu: &Gpu) {
+        self.shown = ShownStats {
+            frame_times: self.frame_times.iter().copied().collect(),
+            budget: self.budget.status(),
+        };
         match self.renderer.stats(gpu) {
             Ok(s) => {
                 if let Some(t) = s.tiles {

@@ -14,6 +14,7 @@ use super::panel::panel;
 use super::replay::{key_from_winit, Button, Event, Key, Player, Recorder, Script};
 use super::state::AppState;
 use super::surface::{Acquired, SurfaceState};
+use super::ui_cache::{self, UiCache};
 use super::AppOptions;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
@@ -30,6 +31,8 @@ struct Running {
     gpu: Gpu,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
+    /// The panel as egui last drew it, composited over each frame.
+    ui_cache: UiCache,
     app: AppState,
     player: Option<Player>,
     recorder: Option<Recorder>,
@@ -159,6 +162,7 @@ impl WindowApp {
             None,
             Some(gpu.device.limits().max_texture_dimension_2d as usize),
         );
+        let ui_cache = UiCache::new(&gpu.device, surface.ui_format(), surface.size());
         let egui_renderer = egui_wgpu::Renderer::new(
             &gpu.device,
             surface.ui_format(),
@@ -172,6 +176,7 @@ impl WindowApp {
             gpu,
             egui_state,
             egui_renderer,
+            ui_cache,
             app,
             player,
             recorder: o.record.as_ref().map(|_| Recorder::new()),
@@ -418,37 +423,54 @@ impl Running {
                     .update_texture(&self.gpu.device, &self.gpu.queue, *id, delta);
             }
         }
-        let extra = self.egui_renderer.update_buffers(
+        // egui draws into the panel's cache only when its output changed; the cache is
+        // composited over every frame (`app::ui_cache`).
+        let textures_changed =
+            !out.textures_delta.set.is_empty() || !out.textures_delta.free.is_empty();
+        let redraw = self.ui_cache.stale(
             &self.gpu.device,
-            &self.gpu.queue,
-            &mut encoder,
             &jobs,
-            &screen,
+            textures_changed,
+            self.surface.size(),
+            ppp,
         );
+        let extra = if redraw {
+            self.egui_renderer.update_buffers(
+                &self.gpu.device,
+                &self.gpu.queue,
+                &mut encoder,
+                &jobs,
+                &screen,
+            )
+        } else {
+            Vec::new()
+        };
         // The panel is part of the frame: timed and counted like the 3D passes.
         let egui_renderer = &self.egui_renderer;
+        let cache = &self.ui_cache;
         self.app
             .renderer
             .encode_timed(&mut encoder, crate::render::timing::UI, |e, q| {
-                let pass = e.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("sward.window.egui"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &ui_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: q.render_writes(),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                let mut pass = pass.forget_lifetime();
+                if redraw {
+                    let transparent = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+                    let writes = q.render_writes_part(true, false);
+                    let pass =
+                        ui_cache::pass(e, "sward.window.egui", cache.view(), transparent, writes);
+                    let mut pass = pass.forget_lifetime();
+                    q.begin(&mut pass);
+                    egui_renderer.render(&mut pass, &jobs, &screen);
+                    q.end(&mut pass);
+                }
+                let writes = q.render_writes_part(!redraw, true);
+                let mut pass = ui_cache::pass(
+                    e,
+                    "sward.window.ui_composite",
+                    &ui_view,
+                    wgpu::LoadOp::Load,
+                    writes,
+                );
                 q.begin(&mut pass);
-                egui_renderer.render(&mut pass, &jobs, &screen);
+                cache.composite(&mut pass);
                 q.end(&mut pass);
             });
         self.app.finish_frame(&mut encoder);
