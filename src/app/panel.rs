@@ -85,9 +85,10 @@ fn range_ui(
     }
 }
 
-/// The whole panel; `gpu` serves the buttons that rebuild GPU resources.
+/// The whole panel; `gpu` serves the buttons that rebuild GPU resources. Its right edge
+/// goes to `app.panel_px`: the 3D view is drawn beside it, not under it.
 pub fn panel(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
-    egui::Panel::left("sward.panel")
+    let shown = egui::Panel::left("sward.panel")
         .resizable(true)
         .default_size(330.0)
         .show(ui, |ui| {
@@ -107,6 +108,8 @@ pub fn panel(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 stats_section(ui, app, gpu);
             });
         });
+    let right = shown.response.rect.right() * ui.ctx().pixels_per_point();
+    app.panel_px = right.ceil().max(0.0) as u32;
     help_window(ui.ctx(), app);
 }
 

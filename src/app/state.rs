@@ -19,7 +19,7 @@ use super::replay::{Button, Event, Key};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
-use crate::render::camera::CameraView;
+use crate::render::camera::{crop_x, CameraView};
 use crate::render::post::HDR_FORMAT;
 use crate::render::timing;
 use crate::render::upscale::{scaled_size, Upscale};
@@ -53,6 +53,9 @@ pub const CHARACTER_RADIUS: f32 = 0.45;
 pub const PICK_RADIUS_PX: f32 = 14.0;
 /// Wind grid the first guide switches to on a CPU adapter.
 pub const SOFTWARE_GRID: u32 = 128;
+/// The narrowest 3D view beside the panel, in pixels; a panel wider than the window less
+/// this leaves the view the whole window (under the panel).
+pub const MIN_VIEW_PX: u32 = 64;
 /// Frame times kept for the Stats plot.
 pub const PLOT_FRAMES: usize = 300;
 
@@ -107,6 +110,9 @@ pub struct AppState {
     pub paused: bool,
     pub format: wgpu::TextureFormat,
     pub size: (u32, u32),
+    /// Window pixels the panel covers from the left edge (its right edge; 0 without a
+    /// panel): the 3D passes draw only the view beside it.
+    pub panel_px: u32,
     pub frame: u64,
     last_frame: Option<Instant>,
     /// The adapter is a CPU one (lavapipe): the defaults favour frame time.
@@ -191,6 +197,7 @@ impl AppState {
             show_help: false,
             frame_times: VecDeque::with_capacity(PLOT_FRAMES),
             shown: ShownStats::default(),
+            panel_px: 0,
             stats: FrameStats::default(),
             tile_rate: 0.0,
             tile_mark: None,
@@ -591,16 +598,19 @@ impl AppState {
     ) {
         let color = output;
         let view = self.view();
-        // Below scale 1 the 3D passes draw into a smaller target, stretched over `color`
-        // at the end; the panel is drawn after, at the window's resolution.
+        // Beside the panel or below scale 1 the 3D passes draw into a smaller target,
+        // stretched over their region of `color` at the end; the panel is drawn after, at
+        // the window's resolution.
         let size = self.render_size();
         let scaled = size != self.size;
+        let crop = self.view_crop();
         let (color, depth) = if scaled {
             self.upscale.target(gpu, size)
         } else {
             (color, depth)
         };
         self.renderer.display_aspect = Some(self.size.0 as f32 / self.size.1.max(1) as f32);
+        self.renderer.view_crop = crop;
         // The budget caps the samples without touching the scene (Save keeps render.msaa).
         self.renderer
             .set_sample_cap(self.budget.msaa_off().then_some(1));
@@ -628,7 +638,8 @@ impl AppState {
         };
         let aspect = self.size.0 as f32 / self.size.1.max(1) as f32;
         let sun = Vec3::from(self.renderer.scene.render.sun_direction);
-        self.arrows.prepare(gpu, &mesh, view.view_proj(aspect), sun);
+        self.arrows
+            .prepare(gpu, &mesh, crop * view.view_proj(aspect), sun);
         let (scene_color, scene_depth) = self.renderer.scene_views(color, depth);
         let arrows = &self.arrows;
         // Timed only when drawn: a scope whose pass never ran reads the stale timestamps of
@@ -642,9 +653,10 @@ impl AppState {
         self.renderer.resolve(encoder, color);
         if scaled {
             let upscale = &self.upscale;
+            let region = self.view_region();
             self.renderer
                 .encode_timed(encoder, timing::UPSCALE, |e, q| {
-                    upscale.encode(e, output, q)
+                    upscale.encode(e, output, region, q)
                 });
         }
         self.frame += 1;
@@ -658,7 +670,29 @@ impl AppState {
 
     /// The size the 3D passes draw at: the window's, scaled by the frame budget.
     pub fn render_size(&self) -> (u32, u32) {
-        scaled_size(self.size, self.budget.scale())
+        let [_, _, w, h] = self.view_region();
+        scaled_size((w, h), self.budget.scale())
+    }
+
+    /// The window's pixels the 3D view is shown in, `[x, y, width, height]`: right of the
+    /// panel, or the whole window where the panel leaves less than [`MIN_VIEW_PX`] (or
+    /// there is none). Pixels under the opaque panel are not drawn at all.
+    pub fn view_region(&self) -> [u32; 4] {
+        let (w, h) = self.size;
+        let left = if self.panel_px + MIN_VIEW_PX <= w {
+            self.panel_px
+        } else {
+            0
+        };
+        [left, 0, w - left, h]
+    }
+
+    /// The clip-space crop of the camera's view to [`AppState::view_region`]
+    /// (`render::camera::crop_x`): the view keeps the whole window's projection, so what a
+    /// pixel shows (and what a click there picks) does not depend on the panel.
+    pub fn view_crop(&self) -> glam::Mat4 {
+        let left = self.view_region()[0];
+        crop_x(2.0 * left as f32 / self.size.0.max(1) as f32 - 1.0)
     }
 
     /// Reads the last frame's counters and GPU times for the Stats section (blocks until

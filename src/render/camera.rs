@@ -58,3 +58,56 @@ impl CameraView {
         .view_proj(aspect)
     }
 }
+
+/// The clip-space crop that shows the part of a view from normalised x = `x0` to the right
+/// edge (x = 1) across a whole target: applied after the projection, it scales and shifts
+/// x so that [`x0`, 1] maps to [-1, 1] and leaves y, z and w alone. A pixel's world point
+/// is the one the uncropped view shows at the same place of the part, so a window that
+/// draws its 3D view beside a panel keeps its camera, picking and blade sizes. x0 = -1
+/// is the identity.
+pub fn crop_x(x0: f32) -> Mat4 {
+    let x0 = x0.clamp(-1.0, 0.99);
+    let scale = 2.0 / (1.0 - x0);
+    let centre = (1.0 + x0) * 0.5;
+    // x' = scale * (x - centre * w): column-major, the translation scales w.
+    Mat4::from_cols(
+        glam::Vec4::new(scale, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, 1.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, 0.0, 1.0, 0.0),
+        glam::Vec4::new(-scale * centre, 0.0, 0.0, 1.0),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cropped view shows at each pixel of its part what the whole view shows at the
+    /// same window pixel: a point at normalised x in [x0, 1] lands at (x - x0) / (1 - x0)
+    /// across the part, y and depth unchanged.
+    #[test]
+    fn a_crop_shows_the_same_points_at_the_same_window_pixels() {
+        let cam = CameraView {
+            eye: Vec3::new(1.0, 2.0, 5.0),
+            target: Vec3::new(0.0, 0.0, 0.0),
+            fov_y: 55.0,
+            near: 0.1,
+            far: 100.0,
+        };
+        let full = cam.view_proj(16.0 / 9.0);
+        let x0 = -0.46;
+        let cropped = crop_x(x0) * full;
+        for p in [
+            Vec3::new(0.3, 0.1, -0.4),
+            Vec3::new(-1.0, 0.5, 1.0),
+            Vec3::new(2.0, -0.2, 0.0),
+        ] {
+            let a = full.project_point3(p);
+            let b = cropped.project_point3(p);
+            let expected = (a.x - x0) / (1.0 - x0) * 2.0 - 1.0;
+            assert!((b.x - expected).abs() < 1e-5, "{a} {b}");
+            assert!((b.y - a.y).abs() < 1e-6 && (b.z - a.z).abs() < 1e-6);
+        }
+        assert!(crop_x(-1.0).abs_diff_eq(Mat4::IDENTITY, 1e-6));
+    }
+}

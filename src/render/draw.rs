@@ -365,13 +365,20 @@ impl DrawPass {
         self.terrain_pass.grass_everywhere = everywhere;
     }
 
-    pub fn prepare(&self, queue: &wgpu::Queue, frame: &FrameUniforms, camera: &CameraView) {
+    /// `projection`: the aspect the camera is projected with and the crop after it
+    /// (`Renderer::view_proj`), which the terrain's eye-relative projection repeats.
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        frame: &FrameUniforms,
+        camera: &CameraView,
+        projection: (f32, glam::Mat4),
+    ) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
         self.terrain_casts
             .set(self.terrain_pass.casts_shadow(frame.sun_dir[1]));
-        let [w, h, _, fog] = frame.viewport_time;
-        self.terrain_pass
-            .prepare(queue, camera, w / h.max(1.0), fog);
+        let fog = frame.viewport_time[3];
+        self.terrain_pass.prepare(queue, camera, projection, fog);
     }
 
     fn draw_terrain(&self, pass: &mut wgpu::RenderPass<'_>) {

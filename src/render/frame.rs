@@ -158,7 +158,12 @@ impl Renderer {
         self.cull.prepare(&gpu.queue, &cp);
         self.last_cull = cp;
         let frame = self.frame_uniforms(camera, size.0, size.1);
-        self.draw.prepare(&gpu.queue, &frame, camera);
+        self.draw.prepare(
+            &gpu.queue,
+            &frame,
+            camera,
+            (self.aspect(size.0, size.1), self.view_crop),
+        );
         self.light.prepare(
             gpu,
             &self.scene,
@@ -182,7 +187,7 @@ impl Renderer {
                 self.scene.terrain.size,
                 self.billboard_share,
             );
-            (p, camera.view_proj(self.aspect(size.0, size.1)))
+            (p, self.view_proj(camera, size))
         });
         let meters = self.meters();
         if occlusion {

@@ -159,6 +159,9 @@ pub struct Renderer {
     /// (the window's frame budget): the projection keeps the window's shape, so a lower
     /// render scale stretches no blade and culls the same ones. `None`: the target's.
     pub display_aspect: Option<f32>,
+    /// A crop of the camera's view in clip space, after its projection (`camera::crop_x`):
+    /// the window draws only the part of its view beside its panel. Identity: all of it.
+    pub view_crop: glam::Mat4,
     /// Colour format of the targets the pipelines were built for.
     format: wgpu::TextureFormat,
     /// The streamed field's residency and generation pass (`field.tile_size > 0`).
@@ -344,6 +347,7 @@ impl Renderer {
             carried,
             propagation: None,
             display_aspect: None,
+            view_crop: glam::Mat4::IDENTITY,
             cull_camera: None,
             format,
             tiles,
@@ -548,7 +552,7 @@ impl Renderer {
         let mut p = cull_params(
             &self.scene.culling,
             &CullInputs {
-                view_proj: camera.view_proj(self.aspect(size.0, size.1)),
+                view_proj: self.view_proj(camera, size),
                 camera: camera.eye,
                 fov_y: camera.fov_y,
                 near: camera.near,
@@ -613,6 +617,12 @@ impl Renderer {
         self.frame_submitted(gpu, index);
     }
 
+    /// The view-projection the passes draw `camera` with into a target of `size`: the
+    /// camera's for the display's aspect, cropped by [`Renderer::view_crop`].
+    pub(crate) fn view_proj(&self, camera: &CameraView, size: (u32, u32)) -> glam::Mat4 {
+        self.view_crop * camera.view_proj(self.aspect(size.0, size.1))
+    }
+
     /// The projection's aspect ratio for a target of `width` × `height`.
     fn aspect(&self, width: u32, height: u32) -> f32 {
         self.display_aspect
@@ -621,7 +631,7 @@ impl Renderer {
 
     /// Uniforms of the draw pass for a camera and viewport.
     pub fn frame_uniforms(&self, camera: &CameraView, width: u32, height: u32) -> FrameUniforms {
-        let view_proj = camera.view_proj(self.aspect(width, height));
+        let view_proj = self.view_proj(camera, (width, height));
         let sun = light::sun::scene_sun(&self.scene);
         let f = &self.scene.field;
         FrameUniforms {

@@ -233,9 +233,15 @@ impl TerrainPass {
             + u64::from(s.width) * u64::from(s.height)
     }
 
-    /// Places the levels around the camera for a viewport of `aspect` and fog distance
-    /// `fog`.
-    pub fn prepare(&self, queue: &wgpu::Queue, camera: &CameraView, aspect: f32, fog: f32) {
+    /// Places the levels around the camera projected with `aspect` and cropped by `crop`
+    /// (`Renderer::view_proj`), with fog distance `fog`.
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        camera: &CameraView,
+        (aspect, crop): (f32, glam::Mat4),
+        fog: f32,
+    ) {
         let mut u = clipmap::terrain_uniforms(
             &self.shape,
             self.has_density,
@@ -244,7 +250,7 @@ impl TerrainPass {
             camera.far,
             fog,
         );
-        u.view_proj_relative = camera.view_proj_relative(aspect).to_cols_array_2d();
+        u.view_proj_relative = (crop * camera.view_proj_relative(aspect)).to_cols_array_2d();
         u.grid[3] = u32::from(self.grass_everywhere);
         u.grass_albedo = self.grass_albedo.extend(0.0).into();
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));

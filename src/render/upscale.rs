@@ -175,12 +175,15 @@ impl Upscale {
         self.target.as_ref().map(|t| &t.texture)
     }
 
-    /// Stretches the scaled image over `output` (the window's view, or any view of the
-    /// pass's format). Does nothing before the first [`Upscale::target`].
+    /// Stretches the scaled image over `region` of `output` (x, y, width, height in pixels:
+    /// all of it, or the window's view beside its panel; `output` is the window's view or
+    /// any view of the pass's format) and clears the rest. Does nothing before the first
+    /// [`Upscale::target`].
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         output: &wgpu::TextureView,
+        region: [u32; 4],
         q: crate::gpu::queries::PassQueries,
     ) {
         let Some(t) = &self.target else {
@@ -203,6 +206,8 @@ impl Upscale {
             multiview_mask: None,
         });
         q.begin(&mut pass);
+        let [x, y, w, h] = region.map(|v| v as f32);
+        pass.set_viewport(x, y, w, h, 0.0, 1.0);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &t.bind_group, &[]);
         pass.draw(0..3, 0..1);
