@@ -23,7 +23,7 @@ pub mod mesh;
 pub mod msaa;
 pub mod objects;
 pub mod overlay;
-mod pipelines;
+pub(crate) mod pipelines;
 pub mod post;
 pub mod target;
 pub mod terrain;

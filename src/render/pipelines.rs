@@ -1,11 +1,57 @@
 //! The draw pass's render pipelines: the builders every lit and depth-only pass shares
-//! (`pipeline`, `shadow_pipeline`), the fixed pipelines of one colour format and sample
+//! (`pipeline`, `shadow_pipeline`, and `fullscreen_pipeline` for the passes that draw one
+//! full-screen triangle), the fixed pipelines of one colour format and sample
 //! count (`Pipelines`), and the grass's, which are also built for the scene's
 //! specialisation (`GrassPipelines`, see `grass_spec`).
 
 use super::draw::DEPTH_FORMAT;
 use super::grass_spec::GrassSpec;
 use crate::shaders;
+
+/// A pass that draws one full-screen triangle (no vertex buffers, no depth) into one colour
+/// target of `format` with `blend`: the tone mapping, the upscale, the window's panel
+/// composite. `entries`: the vertex and fragment entry points of `module`; `constants`: the
+/// fragment stage's overridable constants.
+#[allow(clippy::too_many_arguments)]
+pub fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(entries.0),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(entries.1),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                ..Default::default()
+            },
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
 
 pub(crate) struct PipelineSpec<'a> {
     pub label: &'a str,

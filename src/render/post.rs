@@ -202,33 +202,14 @@ fn tonemap_pipeline(
     mapper: u32,
 ) -> wgpu::RenderPipeline {
     let constants = [("TONE_MAPPER", f64::from(mapper))];
-    let options = wgpu::PipelineCompilationOptions {
-        constants: &constants,
-        ..Default::default()
-    };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("sward.tonemap.pipeline"),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_tonemap"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some("fs_tonemap"),
-            compilation_options: options,
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    super::pipelines::fullscreen_pipeline(
+        device,
+        "sward.tonemap.pipeline",
+        layout,
+        module,
+        ("vs_tonemap", "fs_tonemap"),
+        format,
+        None,
+        &constants,
+    )
 }

@@ -73,31 +73,16 @@ impl Upscale {
             immediate_size: 0,
         });
         let module = crate::shaders::module(device, "upscale.wgsl");
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("sward.upscale.pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_upscale"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_upscale"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::pipelines::fullscreen_pipeline(
+            device,
+            "sward.upscale.pipeline",
+            &pipeline_layout,
+            &module,
+            ("vs_upscale", "fs_upscale"),
+            format,
+            None,
+            &[],
+        );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("sward.upscale.sampler"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,
