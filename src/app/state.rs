@@ -56,6 +56,17 @@ pub const SOFTWARE_GRID: u32 = 128;
 /// The narrowest 3D view beside the panel, in pixels; a panel wider than the window less
 /// this leaves the view the whole window (under the panel).
 pub const MIN_VIEW_PX: u32 = 64;
+/// The region of a window of `size` beside a panel `panel_px` wide, `[x, y, width, height]`
+/// ([`AppState::view_region`]).
+pub fn view_region((w, h): (u32, u32), panel_px: u32) -> [u32; 4] {
+    let left = if panel_px.saturating_add(MIN_VIEW_PX) <= w {
+        panel_px
+    } else {
+        0
+    };
+    [left, 0, w - left, h]
+}
+
 /// Frame times kept for the Stats plot.
 pub const PLOT_FRAMES: usize = 300;
 
@@ -678,13 +689,7 @@ impl AppState {
     /// panel, or the whole window where the panel leaves less than [`MIN_VIEW_PX`] (or
     /// there is none). Pixels under the opaque panel are not drawn at all.
     pub fn view_region(&self) -> [u32; 4] {
-        let (w, h) = self.size;
-        let left = if self.panel_px + MIN_VIEW_PX <= w {
-            self.panel_px
-        } else {
-            0
-        };
-        [left, 0, w - left, h]
+        view_region(self.size, self.panel_px)
     }
 
     /// The clip-space crop of the camera's view to [`AppState::view_region`]
@@ -736,4 +741,29 @@ fn build(gpu: &Gpu, scene: Scene, format: wgpu::TextureFormat) -> Result<(Render
     )
     .map_err(|e| Error::Invalid(format!("wind.guides: {e}")))?;
     Ok((renderer, editor))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 3D view is right of the panel, over the window's whole height; a panel that
+    /// leaves less than MIN_VIEW_PX (or a window smaller than the panel) gives the view the
+    /// whole window back, under the panel, rather than a sliver or nothing.
+    #[test]
+    fn the_view_region_is_beside_the_panel_while_it_fits() {
+        assert_eq!(view_region((1280, 720), 345), [345, 0, 935, 720]);
+        assert_eq!(view_region((1280, 720), 0), [0, 0, 1280, 720]);
+        assert_eq!(
+            view_region((1280, 720), 1280 - MIN_VIEW_PX),
+            [1216, 0, 64, 720]
+        );
+        assert_eq!(
+            view_region((1280, 720), 1280 - MIN_VIEW_PX + 1),
+            [0, 0, 1280, 720]
+        );
+        assert_eq!(view_region((200, 100), 345), [0, 0, 200, 100]);
+        assert_eq!(view_region((1280, 720), u32::MAX), [0, 0, 1280, 720]);
+        assert_eq!(view_region((0, 0), 0), [0, 0, 0, 0]);
+    }
 }
