@@ -679,7 +679,8 @@ impl AppState {
         self.renderer.resolve_queries(encoder);
     }
 
-    /// The size the 3D passes draw at: the window's, scaled by the frame budget.
+    /// The size the 3D passes draw at: the view region's ([`AppState::view_region`]),
+    /// scaled by the frame budget.
     pub fn render_size(&self) -> (u32, u32) {
         let [_, _, w, h] = self.view_region();
         scaled_size((w, h), self.budget.scale())
