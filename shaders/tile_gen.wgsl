@@ -11,7 +11,7 @@
 struct GenParams {
     // Patch side in quanta (1/1024 m), patches per tile side, blades per patch, per tile.
     grid: vec4<u32>,
-    // Seed key, tuft blades per pid, tuft radius in quanta, tuft cells per pid side.
+    // Seed key, tuft blades per pid, tuft radius in quanta, tufts per pid.
     key: vec4<u32>,
     // Height min, span; width min, span (m).
     sizes: vec4<f32>,
@@ -21,6 +21,8 @@ struct GenParams {
     map: vec4<u32>,
     // Half the terrain side (bounded grass), density map side, unused x2.
     extent: vec4<f32>,
+    // Tiles along the side of the tuft layout's period, unused x3.
+    tufts: vec4<u32>,
 }
 
 // x: slot, y, z: tile coordinates, w: 1 = generate the tile, 0 = free the slot.
@@ -40,13 +42,15 @@ struct Job {
 @group(0) @binding(9) var<storage, read_write> seen: array<u32>;
 // The field's species and clumps (the same buffer as `gen`, from byte 256).
 @group(0) @binding(10) var<uniform> traits: FieldTraits;
+// The tuft centres of one period of tiles (`field::tiles::TuftLayout`): offsets in quanta
+// from their patch's corner, `key.w` per patch, patches row-major over the period.
+@group(0) @binding(11) var<storage, read> tuft_offsets: array<vec2<u32>>;
 
 const FLAG_DENSITY: u32 = 1u;
 const FLAG_BOUNDED: u32 = 2u;
 const TUFT_BLADES: u32 = 16u;
 const MIN_HEIGHT: f32 = 1e-3;
 const GOLDEN: u32 = 0x9E3779B9u;
-const TUFT_SALT: u32 = 0x5BD1E995u;
 const UNIT: f32 = 1.0 / 16777216.0;
 const QUANTUM: f32 = 1.0 / 1024.0;
 const EMPTY_PATCH: f32 = 1.0;
@@ -94,6 +98,22 @@ fn density_at(x: f32, z: f32) -> f32 {
     return clamp(top + (bottom - top) * tz, 0.0, 1.0);
 }
 
+// The centre (quanta) of tuft `t` of patch (px, pz) of tile (tx, tz): a Poisson-disk
+// layout of a period of tiles, the same spacing across every tile border. The twin of
+// `TuftLayout::centre`.
+fn tuft_centre(tx: i32, tz: i32, px: u32, pz: u32, t: u32) -> vec2<i32> {
+    let p = i32(gen.tufts.x);
+    let mx = u32(((tx % p) + p) % p);
+    let mz = u32(((tz % p) + p) % p);
+    let grid = gen.grid.y;
+    let side = gen.tufts.x * grid;
+    let index = (mz * grid + pz) * side + mx * grid + px;
+    let o = tuft_offsets[index * gen.key.w + t];
+    let tile_q = i32(gen.grid.x * grid);
+    let base = vec2<i32>(tx * tile_q + i32(px * gen.grid.x), tz * tile_q + i32(pz * gen.grid.x));
+    return base + vec2<i32>(o);
+}
+
 // Blade `i` of tile (tx, tz): the twin of `draw_blade`. Height 0 marks a removed blade.
 fn make_blade(tx: i32, tz: i32, i: u32) -> Blade {
     var out: Blade;
@@ -116,23 +136,14 @@ fn make_blade(tx: i32, tz: i32, i: u32) -> Blade {
     var xq: i32;
     var zq: i32;
     if j < gen.key.y {
-        let cells = gen.key.w;
-        let t = j / TUFT_BLADES;
-        let cell_q = max(patch_q / cells, 1u);
-        let cx = t % cells;
-        let cz = t / cells;
-        let th = hash32(tkey ^ hash32((pid * 65536u + t) ^ TUFT_SALT));
-        let centre_x = base_x + i32(cx * cell_q + th % cell_q);
-        let centre_z = base_z + i32(cz * cell_q + hash32(th) % cell_q);
+        let centre = tuft_centre(tx, tz, px, pz, j / TUFT_BLADES);
         let radius_q = gen.key.z;
         let span = 2u * radius_q + 1u;
         let s = i32(draw(h0, 2u) >> 24u);
         let ox = (i32(draw(h0, 0u) % span) - i32(radius_q)) * s / 256;
         let oz = (i32(draw(h0, 1u) % span) - i32(radius_q)) * s / 256;
-        let hi_x = max(base_x + i32(patch_q) - 1, base_x);
-        let hi_z = max(base_z + i32(patch_q) - 1, base_z);
-        xq = clamp(centre_x + ox, base_x, hi_x);
-        zq = clamp(centre_z + oz, base_z, hi_z);
+        xq = centre.x + ox;
+        zq = centre.y + oz;
     } else {
         xq = base_x + i32(draw(h0, 0u) % patch_q);
         zq = base_z + i32(draw(h0, 1u) % patch_q);

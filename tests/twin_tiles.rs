@@ -58,7 +58,7 @@ fn compare_pool(
             continue;
         };
         resident += 1;
-        let twin = generate_tile(params, terrain, density, tile);
+        let twin = generate_tile(params, streamer.tufts(), terrain, density, tile);
         let gpu_blades = &blades[slot * per_tile..(slot + 1) * per_tile];
         let gpu_states = &states[slot * per_tile..(slot + 1) * per_tile];
         for (i, (g, c)) in gpu_blades.iter().zip(&twin.blades).enumerate() {

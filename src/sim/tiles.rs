@@ -8,7 +8,9 @@ use wgpu::util::DeviceExt;
 
 use super::update::{compute_storage_entry, uniform_entry, BladeBuffers};
 use crate::error::{Error, Result};
-use crate::field::tiles::{GenParams, TileJob, TileLayout, TileResidency, MAX_RELEASES};
+use crate::field::tiles::{
+    GenParams, TileJob, TileLayout, TileResidency, TuftLayout, MAX_RELEASES,
+};
 use crate::field::{DensityMap, HeightField};
 use crate::gpu::Gpu;
 use crate::render::{clipmap, terrain as terrain_gpu};
@@ -48,7 +50,9 @@ pub struct TileGenPass {
     params: wgpu::Buffer,
     jobs: wgpu::Buffer,
     base: GenParams,
+    tufts: TuftLayout,
     _terrain_params: wgpu::Buffer,
+    _tufts: wgpu::Buffer,
     _grid: wgpu::Buffer,
     _density: wgpu::Buffer,
 }
@@ -77,6 +81,7 @@ impl TileGenPass {
                 compute_storage_entry(8, false),
                 compute_storage_entry(9, false),
                 uniform_entry(10, c),
+                compute_storage_entry(11, true),
             ],
         });
         let terrain_params = terrain_gpu::params_buffer(device, "sward.tile_gen.terrain");
@@ -91,6 +96,13 @@ impl TileGenPass {
         let density_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sward.tile_gen.density"),
             contents: bytemuck::cast_slice(&values),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let base = GenParams::new(layout, field, density);
+        let tufts = base.tuft_layout(layout);
+        let tufts_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward.tile_gen.tufts"),
+            contents: bytemuck::cast_slice(&tufts.gpu_words()),
             usage: wgpu::BufferUsages::STORAGE,
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -129,6 +141,7 @@ impl TileGenPass {
                         >() as u64),
                     }),
                 },
+                entry(11, &tufts_buf),
             ],
         });
         let module = shaders::module(device, "tile_gen.wgsl");
@@ -153,8 +166,10 @@ impl TileGenPass {
             group,
             params,
             jobs,
-            base: GenParams::new(layout, field, density),
+            base,
+            tufts,
             _terrain_params: terrain_params,
+            _tufts: tufts_buf,
             _grid: grid,
             _density: density_buf,
         }
@@ -163,6 +178,11 @@ impl TileGenPass {
     /// The uniforms the kernel runs with (without the job count).
     pub fn params(&self) -> &GenParams {
         &self.base
+    }
+
+    /// The tuft centres the kernel reads.
+    pub fn tufts(&self) -> &TuftLayout {
+        &self.tufts
     }
 
     /// Writes `jobs` (at most `MAX_JOBS`) and records the generation and the boxes. The
@@ -245,6 +265,11 @@ impl TileStreamer {
 
     pub fn params(&self) -> &GenParams {
         self.pass.params()
+    }
+
+    /// The tuft centres of the field's tiles (for the CPU twin).
+    pub fn tufts(&self) -> &TuftLayout {
+        self.pass.tufts()
     }
 
     /// Makes every tile within the radius of (x, z) resident now, one submit per batch

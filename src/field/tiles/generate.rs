@@ -3,9 +3,9 @@
 //! so tiles generate in parallel and the same tile always gets the same blades.
 //!
 //! Placement per patch (a square of the tile): the first `tuft_blades` blades grow in
-//! tufts whose centres are stratified over a grid of cells inside the patch (the spacing a
-//! Poisson disk gives, without its sequential sampling), denser towards the centre; the
-//! rest are single blades uniform over the patch (the paper keeps singles unstructured).
+//! tufts around Poisson-disk centres ([`TuftLayout`]: a layout of a period of tiles with
+//! the same minimum spacing across every border), denser towards the centre; the rest are
+//! single blades uniform over the patch (the paper keeps singles unstructured).
 //! A density map or a bounded terrain's edge removes blades: a removed blade has height 0,
 //! which the update and the cull skip.
 //!
@@ -17,6 +17,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+use super::tufts::{period_for, TuftLayout};
 use super::{TileLayout, EMPTY_PATCH, QUANTA_PER_METRE};
 use crate::field::{hash32, DensityMap, HeightField};
 use crate::scene::types::Field;
@@ -29,8 +30,6 @@ const TUFT_BLADES: u32 = 16;
 const MIN_HEIGHT: f32 = 1e-3;
 /// Spreads a blade's draws over the 32-bit hash (the golden ratio in 32 bits).
 const GOLDEN: u32 = 0x9E37_79B9;
-/// Salt of the tuft-centre hashes (so they never equal a blade's).
-const TUFT_SALT: u32 = 0x5BD1_E995;
 /// 2^-24: a 24-bit integer times this is exact in f32 and below 1.
 const UNIT: f32 = 1.0 / 16_777_216.0;
 /// The bit of `GenParams::map[2]`: a density map is bound.
@@ -44,8 +43,8 @@ pub const FLAG_BOUNDED: u32 = 2;
 pub struct GenParams {
     /// Patch side in quanta, patches per tile side, blades per patch, blades per tile.
     pub layout: [u32; 4],
-    /// The field's 32-bit seed key, tuft blades per patch, tuft radius in quanta, tuft
-    /// cells per patch side.
+    /// The field's 32-bit seed key, tuft blades per patch, tuft radius in quanta, tufts per
+    /// patch.
     pub key: [u32; 4],
     /// Height min and span, width min and span (m).
     pub sizes: [f32; 4],
@@ -55,8 +54,10 @@ pub struct GenParams {
     pub map: [u32; 4],
     /// Half the terrain side (bounded grass), the density map's square side, unused ×2.
     pub extent: [f32; 4],
+    /// Tiles along the side of the tuft layout's period ([`TuftLayout::period`]), unused ×3.
+    pub tufts: [u32; 4],
     /// Up to the 256-byte uniform offset alignment: the traits are bound on their own.
-    pub _pad: [[u32; 4]; 10],
+    pub _pad: [[u32; 4]; 9],
     /// The field's species and clumps (`traits` in `tile_gen.wgsl`, bound at
     /// [`TRAITS_OFFSET`] of the same buffer).
     pub traits: crate::field::clumps::FieldTraits,
@@ -78,10 +79,6 @@ impl GenParams {
         };
         let tuft_blades = ((fraction * ps as f32).round() as u32).min(ps);
         let tufts = tuft_blades.div_ceil(TUFT_BLADES).max(1);
-        let mut cells = 1u32;
-        while cells * cells < tufts {
-            cells += 1;
-        }
         let radius_q = (field.tuft_radius.max(0.0) * QUANTA_PER_METRE as f32)
             .round()
             .clamp(1.0, 1e7) as u32;
@@ -107,7 +104,7 @@ impl GenParams {
                 ps,
                 layout.blades_per_tile(),
             ],
-            key: [seed_key(field.seed), tuft_blades, radius_q, cells],
+            key: [seed_key(field.seed), tuft_blades, radius_q, tufts],
             sizes: [
                 field.height.min,
                 field.height.max - field.height.min,
@@ -122,9 +119,16 @@ impl GenParams {
             ],
             map: [mw, mh, flags, 0],
             extent: [layout.bounds.unwrap_or(0.0), msize, 0.0, 0.0],
-            _pad: [[0; 4]; 10],
+            tufts: [period_for(layout.grid, tufts), 0, 0, 0],
+            _pad: [[0; 4]; 9],
             traits: crate::field::clumps::FieldTraits::from_field(field),
         }
+    }
+
+    /// The tuft centres these uniforms index (built once per field; `layout` is the one
+    /// the uniforms were made for).
+    pub fn tuft_layout(&self, layout: &TileLayout) -> TuftLayout {
+        TuftLayout::new(layout, self.key[3], self.key[0])
     }
 }
 
@@ -161,12 +165,13 @@ struct Draw {
 /// Blade `i` of `tile`: the twin of `draw_blade` in `shaders/tile_gen.wgsl`.
 fn draw_blade(
     p: &GenParams,
+    tufts: &TuftLayout,
     density: Option<&DensityMap>,
     tile: (i32, i32),
     i: u32,
 ) -> Option<Draw> {
     let [patch_q, grid, ps, _] = p.layout;
-    let [key, tuft_blades, radius_q, cells] = p.key;
+    let [key, tuft_blades, radius_q, _] = p.key;
     let tkey = tile_key(key, tile);
     let patch = i / ps;
     let j = i % ps;
@@ -184,22 +189,14 @@ fn draw_blade(
     let r = |k: u32| hash32(h0.wrapping_add(k.wrapping_mul(GOLDEN)));
     let u = |k: u32| (r(k) >> 8) as f32 * UNIT;
     let (xq, zq) = if j < tuft_blades {
-        let t = j / TUFT_BLADES;
-        let cell_q = (patch_q / cells).max(1);
-        let (cx, cz) = (t % cells, t / cells);
-        let th = hash32(tkey ^ hash32(patch.wrapping_mul(65536).wrapping_add(t) ^ TUFT_SALT));
-        let centre_x = base_x.wrapping_add((cx * cell_q + th % cell_q) as i32);
-        let centre_z = base_z.wrapping_add((cz * cell_q + hash32(th) % cell_q) as i32);
+        // Around its tuft's centre, closer to it more often (the offset's scale is a draw),
+        // across the patch's edge where the tuft stands near it: the boxes follow the blades.
+        let (centre_x, centre_z) = tufts.centre(tile, (px, pz), j / TUFT_BLADES);
         let span = 2 * radius_q + 1;
         let s = (r(2) >> 24) as i32;
         let ox = ((r(0) % span) as i32 - radius_q as i32) * s / 256;
         let oz = ((r(1) % span) as i32 - radius_q as i32) * s / 256;
-        let hi_x = base_x.wrapping_add(patch_q as i32 - 1);
-        let hi_z = base_z.wrapping_add(patch_q as i32 - 1);
-        (
-            centre_x.wrapping_add(ox).clamp(base_x, hi_x.max(base_x)),
-            centre_z.wrapping_add(oz).clamp(base_z, hi_z.max(base_z)),
-        )
+        (centre_x.wrapping_add(ox), centre_z.wrapping_add(oz))
     } else {
         (
             base_x.wrapping_add((r(0) % patch_q) as i32),
@@ -250,6 +247,7 @@ fn removed() -> Blade {
 /// The blades of `tile` as the kernel writes them into a slot, with their patch boxes.
 pub fn generate_tile(
     params: &GenParams,
+    tufts: &TuftLayout,
     terrain: &HeightField,
     density: Option<&DensityMap>,
     tile: (i32, i32),
@@ -259,7 +257,7 @@ pub fn generate_tile(
     let mut blades = Vec::with_capacity(per_tile as usize);
     let mut states = Vec::with_capacity(per_tile as usize);
     for i in 0..per_tile {
-        let blade = match draw_blade(params, density, tile, i) {
+        let blade = match draw_blade(params, tufts, density, tile, i) {
             Some(d) => pose(&d, terrain),
             None => removed(),
         };
@@ -336,6 +334,7 @@ pub fn generate_pool(
     z: f32,
 ) -> crate::field::GeneratedField {
     let params = GenParams::new(layout, field, density);
+    let tufts = params.tuft_layout(layout);
     let mut residency = super::TileResidency::new(*layout);
     while !residency.update(x, z, usize::MAX).is_empty() {}
     let per_tile = layout.blades_per_tile() as usize;
@@ -350,7 +349,7 @@ pub fn generate_pool(
     };
     for (slot, tile) in residency.slots().iter().enumerate() {
         if let Some(tile) = tile {
-            let t = generate_tile(&params, terrain, density, *tile);
+            let t = generate_tile(&params, &tufts, terrain, density, *tile);
             out.blades[slot * per_tile..(slot + 1) * per_tile].copy_from_slice(&t.blades);
             out.states[slot * per_tile..(slot + 1) * per_tile].copy_from_slice(&t.states);
             out.patches[slot * per_slot_patches..(slot + 1) * per_slot_patches]

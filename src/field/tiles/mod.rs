@@ -13,12 +13,14 @@
 
 mod generate;
 mod residency;
+pub mod tufts;
 
 pub use generate::{
     empty_patch, generate_pool, generate_tile, patch_box, tile_key, GenParams, TileBlades,
     TRAITS_OFFSET,
 };
 pub use residency::{TileJob, TileResidency, MAX_RELEASES};
+pub use tufts::TuftLayout;
 
 use crate::scene::types::{Culling, Field, Terrain};
 
