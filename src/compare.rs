@@ -53,6 +53,116 @@ pub fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> Option<ImageDiff> 
     })
 }
 
+/// Rows of one band of the far-field comparison (issue 27, point 1).
+pub const BAND_ROWS: u32 = 8;
+/// Side of the square blocks whose luminance spread is a band's local contrast.
+pub const BAND_BLOCK: u32 = 8;
+/// Largest difference of a band's mean luminance (0–255) for the levels to read as one.
+pub const BAND_LUMINANCE_TOLERANCE: f64 = 5.0;
+/// Largest relative difference of a band's local contrast.
+pub const BAND_CONTRAST_TOLERANCE: f64 = 0.3;
+
+/// One band of rows of an image: its mean luminance and local contrast.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Band {
+    /// First row.
+    pub top: u32,
+    /// Mean Rec. 709 luminance of the 8-bit values, 0–255.
+    pub luminance: f64,
+    /// Mean over the band's `BAND_BLOCK`-wide blocks of the luminance's standard deviation.
+    pub contrast: f64,
+}
+
+fn luma(p: &image::Rgba<u8>) -> f64 {
+    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+}
+
+/// The whole bands of `BAND_ROWS` rows of `img`, top to bottom.
+pub fn bands(img: &image::RgbaImage) -> Vec<Band> {
+    let (w, h) = img.dimensions();
+    (0..h / BAND_ROWS)
+        .map(|b| {
+            let top = b * BAND_ROWS;
+            let mut sum = 0.0;
+            let mut spread = 0.0;
+            let blocks = (w / BAND_BLOCK).max(1);
+            for k in 0..blocks {
+                let (mut s, mut s2, mut n) = (0.0, 0.0, 0.0);
+                for y in top..top + BAND_ROWS {
+                    for x in k * BAND_BLOCK..((k + 1) * BAND_BLOCK).min(w) {
+                        let l = luma(img.get_pixel(x, y));
+                        s += l;
+                        s2 += l * l;
+                        n += 1.0;
+                    }
+                }
+                sum += s;
+                let mean = s / f64::max(n, 1.0);
+                spread += (s2 / f64::max(n, 1.0) - mean * mean).max(0.0).sqrt();
+            }
+            Band {
+                top,
+                luminance: sum / f64::from((w * BAND_ROWS).max(1)),
+                contrast: spread / f64::from(blocks),
+            }
+        })
+        .collect()
+}
+
+/// How one band of an image differs from the same band of a reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BandDiff {
+    pub top: u32,
+    /// The image's mean luminance minus the reference's (0–255).
+    pub luminance: f64,
+    /// The image's local contrast over the reference's, minus 1.
+    pub contrast: f64,
+}
+
+impl BandDiff {
+    /// Whether the band reads as the reference's (issue 27's 5 levels and 30 %).
+    pub fn within_tolerance(&self) -> bool {
+        self.luminance.abs() <= BAND_LUMINANCE_TOLERANCE
+            && self.contrast.abs() <= BAND_CONTRAST_TOLERANCE
+    }
+}
+
+/// The bands of `img` against those of `reference` whose top row lies in `rows`;
+/// `None` when the sizes differ.
+pub fn compare_bands(
+    img: &image::RgbaImage,
+    reference: &image::RgbaImage,
+    rows: std::ops::Range<u32>,
+) -> Option<Vec<BandDiff>> {
+    if img.dimensions() != reference.dimensions() {
+        return None;
+    }
+    Some(
+        bands(img)
+            .into_iter()
+            .zip(bands(reference))
+            .filter(|(a, _)| rows.contains(&a.top))
+            .map(|(a, b)| BandDiff {
+                top: a.top,
+                luminance: a.luminance - b.luminance,
+                contrast: a.contrast / b.contrast.max(1e-6) - 1.0,
+            })
+            .collect(),
+    )
+}
+
+/// The band that differs most: by luminance over its tolerance, or by contrast over its.
+pub fn worst_band(diffs: &[BandDiff]) -> Option<BandDiff> {
+    let score = |d: &BandDiff| {
+        (d.luminance.abs() / BAND_LUMINANCE_TOLERANCE)
+            .max(d.contrast.abs() / BAND_CONTRAST_TOLERANCE)
+    };
+    diffs
+        .iter()
+        .copied()
+        .max_by(|a, b| score(a).total_cmp(&score(b)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -71,5 +181,45 @@ mod tests {
         assert!((d.failing - 0.01).abs() < 1e-12);
         assert_eq!(d.image.get_pixel(3, 4)[0], 255);
         assert!(compare(&a, &image::RgbaImage::new(5, 5)).is_none());
+    }
+
+    #[test]
+    fn bands_measure_mean_luminance_and_block_contrast() {
+        // 16 x 16: the top band flat grey 100; the bottom band a checkerboard of 0 and 200
+        // (mean 100, every block's spread 100).
+        let img = image::RgbaImage::from_fn(16, 16, |x, y| {
+            let v = if y < 8 {
+                100
+            } else if (x + y) % 2 == 0 {
+                0
+            } else {
+                200
+            };
+            image::Rgba([v, v, v, 255])
+        });
+        let b = bands(&img);
+        assert_eq!(b.len(), 2);
+        assert!((b[0].luminance - 100.0).abs() < 1e-9 && b[0].contrast < 1e-9);
+        assert!((b[1].luminance - 100.0).abs() < 1e-9);
+        assert!((b[1].contrast - 100.0).abs() < 1e-9);
+        // Against a reference darker by 6 levels with half the contrast: both off.
+        let reference = image::RgbaImage::from_fn(16, 16, |x, y| {
+            let v = if y < 8 {
+                94
+            } else if (x + y) % 2 == 0 {
+                44
+            } else {
+                144
+            };
+            image::Rgba([v, v, v, 255])
+        });
+        let d = compare_bands(&img, &reference, 0..16).expect("same size");
+        assert!((d[0].luminance - 6.0).abs() < 1e-9 && !d[0].within_tolerance());
+        assert!((d[1].contrast - 1.0).abs() < 1e-9 && !d[1].within_tolerance());
+        assert_eq!(worst_band(&d).map(|w| w.top), Some(8));
+        assert_eq!(
+            compare_bands(&img, &reference, 8..16).expect("same").len(),
+            1
+        );
     }
 }
