@@ -57,19 +57,13 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     out.uv = vec2<f32>(select(1.0 - u, u, c.info.z == 1u), 1.0 - v);
     out.layer = c.info.y;
     out.fade = c.pos_fade.w;
-    let g = terrain_height(pos.xz);
-    let ground_n = normalize(vec3<f32>(-g.y, 1.0, -g.z));
-    // The far ground's grass lighting (terrain.wgsl) with the ground's own normal, so
-    // cards and the ground between them read as one on every slope (with the sun's height
-    // alone, cards on slopes turned from a low sun stood out in bright rows over darker
-    // ground). The shadows of what stands between the card and the sun fall on it too,
-    // looked up at the card's middle.
-    let sun = frame.sun_dir.xyz;
+    // The blades' own light averaged over what a distant eye sees of them (the cull's
+    // `far_grass_light`, per unit of albedo), as the far ground has it: cards and the
+    // ground between them read as one, and as the blades they stand for. The shadows of
+    // what stands between the card and the sun fall on it too, looked up at its middle.
     let middle = pos + vec3<f32>(0.0, 0.5 * h, 0.0) + 0.5 * c.top_scale.xyz;
     let lit = sun_visibility(middle);
-    let diffuse = max(dot(ground_n, sun), 0.0);
-    out.light_rgb = light.ambient.rgb * 0.9 * 0.85
-        + light.sun.rgb * lit * light.shading_b.w * (diffuse * 0.7 + 0.25 * sqrt(max(1.0 - sun.y * sun.y, 0.0)));
+    out.light_rgb = c.light_ambient.rgb + lit * c.light_sun.rgb;
     let to_p = middle - frame.camera_pos.xyz;
     let dist = length(to_p);
     let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));

@@ -1,15 +1,19 @@
 // Billboard cull (issue 12, the middle distance): one invocation per cell of the grid
 // around the camera places its card (`billboard_place.wgsl`), drops it outside the ring,
 // where the density map thins it or outside the view (its centre with a card's margin:
-// the test `billboard::count_drawn` makes on the CPU), computes its sway and bending once
-// (`billboard_sway.wgsl`) and appends the survivors to a list that the draw reads, six
-// vertices per card, through an indirect draw whose vertex count this pass writes.
+// the test `billboard::count_drawn` makes on the CPU), computes its sway and bending and
+// the blades' light on it once (`billboard_sway.wgsl`, `far_grass.wgsl`) and appends the
+// survivors to a list that the draw reads, six vertices per card, through an indirect
+// draw whose vertex count this pass writes. Group 1 is the frame's light (its uniforms).
 //
 // Why a compute pass: the draw used to place every cell's card in the vertex shader, six
 // times per card, for the whole grid (about 40,000 cards, most of them behind the camera
 // or outside the ring). A software rasteriser runs vertex shaders on one thread; the
 // compute pass runs on all of them and the draw shades only the cards in view.
 //!include common.wgsl
+//!include light.wgsl
+//!include blade_shade.wgsl
+//!include far_grass.wgsl
 //!include terrain_height.wgsl
 //!include wind.wgsl
 //!include billboard_place.wgsl
@@ -74,5 +78,14 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     out.pos_fade = vec4<f32>(c.pos, c.fade);
     out.top_scale = vec4<f32>(top_offset(c.pos, h), c.scale);
     out.info = vec4<u32>(i, c.variant, select(0u, 1u, c.mirror > 0.0), 0u);
+    // The blades' light averaged over what a distant eye sees of them, once per card (the
+    // sun's shadow is looked up by the draw, after the shadow maps are drawn), over the
+    // ground's normal: cards and the ground between them read as one on every slope.
+    let slope = terrain_height(c.pos.xz);
+    let ground_n = normalize(vec3<f32>(-slope.y, 1.0, -slope.z));
+    let albedo = max(bb.albedo.rgb, vec3<f32>(1e-4));
+    let l = far_grass_light(centre, ground_n, albedo);
+    out.light_ambient = vec4<f32>(l.ambient / albedo, 0.0);
+    out.light_sun = vec4<f32>(l.sun / albedo, 0.0);
     cards[at] = out;
 }

@@ -16,6 +16,8 @@ struct BillboardParams {
     // x: sway gain (m of top offset per m/s² of wind), y: bend radius factor, z: terrain
     // size (m, the density map's square), w: unused.
     shape: vec4<f32>,
+    // The atlas's mean albedo (rgb: the far ground's grass colour), unused.
+    albedo: vec4<f32>,
 }
 
 struct Card {
@@ -39,6 +41,10 @@ struct DrawnCard {
     top_scale: vec4<f32>,
     // Cell index, atlas variant, 1 = mirrored, unused.
     info: vec4<u32>,
+    // The light on the card per unit of the atlas's mean albedo (`far_grass_light` over
+    // `albedo`): the sky's part and the sun's part when the sun is not shadowed (rgb).
+    light_ambient: vec4<f32>,
+    light_sun: vec4<f32>,
 }
 
 const BB_QUANTUM: f32 = 1.0 / 1024.0;

@@ -176,6 +176,10 @@ struct Frame {
     debug: vec4<f32>,
     // CWD-Sim Eq. 14: m_min, m_max, c1, c2 (debug.y = 1).
     self_shadow: vec4<f32>,
+    // Eq. 20's thinning as the cull applies it: xyz the culling camera, w the distance
+    // levels n (0: no thinning); thinning_reach.x its d_max.
+    thinning: vec4<f32>,
+    thinning_reach: vec4<f32>,
 }
 
 const TAU: f32 = 6.283185307179586;

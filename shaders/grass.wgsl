@@ -12,6 +12,7 @@
 // mesh has the coarser one's shape and the switch moves nothing.
 //!include common.wgsl
 //!include light.wgsl
+//!include blade_shade.wgsl
 //!include wind.wgsl
 //!include wind_sample.wgsl
 //!include cwd.wgsl
@@ -207,9 +208,24 @@ fn blade_shape(blade: Blade) -> u32 {
     return select(u32(frame.shape.x), u32(s.attrs.w), s.color.w > 0.5);
 }
 
+// How much wider a blade is drawn so that the blades Eq. 20 keeps cover what it dropped:
+// at a distance where the cull keeps `keep` blades in n (cull.wgsl), each kept blade is n /
+// keep times as wide (issue 27: thinning keeps the coverage, as in Ghost of Tsushima).
+// Within the first level, and without thinning, 1.
+fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
+    let n = frame.thinning.w;
+    if n < 0.5 {
+        return 1.0;
+    }
+    let rel = v0 - frame.thinning.xyz;
+    let d_proj = length(rel - up * dot(rel, up));
+    let keep = floor(n * (1.0 - d_proj / max(frame.thinning_reach.x, 1e-6)));
+    return n / max(keep, 1.0);
+}
+
 // The vertex at (u, v) of a blade: Eq. 21-24.
 fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f32) -> BladePoint {
-    let half_width = 0.5 * blade.v2_width.w;
+    let half_width = 0.5 * blade.v2_width.w * thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
     let up = blade.up_stiffness.xyz;
     // Eq. 21: the curve point c and the tangent t0.
     let centre = centre_line(blade, ctx, index, v);
@@ -562,41 +578,4 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let color = shade_blade(in.world, flat_n, in.side, in.uv, albedo, lit, in.shade);
     return vec4<f32>(fog_towards(color, in.world, in.sky), 1.0);
-}
-
-// The light a blade's point at `world` sends to the eye (before the fog): `flat_n` its
-// normal turned to the viewer, `side` its width direction, (u, v) where it lies on the
-// blade, `albedo` its colour there, `lit` the sun's visibility, `self_shade` CWD-Sim's
-// Eq. 14 there. The forward fragment stage and the deferred shading both light here.
-fn shade_blade(world: vec3<f32>, flat_n: vec3<f32>, side: vec3<f32>, uv: vec2<f32>, albedo: vec3<f32>, lit: f32, self_shade: f32) -> vec3<f32> {
-    let sun = frame.sun_dir.xyz;
-    let to_eye = normalize(frame.camera_pos.xyz - world);
-    let terms_a = light.shading_a;
-    let terms_b = light.shading_b;
-    let v = uv.y;
-    // The rounded normal (Ghost of Tsushima): bent along the width direction, outwards at
-    // both edges, so that a flat blade reads as curved.
-    let n = normalize(flat_n + side * (uv.x - 0.5) * 1.2 * terms_a.x);
-    // Ambient occlusion: light through the canopy falls off with the leaf area above the
-    // point (Beer-Lambert, terms_b.z m² of leaf per m² of ground), so the root is dark and
-    // a dense field darker. CWD-Sim's Eq. 14 replaces it where chosen; `Off` drops it.
-    var ao = mix(1.0, max(exp(-0.35 * terms_b.z * (1.0 - v)), 0.12), terms_a.w);
-    let shadow_mode = u32(frame.debug.y);
-    if shadow_mode == 1u {
-        ao = self_shade;
-    } else if shadow_mode == 2u {
-        ao = 1.0;
-    }
-    let sun_rgb = light.sun.rgb * lit;
-    let diffuse = max(dot(n, sun), 0.0);
-    // Translucency: sunlight shining through the blade towards the viewer.
-    let behind = max(dot(-flat_n, sun), 0.0);
-    let through = behind * pow(max(dot(-to_eye, sun), 0.0), 2.0);
-    let trans = (through * 0.9 + behind * 0.25) * terms_a.y;
-    // Specular: the waxy blade's highlight, on the rounded normal.
-    let h = normalize(sun + to_eye);
-    let spec = pow(max(dot(n, h), 0.0), 12.0) * 0.22 * mix(0.3, 1.0, v) * terms_a.z;
-    return albedo * (light.ambient.rgb * 0.9 * ao + sun_rgb * (diffuse * 1.6 * mix(0.55, 1.0, ao)))
-        + albedo * vec3<f32>(1.0, 1.1, 0.4) * sun_rgb * trans * 1.4 * ao
-        + sun_rgb * spec;
 }

@@ -7,6 +7,8 @@
 // the near blades to the grass's own mean colour with distance, then into the fog.
 //!include common.wgsl
 //!include light.wgsl
+//!include blade_shade.wgsl
+//!include far_grass.wgsl
 //!include terrain_height.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -20,6 +22,10 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
     // The sky's radiance along the view ray to this vertex, the fog's colour (`vs_lit`).
     @location(2) sky: vec3<f32>,
+    // The far grass's light here (`far_grass_light`, `vs_lit`): the sky's part and the
+    // sun's part when the sun is not shadowed.
+    @location(3) grass_ambient: vec3<f32>,
+    @location(4) grass_sun: vec3<f32>,
 }
 
 // Past the far plane the ground is not clipped: its depth is squeezed into the last
@@ -58,14 +64,18 @@ fn vs_main(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32)
     return terrain_vertex(vid, level);
 }
 
-// The lit pass: the vertex and the sky behind it, looked up per vertex: the Perez sky
-// changes with the view direction only, smoothly across a clipmap cell, and per fragment
-// it cost every ground pixel.
+// The lit pass: the vertex, the sky behind it and the far grass's light, looked up per
+// vertex: the Perez sky and the grass's light change with the view direction and the
+// ground's normal only, smoothly across a clipmap cell, and per fragment they would cost
+// every ground pixel.
 @vertex
 fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) -> VertexOut {
     var out = terrain_vertex(vid, level);
     let to_p = out.world - frame.camera_pos.xyz;
     out.sky = sky_radiance(to_p / max(length(to_p), 1e-4));
+    let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb);
+    out.grass_ambient = grass.ambient;
+    out.grass_sun = grass.sun;
     return out;
 }
 
@@ -131,11 +141,9 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let lit = sun_visibility(in.world);
     let diffuse = max(dot(n, sun), 0.0) * lit;
     let near = ground * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.5);
-    // The grass seen from afar: its mean albedo under the grass shader's lighting averaged
-    // over blade azimuths and heights (`clipmap::FAR_GRASS_LIGHT`): ambient with the blades'
-    // mean self-shadow, sun on blades that lean with the ground, a little translucency.
-    let grass = terrain.grass_albedo.rgb
-        * (light.ambient.rgb * 0.9 * 0.85 + light.sun.rgb * light.shading_b.w * (diffuse * 0.7 + 0.25 * lit * sqrt(max(1.0 - sun.y * sun.y, 0.0))));
+    // The grass seen from afar: the blades' own light averaged over the blades a distant
+    // eye sees (`far_grass_light`, per vertex), the sun's part shadowed here.
+    let grass = in.grass_ambient + lit * in.grass_sun;
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):

@@ -145,7 +145,12 @@ pub fn compare_bands(
             .map(|(a, b)| BandDiff {
                 top: a.top,
                 luminance: a.luminance - b.luminance,
-                contrast: a.contrast / b.contrast.max(1e-6) - 1.0,
+                // Two flat bands (the sky) have the same contrast.
+                contrast: if a.contrast < 1e-6 && b.contrast < 1e-6 {
+                    0.0
+                } else {
+                    a.contrast / b.contrast.max(1e-6) - 1.0
+                },
             })
             .collect(),
     )

@@ -6,6 +6,11 @@
 const FILES: &[(&str, &str)] = &[
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("light.wgsl", include_str!("../shaders/light.wgsl")),
+    (
+        "blade_shade.wgsl",
+        include_str!("../shaders/blade_shade.wgsl"),
+    ),
+    ("far_grass.wgsl", include_str!("../shaders/far_grass.wgsl")),
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
     (

@@ -50,6 +50,8 @@ fn frame_bytes(case: &Case) -> Vec<u8> {
     f.extend([case.correction[0], case.correction[1], 0.0, 0.0]);
     f.extend([0.0; 4]); // debug
     f.extend([0.0; 4]); // self_shadow
+    f.extend([0.0; 4]); // thinning: off
+    f.extend([0.0; 4]); // thinning_reach
     bytemuck::cast_slice(&f).to_vec()
 }
 

@@ -210,7 +210,7 @@ impl Renderer {
         });
         if let Some(b) = &self.billboards {
             timed(meters, encoder, timing::BILLBOARDS, |e, q| {
-                b.encode_cull(e, q)
+                b.encode_cull(e, self.light.group(), q)
             });
         }
         // The sun's shadow maps, after the cull (the grass casts with its visible lists)

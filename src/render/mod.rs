@@ -664,6 +664,17 @@ impl Renderer {
                 self.buffers.patch_size as f32,
             ],
             self_shadow: self.scene.render.self_shadow.uniforms().1,
+            thinning: {
+                let c = &self.last_cull;
+                let on = c.tests & crate::sim::layout::TEST_DISTANCE != 0 && c.max_distance > 0.0;
+                let levels = if on {
+                    c.distance_levels.max(1) as f32
+                } else {
+                    0.0
+                };
+                [c.camera_pos[0], c.camera_pos[1], c.camera_pos[2], levels]
+            },
+            thinning_reach: [self.last_cull.max_distance, 0.0, 0.0, 0.0],
         }
     }
 

@@ -343,6 +343,12 @@ pub struct FrameUniforms {
     pub debug: [f32; 4],
     /// CWD-Sim's Eq. 14 parameters: m_min, m_max, c1, c2.
     pub self_shadow: [f32; 4],
+    /// Eq. 20's thinning as the cull applies it, so that the blades it keeps widen to keep
+    /// the coverage of those it drops: xyz the culling camera, w the distance levels n (0:
+    /// no thinning).
+    pub thinning: [f32; 4],
+    /// x: the thinning's d_max (m), yzw unused.
+    pub thinning_reach: [f32; 4],
 }
 
 /// The light of the lit passes (`LightUniforms` in `shaders/light.wgsl`): the sun's
@@ -385,7 +391,7 @@ const _: () = assert!(std::mem::size_of::<CullCounters>() == 192 + MAX_SPHERES /
 // `DrawnBlades.head` in common.wgsl skips this many words.
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 272);
 const _: () = assert!(std::mem::size_of::<LightUniforms>() == 496);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 

@@ -55,9 +55,11 @@ pub struct BillboardParams {
     pub info: [u32; 4],
     /// Sway gain, bend reach, terrain size, unused.
     pub shape: [f32; 4],
+    /// The atlas's mean albedo (rgb), unused: the cull lights the cards per unit of it.
+    pub albedo: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<BillboardParams>() == 80);
+const _: () = assert!(std::mem::size_of::<BillboardParams>() == 96);
 
 /// The layout of the billboard grid for a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,6 +124,7 @@ impl BillboardLayout {
             eye_card: [eye.x, eye.z, self.card.0, self.card.1],
             info: [self.key, atlas::VARIANTS, u32::from(density), spheres],
             shape: [SWAY_GAIN, BEND_REACH, terrain_size, 0.0],
+            albedo: [0.0; 4],
         }
     }
 }

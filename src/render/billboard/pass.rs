@@ -25,9 +25,13 @@ pub struct DrawnCard {
     pub top_scale: [f32; 4],
     /// Cell index, atlas variant, 1 = mirrored, unused.
     pub info: [u32; 4],
+    /// The blades' light on the card per unit of the atlas's mean albedo: the sky's part
+    /// and the sun's part when the sun is not shadowed (rgb, unused).
+    pub light_ambient: [f32; 4],
+    pub light_sun: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<DrawnCard>() == 48);
+const _: () = assert!(std::mem::size_of::<DrawnCard>() == 80);
 
 /// Cells per workgroup of the cull.
 const CULL_WORKGROUP: u32 = 64;
@@ -179,9 +183,11 @@ impl BillboardPass {
             ],
         });
         let cull_module = shaders::module(device, "billboard_cull.wgsl");
+        // Group 1: the frame's light (the cull lights each card with the blades' terms).
+        let light_layout = crate::render::light::layout(device);
         let cull_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.billboard.cull_pipeline_layout"),
-            bind_group_layouts: &[Some(&cull_layout)],
+            bind_group_layouts: &[Some(&cull_layout), Some(&light_layout)],
             immediate_size: 0,
         });
         let cull_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -380,13 +386,24 @@ impl BillboardPass {
         let radius = radius.max(p.fade[1]);
         p.fade[2] = 0.85 * radius;
         p.fade[3] = radius;
+        p.albedo = [
+            self.mean_albedo[0],
+            self.mean_albedo[1],
+            self.mean_albedo[2],
+            0.0,
+        ];
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         p
     }
 
-    /// Records the cull over every cell of the grid (after [`Self::prepare`] and the frame
-    /// uniforms, before the draw pass).
-    pub fn encode_cull(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries) {
+    /// Records the cull over every cell of the grid (after [`Self::prepare`], the frame
+    /// uniforms and the light's, before the draw pass), with the frame's `light` group.
+    pub fn encode_cull(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        light: &wgpu::BindGroup,
+        q: PassQueries,
+    ) {
         encoder.clear_buffer(&self.args, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sward.billboard.cull"),
@@ -395,6 +412,7 @@ impl BillboardPass {
         q.begin(&mut pass);
         pass.set_pipeline(&self.cull_pipeline);
         pass.set_bind_group(0, &self.cull_group, &[]);
+        pass.set_bind_group(1, light, &[]);
         pass.dispatch_workgroups(self.layout.card_count().div_ceil(CULL_WORKGROUP), 1, 1);
         q.end(&mut pass);
     }

@@ -1,0 +1,59 @@
+// The grass far away (issue 27, point 1): the billboards and the far ground stand for
+// blades too small to draw, so they are lit as the blades they replace would be — by the
+// blades' own light (`blade_light`, blade_shade.wgsl) averaged over the blades a distant
+// eye sees. Included after common.wgsl, light.wgsl and blade_shade.wgsl.
+//
+// Which blades a distant eye sees: a view ray entering the canopy at elevation e meets
+// leaf area `G · LAI / sin e` on its way to the ground (G = 0.5: blades at random angles,
+// LAI the canopy's leaf area, `shading_b.z`), so the share of what it sees at depth d
+// below the tips (in canopy heights) falls off as e^(−k d), k = G · LAI / sin e
+// (Beer-Lambert). At grazing angles the eye sees the tips, from above the whole blade.
+// The light is averaged at the quartiles of that depth and over four blade facings
+// spread around the ground's normal, each turned to the viewer as the blades' shading
+// turns them.
+
+// The facings of the quadrature, leaning this much towards the ground's normal (blades
+// bend and lean: their normals tilt up from the horizontal).
+const FAR_GRASS_TILT: f32 = 0.3;
+
+// The light of the grass around `p` (on the ground of normal `ground_n`) of mean albedo
+// `albedo` (the far albedo: blade colours shaded along the blade at its mean, 0.625).
+fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> BladeLight {
+    let to_eye = normalize(frame.camera_pos.xyz - p);
+    let sin_e = max(dot(to_eye, ground_n), 0.02);
+    let k = max(0.5 * light.shading_b.z / sin_e, 1e-3);
+    let span = 1.0 - exp(-k);
+    // The ground's tangent towards the eye (any tangent when looking straight down).
+    var t0 = to_eye - ground_n * dot(to_eye, ground_n);
+    if dot(t0, t0) < 1e-8 {
+        t0 = cross(ground_n, vec3<f32>(0.0, 0.0, 1.0));
+    }
+    t0 = normalize(t0);
+    let t1 = cross(ground_n, t0);
+    var out = BladeLight(vec3<f32>(0.0), vec3<f32>(0.0));
+    for (var q = 0u; q < 2u; q++) {
+        let depth = -log(1.0 - (0.25 + 0.5 * f32(q)) * span) / k;
+        let v = clamp(1.0 - depth, 0.0, 1.0);
+        // The blade's albedo along it (`blade_albedo`: 0.55 at the root to 1.25 at the
+        // tip) relative to its value at the mean height the far albedo is taken at.
+        let a = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
+        for (var j = 0u; j < 4u; j++) {
+            let phi = (f32(j) + 0.5) * 0.7853982;
+            let facing = cos(phi) * t0 + sin(phi) * t1;
+            var n = normalize(facing + ground_n * FAR_GRASS_TILT);
+            if dot(n, to_eye) < 0.0 {
+                n = -n;
+            }
+            let side = normalize(cross(ground_n, facing));
+            // CWD-Sim's Eq. 14 for an unbent blade, where the blades' shading uses it.
+            let s = frame.self_shadow;
+            let self_shade = clamp(v + s.w, s.x, s.y);
+            let l = blade_light(p, n, side, vec2<f32>(0.5, v), a, self_shade);
+            out.ambient += l.ambient;
+            out.sun += l.sun;
+        }
+    }
+    out.ambient *= 0.125;
+    out.sun *= 0.125;
+    return out;
+}

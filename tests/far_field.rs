@@ -1,0 +1,70 @@
+//! The levels that stand for the blades far away (issue 27, point 1): the prairie as it
+//! ships (blades to 28 m, thinned by Eq. 20, then billboards, then the far ground) against
+//! the same frame with blades out to 50 m and no thinning, compared in bands of 8 rows
+//! (`compare::compare_bands`: mean luminance and 8 × 8 block contrast).
+//!
+//! The issue's target is 5 levels and 30 % in every band. What holds today, and is held
+//! here so that it cannot slide back (measured at 240 × 136 and 480 × 270):
+//! - the far ground at the horizon, where both frames show it, within 5 levels: the
+//!   billboards and the far ground are lit alike (`far_grass.wgsl`);
+//! - the billboards' band within 35 levels (29.5 measured here, 23 at 480 × 270; it was
+//!   60 levels darker before the billboards and the far ground took the blades' light);
+//! - the thinned near field within 12 levels (the kept blades widen, `thinning_widen`).
+
+mod common;
+
+use sward::compare::{bands, compare_bands, worst_band};
+
+const SIZE: (u32, u32) = (240, 136);
+const FRAMES: usize = 4;
+
+fn prairie(sets: &[&str]) -> image::RgbaImage {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let scene = sward::scene::load_scene_with_sets(&path, &sets).expect("prairie");
+    let gpu = common::gpu();
+    let session = sward::session::Session::new(scene, None, Some(&gpu)).expect("field");
+    let (_, target) = common::draw_frames(&gpu, &session, SIZE, FRAMES, false, |_| {});
+    target.read_image(&gpu).expect("image")
+}
+
+#[test]
+fn billboards_and_the_far_ground_read_as_the_blades_they_replace() {
+    let levels = prairie(&[]);
+    let blades = prairie(&["culling.max_distance=50", "culling.distance=false"]);
+    let diffs = compare_bands(&levels, &blades, 0..SIZE.1).expect("same size");
+    for (d, b) in diffs.iter().zip(bands(&blades)) {
+        println!(
+            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
+            d.top,
+            b.luminance,
+            d.luminance,
+            b.contrast,
+            100.0 * d.contrast
+        );
+    }
+    let worst = worst_band(&diffs).expect("bands");
+    println!("worst band: {worst:?}");
+    // The ground below the horizon: the first band with texture in the reference.
+    let horizon = bands(&blades)
+        .iter()
+        .position(|b| b.contrast > 3.0)
+        .expect("a horizon");
+    let far = diffs[horizon];
+    assert!(
+        far.luminance.abs() <= 5.0,
+        "the far ground at the horizon: {far:?}"
+    );
+    let worst_luminance = diffs.iter().map(|d| d.luminance.abs()).fold(0.0, f64::max);
+    assert!(
+        worst_luminance <= 35.0,
+        "a band {worst_luminance:.1} levels off: {worst:?}"
+    );
+    // The bottom third: blades in both, thinned in one.
+    let near: Vec<_> = diffs.iter().filter(|d| d.top >= SIZE.1 * 2 / 3).collect();
+    assert!(!near.is_empty());
+    for d in near {
+        assert!(d.luminance.abs() <= 12.0, "near band {d:?}");
+        assert!(d.contrast.abs() <= 0.3, "near band {d:?}");
+    }
+}
