@@ -7,8 +7,8 @@
 //! here so that it cannot slide back (measured at 240 × 136 and 480 × 270):
 //! - the far ground at the horizon, where both frames show it, within 5 levels: the
 //!   billboards and the far ground are lit alike (`far_grass.wgsl`);
-//! - the billboards' band within 35 levels (29.5 measured here, 23 at 480 × 270; it was
-//!   60 levels darker before the billboards and the far ground took the blades' light);
+//! - every band within 20 levels (13.7 measured here, 7.5 at 480 × 270; the billboards
+//!   were 60 levels darker before they and the far ground took the blades' light);
 //! - the thinned near field within 12 levels (the kept blades widen, `thinning_widen`).
 
 mod common;
@@ -57,7 +57,7 @@ fn billboards_and_the_far_ground_read_as_the_blades_they_replace() {
     );
     let worst_luminance = diffs.iter().map(|d| d.luminance.abs()).fold(0.0, f64::max);
     assert!(
-        worst_luminance <= 35.0,
+        worst_luminance <= 20.0,
         "a band {worst_luminance:.1} levels off: {worst:?}"
     );
     // The bottom third: blades in both, thinned in one.
