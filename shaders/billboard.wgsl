@@ -16,6 +16,8 @@
 @group(0) @binding(3) var<uniform> bb: BillboardParams;
 @group(0) @binding(4) var atlas: texture_2d_array<f32>;
 @group(0) @binding(5) var atlas_sampler: sampler;
+// Which of the four facings each texel's blades have (weights adding up to one).
+@group(0) @binding(6) var facing_atlas: texture_2d_array<f32>;
 @group(0) @binding(10) var<storage, read> cards: array<DrawnCard>;
 
 struct VertexOut {
@@ -23,13 +25,18 @@ struct VertexOut {
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) layer: u32,
     @location(3) @interpolate(flat) fade: f32,
-    // The light on the card (rgb) and the fog over it: the sky's radiance behind it
+    // The sky's light on the card (rgb) and the fog over it: the sky's radiance behind it
     // (rgb) and the fog's share (w). Once per card, not per fragment: a card is a sliver of
     // the view far from the camera, where the sun's shadow and the fog do not change
     // across it, and a CPU adapter (llvmpipe) runs the shadow lookup and the Perez sky
     // for every fragment of every card whether it would return early or not.
     @location(4) @interpolate(flat) light_rgb: vec3<f32>,
     @location(5) @interpolate(flat) fog_sky: vec4<f32>,
+    // The sun's part of the light for each blade facing, shadowed (rgb).
+    @location(6) @interpolate(flat) sun0: vec3<f32>,
+    @location(7) @interpolate(flat) sun1: vec3<f32>,
+    @location(8) @interpolate(flat) sun2: vec3<f32>,
+    @location(9) @interpolate(flat) sun3: vec3<f32>,
 }
 
 @vertex
@@ -63,7 +70,11 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     // what stands between the card and the sun fall on it too, looked up at its middle.
     let middle = pos + vec3<f32>(0.0, 0.5 * h, 0.0) + 0.5 * c.top_scale.xyz;
     let lit = sun_visibility(middle);
-    out.light_rgb = c.light_ambient.rgb + lit * c.light_sun.rgb;
+    out.light_rgb = c.light_ambient.rgb;
+    out.sun0 = lit * c.light_sun[0].rgb;
+    out.sun1 = lit * c.light_sun[1].rgb;
+    out.sun2 = lit * c.light_sun[2].rgb;
+    out.sun3 = lit * c.light_sun[3].rgb;
     let to_p = middle - frame.camera_pos.xyz;
     let dist = length(to_p);
     let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));
@@ -88,6 +99,9 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if tex.a < 0.5 || in.fade < bayer(in.clip.xy) {
         discard;
     }
-    let color = mix(tex.rgb * in.light_rgb, in.fog_sky.rgb, in.fog_sky.w);
+    // Each blade of the strip lit as a blade turned its way (its facing's weights).
+    let f = textureSample(facing_atlas, atlas_sampler, in.uv, in.layer);
+    let sun = (f.r * in.sun0 + f.g * in.sun1 + f.b * in.sun2 + f.a * in.sun3) / max(f.r + f.g + f.b + f.a, 1e-3);
+    let color = mix(tex.rgb * (in.light_rgb + sun), in.fog_sky.rgb, in.fog_sky.w);
     return vec4<f32>(color, tex.a);
 }

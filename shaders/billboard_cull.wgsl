@@ -84,8 +84,10 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let slope = terrain_height(c.pos.xz);
     let ground_n = normalize(vec3<f32>(-slope.y, 1.0, -slope.z));
     let albedo = max(bb.albedo.rgb, vec3<f32>(1e-4));
-    let l = far_grass_light(centre, ground_n, albedo);
+    let l = far_grass_facings(centre, ground_n, albedo);
     out.light_ambient = vec4<f32>(l.ambient / albedo, 0.0);
-    out.light_sun = vec4<f32>(l.sun / albedo, 0.0);
+    for (var j = 0u; j < 4u; j++) {
+        out.light_sun[j] = vec4<f32>(l.sun[j] / albedo, 0.0);
+    }
     cards[at] = out;
 }

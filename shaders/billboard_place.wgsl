@@ -41,10 +41,11 @@ struct DrawnCard {
     top_scale: vec4<f32>,
     // Cell index, atlas variant, 1 = mirrored, unused.
     info: vec4<u32>,
-    // The light on the card per unit of the atlas's mean albedo (`far_grass_light` over
-    // `albedo`): the sky's part and the sun's part when the sun is not shadowed (rgb).
+    // The light on the card per unit of the atlas's mean albedo (`far_grass_facings` over
+    // `albedo`): the sky's part, and the sun's part when the sun is not shadowed for each
+    // of the atlas's blade facings (rgb).
     light_ambient: vec4<f32>,
-    light_sun: vec4<f32>,
+    light_sun: array<vec4<f32>, 4>,
 }
 
 const BB_QUANTUM: f32 = 1.0 / 1024.0;

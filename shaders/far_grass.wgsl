@@ -18,8 +18,15 @@
 // darker than its blades at 28-50 m: the translucency is that sensitive to it.)
 
 // The light of the grass around `p` (on the ground of normal `ground_n`) of mean albedo
-// `albedo` (the far albedo: blade colours shaded along the blade at its mean, 0.625).
-fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> BladeLight {
+// `albedo` (the far albedo: blade colours shaded along the blade at its mean, 0.625): the
+// sky's part, and the sun's part for each of the four facings (the billboards' atlas
+// gives each of its blades one of them).
+struct FarGrassFacings {
+    ambient: vec3<f32>,
+    sun: array<vec3<f32>, 4>,
+}
+
+fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> FarGrassFacings {
     let to_eye = normalize(frame.camera_pos.xyz - p);
     let sin_e = max(dot(to_eye, ground_n), 0.02);
     let k = max(0.5 * light.shading_b.z / sin_e, 1e-3);
@@ -31,13 +38,20 @@ fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> Blad
     }
     t0 = normalize(t0);
     let t1 = cross(ground_n, t0);
-    var out = BladeLight(vec3<f32>(0.0), vec3<f32>(0.0));
+    var out: FarGrassFacings;
+    out.ambient = vec3<f32>(0.0);
+    for (var j = 0u; j < 4u; j++) {
+        out.sun[j] = vec3<f32>(0.0);
+    }
     for (var q = 0u; q < 2u; q++) {
         let depth = -log(1.0 - (0.25 + 0.5 * f32(q)) * span) / k;
         let v = clamp(1.0 - depth, 0.0, 1.0);
         // The blade's albedo along it (`blade_albedo`: 0.55 at the root to 1.25 at the
         // tip) relative to its value at the mean height the far albedo is taken at.
         let a = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
+        // CWD-Sim's Eq. 14 for an unbent blade, where the blades' shading uses it.
+        let s = frame.self_shadow;
+        let self_shade = clamp(v + s.w, s.x, s.y);
         for (var j = 0u; j < 4u; j++) {
             let phi = (f32(j) + 0.5) * 0.7853982;
             let facing = cos(phi) * t0 + sin(phi) * t1;
@@ -46,19 +60,24 @@ fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> Blad
                 n = -n;
             }
             let side = normalize(cross(ground_n, facing));
-            // CWD-Sim's Eq. 14 for an unbent blade, where the blades' shading uses it.
-            let s = frame.self_shadow;
-            let self_shade = clamp(v + s.w, s.x, s.y);
             // Both halves of the width: the rounded normal turns them apart.
-            for (var k = 0u; k < 2u; k++) {
-                let u = 0.2 + 0.6 * f32(k);
+            for (var h = 0u; h < 2u; h++) {
+                let u = 0.2 + 0.6 * f32(h);
                 let l = blade_light(p, n, side, vec2<f32>(u, v), a, self_shade);
                 out.ambient += l.ambient;
-                out.sun += l.sun;
+                out.sun[j] += l.sun;
             }
         }
     }
     out.ambient *= 0.0625;
-    out.sun *= 0.0625;
+    for (var j = 0u; j < 4u; j++) {
+        out.sun[j] *= 0.25;
+    }
     return out;
+}
+
+// `far_grass_facings` over every facing: the light of the grass around `p`.
+fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> BladeLight {
+    let f = far_grass_facings(p, ground_n, albedo);
+    return BladeLight(f.ambient, 0.25 * (f.sun[0] + f.sun[1] + f.sun[2] + f.sun[3]));
 }

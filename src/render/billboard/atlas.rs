@@ -7,7 +7,11 @@
 //! the card's base about one and a half times, rasterised on the CPU with 4×4
 //! supersampling. The texture's width follows the card's aspect so that texels are about
 //! square and a blade is a texel or two wide, never a smeared wedge. The lighting is the
-//! sun's, applied by the billboard shader, so the cards and the far ground read as one.
+//! blades' own, applied by the billboard shader, so the cards and the far ground read as
+//! one: each blade faces one of [`FACINGS`] directions relative to the eye, and a second
+//! layer of weights says which ([`Layer::facing`]), so the shader lights each blade of the
+//! strip as the blades' shading lights a blade turned that way (`far_grass.wgsl`): the
+//! cards keep the contrast between sunlit and translucent blades.
 
 use glam::Vec2;
 
@@ -26,6 +30,8 @@ const MIN_BLADES: u32 = 40;
 const MAX_BLADES: u32 = 4000;
 /// Supersamples per texel side.
 const SS: u32 = 4;
+/// Blade facings the strips' blades take (`far_grass_facings` lights each).
+pub const FACINGS: usize = 4;
 
 /// One layer's linear RGB and coverage, row-major (row 0 at the top: the tips).
 #[derive(Clone, Debug, PartialEq)]
@@ -33,6 +39,9 @@ pub struct Layer {
     pub width: u32,
     pub height: u32,
     pub rgba: Vec<[f32; 4]>,
+    /// Per texel, the share of its covered supersamples whose blade has each facing (sum 1
+    /// where covered, 0 where not).
+    pub facing: Vec<[f32; FACINGS]>,
 }
 
 /// Texels of a layer for a card of `card` (width, height in metres): [`HEIGHT`] rows and
@@ -76,6 +85,7 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
     let (w, h) = ((width * SS) as usize, (height * SS) as usize);
     let mut color = vec![[0.0f32; 3]; w * h];
     let mut cover = vec![false; w * h];
+    let mut face = vec![0u8; w * h];
     let max_h = field.height.max.max(1e-3);
     let tau = 0.45;
     let card_w = card.0.max(1e-3);
@@ -95,6 +105,7 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
         let blade_w = field.width.min + (field.width.max - field.width.min) * r(4);
         let width = (blade_w / card_w).max(1.0 / w as f32);
         let tint = [r(5), r(6)];
+        let facing = ((r(9) * FACINGS as f32) as usize).min(FACINGS - 1) as u8;
         // The curve: root, a middle control point straight up, the tip leaning by `bend`
         // (x in card widths, y in card heights).
         let p0 = Vec2::new(root, 0.0);
@@ -118,6 +129,7 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
                 let i = y as usize * w + x as usize;
                 color[i] = col;
                 cover[i] = true;
+                face[i] = facing;
             }
         }
         // A flower among the blades (`field.flowers`): its head, a disc of its kind's
@@ -142,6 +154,7 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
                             let i = y as usize * w + x as usize;
                             color[i] = [c.0, c.1, c.2];
                             cover[i] = true;
+                            face[i] = facing;
                         }
                     }
                 }
@@ -150,9 +163,11 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
     }
     // Down to texels: the mean colour of the covered supersamples, and the coverage.
     let mut rgba = vec![[0.0f32; 4]; (width * height) as usize];
+    let mut facings = vec![[0.0f32; FACINGS]; (width * height) as usize];
     for ty in 0..height as usize {
         for tx in 0..width as usize {
             let (mut sum, mut n) = ([0.0f32; 3], 0u32);
+            let mut faces = [0.0f32; FACINGS];
             for sy in 0..SS as usize {
                 for sx in 0..SS as usize {
                     let i = (ty * SS as usize + sy) * w + tx * SS as usize + sx;
@@ -160,6 +175,7 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
                         for k in 0..3 {
                             sum[k] += color[i][k];
                         }
+                        faces[face[i] as usize] += 1.0;
                         n += 1;
                     }
                 }
@@ -171,12 +187,14 @@ pub fn render_layer(field: &Field, card: (f32, f32), variant: u32) -> Layer {
                 [0.0; 3]
             };
             rgba[ty * width as usize + tx] = [c[0], c[1], c[2], a];
+            facings[ty * width as usize + tx] = faces.map(|f| f / n.max(1) as f32);
         }
     }
     Layer {
         width,
         height,
         rgba,
+        facing: facings,
     }
 }
 
@@ -207,6 +225,47 @@ pub fn downsample(level: &[[f32; 4]], w: u32, h: u32) -> Vec<[f32; 4]> {
         }
     }
     out
+}
+
+/// The facing weights' mip chain: each level the box filter of the one before, weighted
+/// by the colour's coverage as [`downsample`] weighs the colour (level 0 first, down to
+/// 1 × 1, as [`mip_chain`]).
+pub fn facing_chain(layer: &Layer) -> Vec<Vec<[f32; FACINGS]>> {
+    let colour = mip_chain(layer);
+    let mut levels = vec![layer.facing.clone()];
+    let (mut w, mut h) = (layer.width, layer.height);
+    while w > 1 || h > 1 {
+        let (prev, cover) = (levels.last().unwrap(), &colour[levels.len() - 1]);
+        let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+        let mut out = vec![[0.0f32; FACINGS]; (nw * nh) as usize];
+        for y in 0..nh {
+            for x in 0..nw {
+                let (mut sum, mut a) = ([0.0f32; FACINGS], 0.0f32);
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let i = ((2 * y + dy).min(h - 1) * w + (2 * x + dx).min(w - 1)) as usize;
+                    let c = cover[i][3];
+                    for k in 0..FACINGS {
+                        sum[k] += prev[i][k] * c;
+                    }
+                    a += c;
+                }
+                if a > 0.0 {
+                    out[(y * nw + x) as usize] = sum.map(|v| v / a);
+                }
+            }
+        }
+        levels.push(out);
+        (w, h) = (nw, nh);
+    }
+    levels
+}
+
+/// The facing weights of one mip level as linear RGBA8.
+pub fn encode_facing(level: &[[f32; FACINGS]]) -> Vec<u8> {
+    level
+        .iter()
+        .flat_map(|t| t.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8))
+        .collect()
 }
 
 /// Every layer's mip chain: level 0 first, down to 1 × 1.
@@ -316,5 +375,37 @@ mod tests {
         });
         let n = purple(&field);
         assert!(n > 10, "{n} purple texels");
+    }
+
+    /// Every covered texel's facings add up to one, every facing is used about as often,
+    /// and the mip chain keeps them adding up to one where there is coverage.
+    #[test]
+    fn facings_cover_the_strip_and_survive_the_mips() {
+        let layer = render_layer(&Field::default(), (2.0, 0.6), 1);
+        let mut total = [0.0f64; FACINGS];
+        for (f, c) in layer.facing.iter().zip(&layer.rgba) {
+            let sum: f32 = f.iter().sum();
+            if c[3] > 0.0 {
+                assert!((sum - 1.0).abs() < 1e-5, "{f:?}");
+            } else {
+                assert_eq!(sum, 0.0);
+            }
+            for k in 0..FACINGS {
+                total[k] += f64::from(f[k] * c[3]);
+            }
+        }
+        let all: f64 = total.iter().sum();
+        for t in total {
+            assert!((t / all - 0.25).abs() < 0.08, "{total:?}");
+        }
+        let chain = facing_chain(&layer);
+        let colour = mip_chain(&layer);
+        assert_eq!(chain.len(), colour.len());
+        for (f, c) in chain[2].iter().zip(&colour[2]) {
+            if c[3] > 0.0 {
+                let sum: f32 = f.iter().sum();
+                assert!((sum - 1.0).abs() < 1e-4, "{f:?}");
+            }
+        }
     }
 }

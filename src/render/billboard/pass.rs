@@ -26,12 +26,13 @@ pub struct DrawnCard {
     /// Cell index, atlas variant, 1 = mirrored, unused.
     pub info: [u32; 4],
     /// The blades' light on the card per unit of the atlas's mean albedo: the sky's part
-    /// and the sun's part when the sun is not shadowed (rgb, unused).
+    /// (rgb, unused), and the sun's part when the sun is not shadowed, for each of the
+    /// atlas's blade facings (rgb, unused).
     pub light_ambient: [f32; 4],
-    pub light_sun: [f32; 4],
+    pub light_sun: [[f32; 4]; atlas::FACINGS],
 }
 
-const _: () = assert!(std::mem::size_of::<DrawnCard>() == 80);
+const _: () = assert!(std::mem::size_of::<DrawnCard>() == 128);
 
 /// Cells per workgroup of the cull.
 const CULL_WORKGROUP: u32 = 64;
@@ -96,7 +97,22 @@ impl BillboardPass {
             crate::render::clipmap::far_albedo(field).into(),
         );
         let mean_albedo = atlas::mean_color(&layers);
-        let atlas_tex = upload_atlas(gpu, &layers);
+        let atlas_tex = upload_atlas(
+            gpu,
+            "sward.billboard.atlas",
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            &layers,
+            &layers.iter().map(atlas::mip_chain).collect::<Vec<_>>(),
+            atlas::encode,
+        );
+        let facing_tex = upload_atlas(
+            gpu,
+            "sward.billboard.facing",
+            wgpu::TextureFormat::Rgba8Unorm,
+            &layers,
+            &layers.iter().map(atlas::facing_chain).collect::<Vec<_>>(),
+            atlas::encode_facing,
+        );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("sward.billboard.sampler"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,
@@ -179,6 +195,11 @@ impl BillboardPass {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                texture(
+                    6,
+                    wgpu::TextureViewDimension::D2Array,
+                    wgpu::ShaderStages::FRAGMENT,
+                ),
                 cards_entry,
             ],
         });
@@ -203,6 +224,11 @@ impl BillboardPass {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
+        let facing_view = facing_tex.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("sward.billboard.facing_view"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
         let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.billboard.draw_group"),
             layout: &draw_layout,
@@ -218,6 +244,10 @@ impl BillboardPass {
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&facing_view),
                 },
                 buf(10, &cards),
             ],
@@ -444,22 +474,30 @@ impl BillboardPass {
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
-    /// GPU bytes held: the atlas with its mips, the uniforms, the card list and its draw.
+    /// GPU bytes held: the atlas and its facings with their mips, the uniforms, the card
+    /// list and its draw.
     pub fn gpu_bytes(&self) -> u64 {
         let (w, h) = atlas::layer_size(self.layout.card);
-        (w * h * 4 * atlas::VARIANTS) as u64 * 4 / 3
+        2 * (w * h * 4 * atlas::VARIANTS) as u64 * 4 / 3
             + std::mem::size_of::<BillboardParams>() as u64
             + self.cards.size()
             + self.args.size()
     }
 }
 
-/// The atlas as a texture array with its mips.
-fn upload_atlas(gpu: &Gpu, layers: &[atlas::Layer]) -> wgpu::Texture {
-    let chains: Vec<Vec<Vec<[f32; 4]>>> = layers.iter().map(atlas::mip_chain).collect();
+/// One texture array of the atlas (one layer per variant) from its mip chains, each
+/// level encoded to RGBA8 by `encode`.
+fn upload_atlas<T>(
+    gpu: &Gpu,
+    label: &str,
+    format: wgpu::TextureFormat,
+    layers: &[atlas::Layer],
+    chains: &[Vec<Vec<T>>],
+    encode: impl Fn(&[T]) -> Vec<u8>,
+) -> wgpu::Texture {
     let mips = chains[0].len() as u32;
     let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("sward.billboard.atlas"),
+        label: Some(label),
         size: wgpu::Extent3d {
             width: layers[0].width,
             height: layers[0].height,
@@ -468,7 +506,7 @@ fn upload_atlas(gpu: &Gpu, layers: &[atlas::Layer]) -> wgpu::Texture {
         mip_level_count: mips,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        format,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
@@ -487,7 +525,7 @@ fn upload_atlas(gpu: &Gpu, layers: &[atlas::Layer]) -> wgpu::Texture {
                     },
                     aspect: wgpu::TextureAspect::All,
                 },
-                &atlas::encode(texels),
+                &encode(texels),
                 wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(4 * w),
