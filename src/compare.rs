@@ -63,7 +63,7 @@ pub const BAND_LUMINANCE_TOLERANCE: f64 = 5.0;
 pub const BAND_CONTRAST_TOLERANCE: f64 = 0.3;
 
 /// One band of rows of an image: its mean luminance and local contrast.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Band {
     /// First row.
     pub top: u32,
@@ -110,7 +110,7 @@ pub fn bands(img: &image::RgbaImage) -> Vec<Band> {
 }
 
 /// How one band of an image differs from the same band of a reference.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct BandDiff {
     pub top: u32,
     /// The image's mean luminance minus the reference's (0–255).

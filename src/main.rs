@@ -223,6 +223,12 @@ enum Command {
         /// passes and the tone mapping, and each frame over the frame without shadows.
         #[arg(long)]
         light: bool,
+        /// Compare the far levels with what they replace on the same scene and frames, in
+        /// bands of 8 rows (mean luminance, 8x8 block contrast): the scene against blades
+        /// out to 1.75 times its blade radius (at least 50 m) with no distance thinning, and
+        /// against its billboards pushed out to the horizon; every band and the worst.
+        #[arg(long)]
+        far_field: bool,
     },
 }
 
@@ -427,6 +433,7 @@ fn main() -> ExitCode {
             colliders,
             models,
             light,
+            far_field,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -442,6 +449,7 @@ fn main() -> ExitCode {
             b.trace = trace;
             b.models = models;
             b.light = light;
+            b.far_field = far_field;
             b
         })
         .and_then(|mut b| {

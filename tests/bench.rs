@@ -620,3 +620,54 @@ fn light_configurations_are_timed_side_by_side() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--light times the light"));
 }
+
+/// `--far-field` compares the scene with its blades drawn further and with its billboards
+/// pushed to the horizon: every band of the image in both comparisons, the worst one among
+/// them, the reference's blade reach; and it goes with no other mode.
+#[test]
+fn far_field_compares_the_levels_band_by_band() {
+    let r = bench_json(&[
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--size",
+        "64x40",
+        "--far-field",
+    ]);
+    assert!(f(&r, &["blade_reach"]) >= 50.0);
+    let comparisons = r["comparisons"].as_array().expect("comparisons");
+    let names: Vec<(&str, &str)> = comparisons
+        .iter()
+        .map(|c| {
+            (
+                c["image"].as_str().unwrap(),
+                c["reference"].as_str().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("levels", "blades"),
+            ("levels", "billboards to the horizon")
+        ]
+    );
+    for c in comparisons {
+        let diffs = c["diffs"].as_array().expect("diffs");
+        // 40 rows: five bands of eight.
+        assert_eq!(diffs.len(), 5, "{c}");
+        assert_eq!(c["reference_bands"].as_array().map(Vec::len), Some(5));
+        // The worst band is one of them, and no band is further off by luminance alone
+        // than the worst is by its larger share of a tolerance.
+        let worst = &c["worst"];
+        assert!(diffs.contains(worst), "{c}");
+        let score =
+            |d: &Value| (f(d, &["luminance"]).abs() / 5.0).max(f(d, &["contrast"]).abs() / 0.3);
+        assert!(diffs.iter().all(|d| score(d) <= score(worst) + 1e-9), "{c}");
+        assert!(u(c, &["within"]) <= 5);
+    }
+    let out = sward(&["bench", "--far-field", "--light", "--scene", SCENE]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--far-field compares the far levels"));
+}

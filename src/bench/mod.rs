@@ -39,6 +39,7 @@ use measure::measure;
 
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
 pub mod colliders;
+pub mod far_field;
 pub mod flight;
 pub mod gpu_tables;
 pub mod light;
@@ -98,6 +99,9 @@ pub struct BenchOptions {
     /// `--light`: time the light's configurations (shadows off and on, with and without
     /// grass casters and blade shading terms) instead of the three configurations.
     pub light: bool,
+    /// `--far-field`: compare the far levels with what they replace (8-row bands) instead
+    /// of timing the three configurations.
+    pub far_field: bool,
 }
 
 impl BenchOptions {
@@ -131,6 +135,7 @@ impl BenchOptions {
             colliders: Vec::new(),
             models: false,
             light: false,
+            far_field: false,
         })
     }
 
@@ -755,6 +760,13 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if o.far_field {
+        return print_report(
+            o.json,
+            &far_field::run_far_field(o)?,
+            far_field::format_far_field,
+        );
+    }
     if o.light {
         return print_report(o.json, &light::run_light_bench(o)?, light::format_light);
     }

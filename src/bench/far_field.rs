@@ -1,0 +1,193 @@
+//! `sward bench --far-field`: how the levels that stand for far blades read against what
+//! they replace (issue 27, point 1), in bands of 8 rows (`compare::compare_bands`: mean
+//! luminance of the 8-bit values and mean 8×8-block contrast), on the same scene, camera
+//! and frames, each configuration from a fresh renderer:
+//!
+//! - `levels`: the scene as it is (blades thinned by Eq. 20, billboards, far ground);
+//! - `blades`: blades out to [`blade_reach`] with no distance thinning (the reference of
+//!   `levels`: where `levels` shows thinned blades, billboards or ground, it shows blades);
+//! - `billboards to the horizon`: the billboard radius pushed out to the camera's far plane
+//!   (the reference of `levels` where `levels` shows the far ground).
+//!
+//! `--frames` frames are rendered per configuration after `--warmup`; the last one is
+//! compared. Reported: every band of each comparison and its worst band.
+
+use serde::Serialize;
+
+use super::{utc_now, BenchOptions, BENCH_DT};
+use crate::compare::{bands, compare_bands, worst_band, Band, BandDiff};
+use crate::error::{Error, Result};
+use crate::render::camera::CameraView;
+use crate::render::target::Target;
+use crate::scene::Scene;
+use crate::session::Session;
+
+/// Checks the flags that do not go with `--far-field`.
+pub fn check_far_field_options(o: &BenchOptions) -> Result<()> {
+    if o.flight
+        || o.models
+        || o.light
+        || !o.sweep.is_empty()
+        || o.images.is_some()
+        || o.trace.is_some()
+        || !o.pressure_solvers.is_empty()
+        || !o.colliders.is_empty()
+    {
+        return Err(Error::Invalid(
+            "--far-field compares the far levels alone: it does not go with --flight, \
+             --models, --light, --sweep, --images, --trace, --pressure-solvers or --colliders"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// How far the reference draws blades: 1.75 times the scene's blade radius, at least 50 m
+/// (the prairie's 28 m gives the issue's 50 m).
+pub fn blade_reach(scene: &Scene) -> f32 {
+    let d = scene.culling.max_distance;
+    if d.is_finite() && d > 0.0 {
+        (1.75 * d).max(50.0)
+    } else {
+        50.0
+    }
+}
+
+/// One comparison: an image's bands against a reference's.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BandComparison {
+    pub image: String,
+    pub reference: String,
+    /// The reference's bands (luminance, contrast) top to bottom.
+    pub reference_bands: Vec<Band>,
+    /// The image's difference per band.
+    pub diffs: Vec<BandDiff>,
+    pub worst: Option<BandDiff>,
+    /// Bands within the issue's 5 levels and 30 %.
+    pub within: usize,
+}
+
+/// Everything `sward bench --far-field` measured.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FarFieldReport {
+    pub adapter: String,
+    pub date: String,
+    pub scene: String,
+    pub frames: u32,
+    pub warmup: u32,
+    pub size: (u32, u32),
+    /// The reference's blade radius (m).
+    pub blade_reach: f32,
+    pub comparisons: Vec<BandComparison>,
+}
+
+/// The configurations, by name.
+pub fn configurations(scene: &Scene) -> Vec<(&'static str, Scene)> {
+    let mut blades = scene.clone();
+    blades.culling.max_distance = blade_reach(scene);
+    blades.culling.distance = false;
+    let mut horizon = scene.clone();
+    horizon.render.billboard_distance = scene.camera.far.max(scene.render.billboard_distance);
+    vec![
+        ("levels", scene.clone()),
+        ("blades", blades),
+        ("billboards to the horizon", horizon),
+    ]
+}
+
+/// Renders the configurations and compares them.
+pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
+    check_far_field_options(o)?;
+    let date = utc_now();
+    let super::Start {
+        scene,
+        scene_name,
+        gpu,
+        ..
+    } = super::start(o, [])?;
+    let target = Target::new(&gpu, o.size.0, o.size.1)?;
+    let reach = blade_reach(&scene);
+    let configs = configurations(&scene);
+    let mut images = Vec::new();
+    for (name, scene) in configs {
+        eprintln!("bench: {name} ({} warm-up + {} frames)", o.warmup, o.frames);
+        let session = Session::new(scene.clone(), None, Some(&gpu))?;
+        let mut renderer = super::measure::fresh_renderer(&gpu, &session, scene)?;
+        let camera = CameraView::from_scene(&session.scene.camera);
+        for _ in 0..o.warmup + o.frames {
+            renderer.frame(
+                &gpu,
+                BENCH_DT,
+                &camera,
+                &target.color_view,
+                &target.depth_view,
+                (target.width, target.height),
+            );
+            gpu.check_errors()?;
+        }
+        images.push((name, target.read_image(&gpu)?));
+    }
+    let compare = |a: usize, b: usize| -> BandComparison {
+        let (image, reference) = (&images[a], &images[b]);
+        let diffs = compare_bands(&image.1, &reference.1, 0..o.size.1).unwrap_or_default();
+        BandComparison {
+            image: image.0.into(),
+            reference: reference.0.into(),
+            reference_bands: bands(&reference.1),
+            worst: worst_band(&diffs),
+            within: diffs.iter().filter(|d| d.within_tolerance()).count(),
+            diffs,
+        }
+    };
+    Ok(FarFieldReport {
+        adapter: gpu.describe(),
+        date,
+        scene: scene_name,
+        frames: o.frames,
+        warmup: o.warmup,
+        size: o.size,
+        blade_reach: reach,
+        comparisons: vec![compare(0, 1), compare(0, 2)],
+    })
+}
+
+/// The report as tables, one per comparison.
+pub fn format_far_field(r: &FarFieldReport) -> String {
+    let mut out = format!(
+        "sward bench --far-field: {} on {} ({})\n{} frames after {} warm-up at {}x{}; the \
+         reference's blades reach {:.1} m\n",
+        r.scene, r.adapter, r.date, r.frames, r.warmup, r.size.0, r.size.1, r.blade_reach
+    );
+    for c in &r.comparisons {
+        out += &format!(
+            "\n{} against {} (8-row bands: luminance 0-255, 8x8 block contrast)\n",
+            c.image, c.reference
+        );
+        out += "| band | reference luminance | difference | reference contrast | difference |\n";
+        out += "|---|---|---|---|---|\n";
+        for (d, b) in c.diffs.iter().zip(&c.reference_bands) {
+            out += &format!(
+                "| {} | {:.1} | {:+.1}{} | {:.1} | {:+.0} % |\n",
+                d.top,
+                b.luminance,
+                d.luminance,
+                if d.within_tolerance() { "" } else { " *" },
+                b.contrast,
+                100.0 * d.contrast
+            );
+        }
+        if let Some(w) = c.worst {
+            out += &format!(
+                "worst band: rows {}-{}: {:+.1} levels, contrast {:+.0} %; {} of {} bands \
+                 within 5 levels and 30 %\n",
+                w.top,
+                w.top + crate::compare::BAND_ROWS - 1,
+                w.luminance,
+                100.0 * w.contrast,
+                c.within,
+                c.diffs.len()
+            );
+        }
+    }
+    out
+}
