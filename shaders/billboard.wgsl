@@ -39,6 +39,9 @@ struct VertexOut {
     @location(9) @interpolate(flat) sun3: vec3<f32>,
 }
 
+// How far a card is turned off facing the camera, at most (radians; `billboard::CARD_TURN`).
+const CARD_TURN: f32 = 0.35;
+
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     var out: VertexOut;
@@ -51,9 +54,17 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     if length(to_eye) < 1e-4 {
         to_eye = vec2<f32>(0.0, 1.0);
     }
+    // Turned a little off the camera, by a hash of its cell, so that the cards of a row
+    // do not line up into one sheet (issue 27, point 2).
+    let turn = (f32(hash32(c.info.x ^ 0x5f356495u) >> 8u) * BB_UNIT - 0.5) * 2.0 * CARD_TURN;
     let e = normalize(to_eye);
-    let right = vec3<f32>(-e.y, 0.0, e.x);
-    let w = bb.eye_card.z * c.top_scale.w;
+    let cs = cos(turn);
+    let sn = sin(turn);
+    let right = vec3<f32>(-e.y * cs - e.x * sn, 0.0, e.x * cs - e.y * sn);
+    // A level-k card is 2^k base cards wide and shows the strip 2^k times (the sampler
+    // repeats it across), so its blades keep their width; it is as tall as the blades.
+    let repeats = f32(1u << c.info.w);
+    let w = bb.eye_card.z * repeats * c.top_scale.w;
     let h = bb.eye_card.w * c.top_scale.w;
     // The root row sits a little into the ground so the card meets it on slopes.
     var p = pos + right * ((u - 0.5) * w) + vec3<f32>(0.0, v * 1.05 * h - 0.05 * h, 0.0);
@@ -61,7 +72,7 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
         p += c.top_scale.xyz;
     }
     out.clip = frame.view_proj * vec4<f32>(p, 1.0);
-    out.uv = vec2<f32>(select(1.0 - u, u, c.info.z == 1u), 1.0 - v);
+    out.uv = vec2<f32>(select(1.0 - u, u, c.info.z == 1u) * repeats, 1.0 - v);
     out.layer = c.info.y;
     out.fade = c.pos_fade.w;
     // The blades' own light averaged over what a distant eye sees of them (the cull's

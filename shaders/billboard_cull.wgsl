@@ -51,14 +51,14 @@ fn density_at(xz: vec2<f32>) -> f32 {
 
 @compute @workgroup_size(64)
 fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
-    let g = u32(bb.cells.z);
+    let side = bb.levels.z;
     let i = id.x;
     if i == 0u {
         args.instance_count = 1u;
         args.first_vertex = 0u;
         args.first_instance = 0u;
     }
-    if i >= g * g {
+    if i >= bb.levels.x * side * side {
         return;
     }
     let c = card_at(i);
@@ -68,7 +68,7 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let h = bb.eye_card.w * c.scale;
     let centre = c.pos + vec3<f32>(0.0, 0.5 * h, 0.0);
     let clip = frame.view_proj * vec4<f32>(centre, 1.0);
-    let margin = 1.0 + bb.eye_card.z / max(clip.w, 1e-3);
+    let margin = 1.0 + bb.eye_card.z * f32(1u << c.level) / max(clip.w, 1e-3);
     if !(clip.w > 0.0 && abs(clip.x) <= clip.w * margin && abs(clip.y) <= clip.w * margin
         && clip.z <= clip.w) {
         return;
@@ -77,7 +77,7 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     var out: DrawnCard;
     out.pos_fade = vec4<f32>(c.pos, c.fade);
     out.top_scale = vec4<f32>(top_offset(c.pos, h), c.scale);
-    out.info = vec4<u32>(i, c.variant, select(0u, 1u, c.mirror > 0.0), 0u);
+    out.info = vec4<u32>(i, c.variant, select(0u, 1u, c.mirror > 0.0), c.level);
     // The blades' light averaged over what a distant eye sees of them, once per card (the
     // sun's shadow is looked up by the draw, after the shadow maps are drawn), over the
     // ground's normal: cards and the ground between them read as one on every slope.

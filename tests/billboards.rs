@@ -56,6 +56,7 @@ fn gpu_placement_and_sway_match_the_cpu_twin() {
         assert_eq!(g.card.pos.x.to_bits(), c.pos.x.to_bits(), "{what} x");
         assert_eq!(g.card.pos.z.to_bits(), c.pos.z.to_bits(), "{what} z");
         assert_eq!(g.card.variant, c.variant, "{what}");
+        assert_eq!(g.card.level, c.level, "{what} level");
         assert_eq!(g.card.scale.to_bits(), c.scale.to_bits(), "{what} scale");
         assert_eq!(g.card.mirror, c.mirror, "{what}");
         assert_eq!(g.card.accept.to_bits(), c.accept.to_bits(), "{what} accept");
@@ -91,8 +92,9 @@ fn the_atlas_covers_its_cards_and_its_mips_are_box_filters() {
     s.render.billboard_distance = 160.0;
     let field = s.field.clone();
     let layout = BillboardLayout::from_scene(&s.render, &field).unwrap();
-    // The meadow's cards (160 m radius): 3.2 m × 0.68 m, so 512 × 64 texels of about 6 mm.
-    assert_eq!(atlas::layer_size(layout.card), (512, 64));
+    // The meadow's level-0 cards (160 m radius): 1.6 m × 0.68 m, so 256 × 64 texels of
+    // about 6 mm.
+    assert_eq!(atlas::layer_size(layout.card), (256, 64));
     assert_eq!(atlas::layer_size((1.0, 1.0)), (64, 64));
     assert_eq!(atlas::layer_size((1e6, 1.0)), (atlas::MAX_WIDTH, 64));
     assert_eq!(atlas::layer_size((f32::NAN, 0.0)), (64, 64));
@@ -121,7 +123,7 @@ fn the_atlas_covers_its_cards_and_its_mips_are_box_filters() {
         // weighted mean colour and the mean coverage of that whole block (the sizes are
         // powers of two, so the blocks tile the base exactly).
         let chain = atlas::mip_chain(l);
-        assert_eq!(chain.len(), 10, "512 × 64 down to 1 × 1");
+        assert_eq!(chain.len(), 9, "256 × 64 down to 1 × 1");
         let (mut w, mut h) = (l.width, l.height);
         for level in &chain[1..] {
             w = (w / 2).max(1);

@@ -1,11 +1,21 @@
 //! Billboards in the middle distance (issue 12): past the blades, out to
-//! `render.billboard_distance`, the grass is drawn as camera-facing cards showing tufts of
-//! sward's own blades ([`atlas`]). Cards have no state: one per cell of a square grid of
-//! cells centred on the camera's cell, placed by a hash of the cell (positions in integer
-//! quanta of 1/1024 m, so the CPU twin [`place_card`] matches the GPU exactly). A compute
-//! pass keeps the cards in the ring, kept by the density map and in view ([`count_drawn`] is
-//! its CPU twin) and one indirect, non-instanced draw shows them, six vertices per card
-//! ([`BillboardPass`]). The cost is bounded by the grid, whatever the terrain's size.
+//! `render.billboard_distance`, the grass is drawn as cards facing the camera showing tufts
+//! of sward's own blades ([`atlas`]). Cards have no state: one per cell of nested grids
+//! around the camera, placed by a hash of the cell (positions in integer quanta of 1/1024
+//! m, so the CPU twin [`place_card`] matches the GPU exactly). A compute pass keeps the
+//! cards in the ring, kept by the density map and in view ([`count_drawn`] is its CPU twin)
+//! and one indirect, non-instanced draw shows them, six vertices per card
+//! ([`BillboardPass`]). The cost is bounded by the grids, whatever the terrain's size.
+//!
+//! The grids are the prairie thesis's levels of detail by grid distance (its Eq. 8-9,
+//! issue 27 point 2): level k's cells are 2^k times the base cell, and it covers the cells
+//! whose Chebyshev distance from the camera's cell (in its own cells) is from [`LEVEL_HALF`]
+//! to twice that (level 0 from the camera's cell), so the cards get larger and sparser
+//! with distance and keep about the same size on the screen. A level-k card is 2^k base
+//! cards wide and repeats the atlas's strip 2^k times, so its blades keep their width; it
+//! is as tall as the blades. One card per 3 m cell out to 300 m stood in visible rows at
+//! grazing angles; the nested cells are 1.5 m near the blades and each card is turned a
+//! little off the camera (±20°), so no regular structure is left.
 //!
 //! Cards fade in over the band where the blades thin out (from 0.6 of `culling.max_distance`
 //! to it: Eq. 20's half of the cross-fade) and out over the last 15 % of the billboard
@@ -27,11 +37,19 @@ use crate::scene::types::{Field, Render};
 use crate::sim::layout::SimParams;
 use crate::sim::reference::{wind_at, WindGrid};
 
-/// Cells across the billboard radius: the grid is about `2 · CELLS_PER_RADIUS + 1` cells
-/// wide, so the vertex count is fixed whatever the radius.
-pub const CELLS_PER_RADIUS: f32 = 100.0;
-/// The smallest cell (m).
+/// Base cells across the billboard radius: the base cell is the radius over this (at least
+/// [`MIN_CELL`]), so the number of cards is bounded whatever the radius.
+pub const CELLS_PER_RADIUS: f32 = 200.0;
+/// The smallest base cell (m).
 const MIN_CELL: f32 = 0.5;
+/// A level's inner half-size in its own cells: level k covers Chebyshev distances from
+/// this to twice this (its cells), so each level is a square ring of `(4 · LEVEL_HALF −
+/// 2)²` cells less the hole the level inside it fills.
+pub const LEVEL_HALF: i32 = 19;
+/// Most levels: 2^11 base cells of 0.5 m reach past 40 km.
+const MAX_LEVELS: u32 = 12;
+/// How far a card is turned off facing the camera, at most (radians).
+pub const CARD_TURN: f32 = 0.35;
 /// Card width per cell side, and card height per tallest blade.
 const CARD_WIDTH: f32 = 2.0;
 const CARD_HEIGHT: f32 = 0.9;
@@ -57,18 +75,29 @@ pub struct BillboardParams {
     pub shape: [f32; 4],
     /// The atlas's mean albedo (rgb), unused: the cull lights the cards per unit of it.
     pub albedo: [f32; 4],
+    /// Levels, a level's inner half-size in its cells ([`LEVEL_HALF`]), cells per level
+    /// side of the index space (`4 · LEVEL_HALF − 2`), unused.
+    pub levels: [u32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<BillboardParams>() == 96);
+const _: () = assert!(std::mem::size_of::<BillboardParams>() == 112);
 
-/// The layout of the billboard grid for a scene.
+/// The layout of the billboard grids for a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BillboardLayout {
     pub radius: f32,
+    /// The base cell (level 0's) in quanta.
     pub cell_q: i32,
-    pub cells: i32,
+    /// Levels of doubling cells that reach the radius.
+    pub levels: u32,
+    /// A level-0 card's width and height (m).
     pub card: (f32, f32),
     pub key: u32,
+}
+
+/// Cells per side of one level's index space.
+pub const fn level_side() -> i32 {
+    4 * LEVEL_HALF - 2
 }
 
 impl BillboardLayout {
@@ -78,14 +107,21 @@ impl BillboardLayout {
         if radius.is_nan() || radius <= 0.0 {
             return None;
         }
-        let cell = (radius / CELLS_PER_RADIUS).max(MIN_CELL);
+        let cell = (radius.min(1e6) / CELLS_PER_RADIUS).max(MIN_CELL);
         let cell_q = (cell * QUANTA_PER_METRE as f32).round().max(1.0) as i32;
         let cell = cell_q as f32 / QUANTA_PER_METRE as f32;
-        let half = (radius / cell).ceil() as i32;
+        // Level k reaches at least 2^k · LEVEL_HALF cells from the camera's (Chebyshev):
+        // enough levels that the last one reaches the radius from anywhere in its cell.
+        let mut levels = 1;
+        while levels < MAX_LEVELS
+            && (LEVEL_HALF as f32 * cell * (1u32 << levels) as f32) < radius + cell
+        {
+            levels += 1;
+        }
         Some(Self {
             radius,
             cell_q,
-            cells: 2 * half + 1,
+            levels,
             card: (cell * CARD_WIDTH, field.height.max * CARD_HEIGHT),
             key: hash32(field.seed as u32 ^ 0xB111_B0A2 ^ hash32((field.seed >> 32) as u32)),
         })
@@ -95,9 +131,9 @@ impl BillboardLayout {
         self.cell_q as f32 / QUANTA_PER_METRE as f32
     }
 
-    /// Cards in the grid (drawn or not).
+    /// Cards in the grids' index space (drawn or not).
     pub fn card_count(&self) -> u32 {
-        (self.cells * self.cells) as u32
+        self.levels * (level_side() * level_side()) as u32
     }
 
     /// The uniforms for a camera at `eye` with the blades' radius `max_distance`.
@@ -110,8 +146,9 @@ impl BillboardLayout {
         terrain_size: f32,
     ) -> BillboardParams {
         let cell = self.cell_size();
-        let cx = (eye.x / cell).floor().clamp(-1e9, 1e9) as i32;
-        let cz = (eye.z / cell).floor().clamp(-1e9, 1e9) as i32;
+        // Far enough from the limits that the levels' cells (2^11 times larger) stay in i32.
+        let cx = (eye.x / cell).floor().clamp(-1e8, 1e8) as i32;
+        let cz = (eye.z / cell).floor().clamp(-1e8, 1e8) as i32;
         let blades = if max_distance.is_finite() {
             max_distance.max(0.0)
         } else {
@@ -119,12 +156,13 @@ impl BillboardLayout {
         };
         let fade_in = (0.6 * blades, blades.max(1e-3));
         BillboardParams {
-            cells: [cx, cz, self.cells, self.cell_q],
+            cells: [cx, cz, level_side(), self.cell_q],
             fade: [fade_in.0, fade_in.1, 0.85 * self.radius, self.radius],
             eye_card: [eye.x, eye.z, self.card.0, self.card.1],
             info: [self.key, atlas::VARIANTS, u32::from(density), spheres],
             shape: [SWAY_GAIN, BEND_REACH, terrain_size, 0.0],
             albedo: [0.0; 4],
+            levels: [self.levels, LEVEL_HALF as u32, level_side() as u32, 0],
         }
     }
 }
@@ -133,8 +171,11 @@ impl BillboardLayout {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Card {
     pub pos: Vec3,
-    /// 0: outside the ring (not drawn); else the fade factor in (0, 1].
+    /// 0: outside the ring or outside its level (not drawn); else the fade factor in
+    /// (0, 1].
     pub fade: f32,
+    /// Its level: the card is 2^level base cards wide.
+    pub level: u32,
     pub variant: u32,
     pub scale: f32,
     pub mirror: f32,
@@ -150,17 +191,26 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
-/// Card `i` of the grid.
+/// Card `i` of the grids: level `i / side²`, cell `i % side²` of that level's index space
+/// (the children of the cells within `LEVEL_HALF − 1` of the camera's cell one level up).
 pub fn place_card(p: &BillboardParams, terrain: &HeightField, i: u32) -> Card {
-    let g = p.cells[2] as u32;
-    let cx = p.cells[0]
-        .wrapping_sub((g / 2) as i32)
-        .wrapping_add((i % g) as i32);
-    let cz = p.cells[1]
-        .wrapping_sub((g / 2) as i32)
-        .wrapping_add((i / g) as i32);
-    let cell_q = p.cells[3];
-    let h = hash32(p.info[0] ^ hash32((cx as u32) ^ rotl17(hash32((cz as u32) ^ 0x68e3_1da4))));
+    let side = p.levels[2].max(1);
+    let level = (i / (side * side)).min(31);
+    let j = i % (side * side);
+    let half = p.levels[1] as i32;
+    // The camera's cell at this level and at the next (arithmetic shifts floor).
+    let (cx0, cz0) = (p.cells[0] >> level, p.cells[1] >> level);
+    let (px, pz) = (p.cells[0] >> (level + 1), p.cells[1] >> (level + 1));
+    let cx = (px - (half - 1)) * 2 + (j % side) as i32;
+    let cz = (pz - (half - 1)) * 2 + (j / side) as i32;
+    // Level 0 keeps every cell; the others leave the hole the level inside fills.
+    let inside = level > 0 && (cx - cx0).abs().max((cz - cz0).abs()) < half;
+    let cell_q = p.cells[3].wrapping_shl(level);
+    let h = hash32(
+        p.info[0]
+            ^ hash32(level.wrapping_mul(0x2545_F491))
+            ^ hash32((cx as u32) ^ rotl17(hash32((cz as u32) ^ 0x68e3_1da4))),
+    );
     let h1 = hash32(h.wrapping_add(0x9E37_79B9));
     let h2 = hash32(h.wrapping_add(0x3C6E_F372));
     let h3 = hash32(h.wrapping_add(0xDAA6_6D2B));
@@ -174,7 +224,7 @@ pub fn place_card(p: &BillboardParams, terrain: &HeightField, i: u32) -> Card {
     let (x, z) = (xq as f32 * quantum, zq as f32 * quantum);
     let unit = 1.0 / 16_777_216.0;
     let d = (Vec2::new(x, z) - Vec2::new(p.eye_card[0], p.eye_card[1])).length();
-    let fade = if d >= p.fade[0] && d <= p.fade[3] {
+    let fade = if d >= p.fade[0] && d <= p.fade[3] && !inside {
         smoothstep(p.fade[0], p.fade[1], d) * (1.0 - smoothstep(p.fade[2], p.fade[3], d))
     } else {
         0.0
@@ -182,6 +232,7 @@ pub fn place_card(p: &BillboardParams, terrain: &HeightField, i: u32) -> Card {
     Card {
         pos: Vec3::new(x, terrain.height(x, z), z),
         fade,
+        level,
         variant: h2 % p.info[1].max(1),
         scale: 0.8 + 0.4 * (h3 >> 8) as f32 * unit,
         mirror: if h2 & 0x100 != 0 { 1.0 } else { -1.0 },
@@ -243,16 +294,17 @@ pub fn drawn_cells(
     density: Option<&DensityMap>,
     view_proj: Mat4,
 ) -> Vec<u32> {
-    let g = p.cells[2] as u32;
+    let side = p.levels[2];
     let mut kept = Vec::new();
-    for i in 0..g * g {
+    for i in 0..p.levels[0] * side * side {
         let c = place_card(p, terrain, i);
         if c.fade <= 0.0 || density.is_some_and(|m| c.accept >= m.sample(c.pos.x, c.pos.z)) {
             continue;
         }
         let centre = c.pos + Vec3::Y * (0.5 * p.eye_card[3] * c.scale);
         let clip = view_proj * centre.extend(1.0);
-        let margin = 1.0 + p.eye_card[2] / clip.w.max(1e-3);
+        let width = p.eye_card[2] * (1u32 << c.level) as f32;
+        let margin = 1.0 + width / clip.w.max(1e-3);
         if clip.w > 0.0
             && clip.x.abs() <= clip.w * margin
             && clip.y.abs() <= clip.w * margin

@@ -23,7 +23,7 @@ pub struct DrawnCard {
     pub pos_fade: [f32; 4],
     /// Offset of the card's top (sway and bending); size factor.
     pub top_scale: [f32; 4],
-    /// Cell index, atlas variant, 1 = mirrored, unused.
+    /// Cell index, atlas variant, 1 = mirrored, level.
     pub info: [u32; 4],
     /// The blades' light on the card per unit of the atlas's mean albedo: the sky's part
     /// (rgb, unused), and the sun's part when the sun is not shadowed, for each of the
@@ -115,7 +115,8 @@ impl BillboardPass {
         );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("sward.billboard.sampler"),
-            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            // A level-k card repeats the strip 2^k times across.
+            address_mode_u: wgpu::AddressMode::Repeat,
             address_mode_v: wgpu::AddressMode::ClampToEdge,
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,

@@ -92,7 +92,7 @@ pub fn probe_cards(
         bytemuck::cast_slice(&sph),
         storage,
     );
-    let count = (params.cells[2] * params.cells[2]) as u64;
+    let count = u64::from(params.levels[0]) * u64::from(params.levels[2]).pow(2);
     let out_size = count * 3 * 16;
     let out = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sward.billboard_probe.out"),
@@ -147,6 +147,7 @@ pub fn probe_cards(
             card: Card {
                 pos: glam::Vec3::new(c[0][0], c[0][1], c[0][2]),
                 fade: c[0][3],
+                level: c[2][3] as u32,
                 variant: c[1][0] as u32,
                 scale: c[1][1],
                 mirror: c[1][2],
