@@ -26,6 +26,9 @@ struct VertexOut {
     // sun's part when the sun is not shadowed.
     @location(3) grass_ambient: vec3<f32>,
     @location(4) grass_sun: vec3<f32>,
+    // Metres of ground per pixel here, along the view (`vs_lit`): how fine a texture the
+    // pixels can show.
+    @location(5) footprint: f32,
 }
 
 // Past the far plane the ground is not clipped: its depth is squeezed into the last
@@ -76,6 +79,14 @@ fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) 
     let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb);
     out.grass_ambient = grass.ambient;
     out.grass_sun = grass.sun;
+    // A pixel spans 2 w / (P11 · height) metres across the view at view depth w (P11 the
+    // projection's y scale: the length of clip y's row, whatever the camera's rotation),
+    // stretched by the grazing angle along the ground.
+    let m = terrain.view_proj_relative;
+    let p11 = length(vec3<f32>(m[0][1], m[1][1], m[2][1]));
+    let across = 2.0 * out.clip.w / max(p11 * frame.viewport_time.y, 1e-6);
+    let dist = max(length(to_p), 1e-4);
+    out.footprint = across / max(abs(dot(out.normal, to_p)) / dist, 0.05);
     return out;
 }
 
@@ -129,12 +140,28 @@ fn grass_density(xz: vec2<f32>) -> f32 {
     return textureSampleLevel(density_map, density_sampler, (g + 0.5) / dims, 0.0).r;
 }
 
+// The far grass's texture (issue 27, point 3): the grass seen from afar is not one colour
+// but patches and clumps of lighter and darker tufts. The ground's three noise octaves
+// (periods of 2.9, 0.6 and 0.14 m), each centred on its mean (value noise averages 1/2), so
+// the texture averages to 1 and the far ground to the colour the billboards average to;
+// each octave fades out as its period nears four pixels (`footprint`, per vertex), which
+// filters the texture the way a mip chain would (no shimmer, no tiling: the noise is not
+// periodic).
+const GRASS_TEXTURE: vec3<f32> = vec3<f32>(0.55, 0.45, 0.3);
+
+fn grass_texture(octaves: vec3<f32>, footprint: f32) -> f32 {
+    let periods = vec3<f32>(1.0 / 0.35, 1.0 / 1.7, 1.0 / 7.0);
+    let keep = 1.0 - smoothstep(vec3<f32>(2.0), vec3<f32>(4.0), footprint / periods * 8.0);
+    return 1.0 + dot((octaves - 0.5) * GRASS_TEXTURE, keep);
+}
+
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let sun = frame.sun_dir.xyz;
     let q = in.world.xz;
-    let patchy = value_noise(q * 0.35) * 0.6 + value_noise(q * 1.7) * 0.3 + value_noise(q * 7.0) * 0.1;
+    let octaves = vec3<f32>(value_noise(q * 0.35), value_noise(q * 1.7), value_noise(q * 7.0));
+    let patchy = dot(octaves, vec3<f32>(0.6, 0.3, 0.1));
     let soil = vec3<f32>(0.13, 0.11, 0.06);
     let turf = vec3<f32>(0.06, 0.15, 0.03);
     let ground = mix(soil, turf, smoothstep(0.15, 0.55, patchy));
@@ -143,7 +170,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let near = ground * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.5);
     // The grass seen from afar: the blades' own light averaged over the blades a distant
     // eye sees (`far_grass_light`, per vertex), the sun's part shadowed here.
-    let grass = in.grass_ambient + lit * in.grass_sun;
+    let grass = (in.grass_ambient + lit * in.grass_sun) * grass_texture(octaves, in.footprint);
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):

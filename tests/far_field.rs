@@ -69,3 +69,49 @@ fn billboards_and_the_far_ground_read_as_the_blades_they_replace() {
         assert!(d.contrast.abs() <= 0.3, "near band {d:?}");
     }
 }
+
+/// The far ground's texture (issue 27, point 3): patches and clumps of lighter and darker
+/// grass that average to the grass's colour. Seen from above with no blades or cards, at
+/// 256 × 144 it shows (blocks of 8 × 8 pixels vary), and at 32 × 18 — where every octave
+/// is finer than the pixels and fades out — the same ground has the same mean: the texture
+/// moves nothing but the spread.
+#[test]
+fn the_far_ground_has_texture_that_averages_to_the_grass_colour() {
+    let sets = [
+        "render.billboard_distance=0",
+        "culling.max_distance=0.5",
+        "camera.eye=(-14.0, 20.0, 16.0)",
+        "camera.target=(40.0, -19.0, -40.0)",
+    ];
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let scene = sward::scene::load_scene_with_sets(&path, &sets).expect("prairie");
+    let gpu = common::gpu();
+    let session = sward::session::Session::new(scene, None, Some(&gpu)).expect("field");
+    let render = |size: (u32, u32)| {
+        let (_, target) = common::draw_frames(&gpu, &session, size, 1, false, |_| {});
+        target.read_image(&gpu).expect("image")
+    };
+    let fine = render((256, 144));
+    let coarse = render((32, 18));
+    // The bottom half is ground in both.
+    let spread: f64 = bands(&fine)[9..].iter().map(|b| b.contrast).sum::<f64>() / 9.0;
+    println!("ground's 8x8 block spread at 256x144: {spread:.2} levels");
+    assert!(spread > 1.5, "the far ground shows no texture: {spread:.2}");
+    let mean = |img: &image::RgbaImage, rows: std::ops::Range<u32>| {
+        let mut sum = 0.0;
+        let mut n = 0.0;
+        for y in rows {
+            for x in 0..img.width() {
+                let p = img.get_pixel(x, y);
+                sum +=
+                    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
+                n += 1.0;
+            }
+        }
+        sum / n
+    };
+    let (a, b) = (mean(&fine, 72..144), mean(&coarse, 9..18));
+    println!("ground's mean luminance: {a:.2} at 256x144, {b:.2} at 32x18");
+    assert!((a - b).abs() < 2.0, "{a:.2} against {b:.2}");
+}
