@@ -429,6 +429,14 @@ fn a_flight_reports_percentiles_pops_and_saves_its_frames() {
     // A slow flight with swaying grass and no level switching: no frame differs from the
     // last more than 3x the median change.
     assert!((1.0..3.0).contains(&pop), "pop ratio {pop}");
+    // The handover band (blades thinning into cards) changes no more than the other ground
+    // (measured 0.99 on the prairie at 640x360; a pop there would raise it).
+    let handover = f(&v, &["handover_ratio"]);
+    eprintln!("flight handover ratio {handover}");
+    assert!(
+        handover > 0.0 && handover < 1.5,
+        "handover ratio {handover}"
+    );
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -9,6 +9,14 @@
 //! culling distance) makes one frame differ much more than the rest, and the ratio spikes.
 //! A streamed scene (`field.tile_size > 0`) also reports the tiles generated during the
 //! flight and the GPU time of their generation pass.
+//!
+//! The **handover ratio** (issue 27, point 4) measures the pops where they would happen:
+//! the mean frame-to-frame difference of the pixels whose ground lies in the band where
+//! the blades thin out and the billboards fade in (0.6 to 1 of `culling.max_distance`
+//! from the camera), over that of the other ground pixels. Which ground a pixel sees is
+//! found by marching its view ray over the terrain's height function on the CPU, once per
+//! block of [`HANDOVER_BLOCK`] pixels. A handover without popping changes no more than
+//! the rest of the moving picture: a ratio of about 1 or less.
 
 use std::time::Instant;
 
@@ -26,6 +34,11 @@ use crate::session::Session;
 
 /// Flight speed in metres per second: a slow walk-to-jog, where pops are easiest to see.
 pub const FLIGHT_SPEED: f32 = 4.0;
+/// Side of the pixel blocks whose ground distance one view ray decides.
+pub const HANDOVER_BLOCK: u32 = 16;
+/// The handover band, in blade radii from the camera (the blades' thinning and the cards'
+/// fade-in).
+pub const HANDOVER_BAND: (f32, f32) = (0.6, 1.0);
 
 /// The report of one flight (JSON keys as the issue names them).
 #[derive(Clone, Debug, Serialize)]
@@ -51,6 +64,12 @@ pub struct FlightReport {
     pub pop_ratio: Option<f64>,
     pub largest_difference: f64,
     pub median_difference: f64,
+    /// Mean frame-to-frame difference of the pixels in the handover band over that of the
+    /// other ground pixels (`None` without frame pairs or without pixels in either).
+    pub handover_ratio: Option<f64>,
+    /// The two means it divides (0–255 per channel).
+    pub handover_difference: f64,
+    pub elsewhere_difference: f64,
     /// Blades drawn in the last frame, and the mean over the flight.
     pub blades_drawn: u64,
     pub blades_drawn_mean: f64,
@@ -161,6 +180,13 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
     let (mut gpu_ms, mut wall_ms, mut drawn, mut differences) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut previous: Option<image::RgbaImage> = None;
+    // Sums of the channel differences and pixel counts: handover band, other ground.
+    let mut handover = [(0u64, 0u64); 2];
+    let band = {
+        let d = session.scene.culling.max_distance;
+        let d = if d.is_finite() { d.max(0.0) } else { 0.0 };
+        (HANDOVER_BAND.0 * d, HANDOVER_BAND.1 * d)
+    };
     let mut resets = 0;
     let mut last_billboards = 0u32;
     let (mut tiles_at_start, mut tiles_generated, mut tile_ms) = (0u64, 0u64, 0.0f64);
@@ -207,6 +233,14 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         let image = target.read_image(&gpu)?;
         if let Some(p) = &previous {
             differences.push(mean_abs_difference(p, &image));
+            let classes = ground_classes(&session.terrain, &camera, size, band);
+            for (k, sum) in band_differences(p, &image, &classes)
+                .into_iter()
+                .enumerate()
+            {
+                handover[k].0 += sum.0;
+                handover[k].1 += sum.1;
+            }
         }
         if let Some(dir) = &o.images {
             outputs.write_png(&dir.join(frame_name(flying)), &image)?;
@@ -241,6 +275,12 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         pop_ratio: pop_ratio(&differences),
         largest_difference: differences.iter().copied().fold(0.0, f64::max),
         median_difference: percentile(&differences, 0.5),
+        handover_ratio: {
+            let m = handover.map(|(s, n)| (n > 0).then(|| s as f64 / (3.0 * n as f64)));
+            m[0].zip(m[1]).map(|(a, b)| a / b.max(1e-3))
+        },
+        handover_difference: handover[0].0 as f64 / (3.0 * handover[0].1.max(1) as f64),
+        elsewhere_difference: handover[1].0 as f64 / (3.0 * handover[1].1.max(1) as f64),
         blades_drawn: drawn.last().copied().unwrap_or(0),
         blades_drawn_mean: drawn.iter().sum::<u64>() as f64 / drawn.len().max(1) as f64,
         billboards_drawn: u64::from(last_billboards),
@@ -260,11 +300,13 @@ pub fn format_flight(r: &FlightReport) -> String {
     let pop = r
         .pop_ratio
         .map_or("n/a (fewer than 3 frames)".into(), |p| format!("{p:.2}"));
+    let handover = r.handover_ratio.map_or("n/a".into(), |h| format!("{h:.2}"));
     format!(
         "sward bench --flight: {}\nadapter: {}\ndate: {}\n{}x{}, {} frames after {} warm-up \
          frames, dt = 1/30 s, {} m/s\n{what} frame ms: p50 {:.2}, p95 {:.2}\nwall frame ms: \
          p50 {:.2}, p95 {:.2}\npop ratio (largest / median frame-to-frame difference): {pop} \
-         ({:.3} / {:.3})\nblades drawn: {} (last frame), {:.0} (mean)\nbillboards drawn: {}, \
+         ({:.3} / {:.3})\nhandover ratio (band where blades become billboards / other ground): \
+         {handover} ({:.3} / {:.3})\nblades drawn: {} (last frame), {:.0} (mean)\nbillboards drawn: {}, \
          tiles generated: {} ({} resident; generation {:.2} GPU ms per frame{})\nGPU memory: \
          {:.1} MiB\nblades reset (non-finite state): {}\n",
         r.scene,
@@ -281,6 +323,8 @@ pub fn format_flight(r: &FlightReport) -> String {
         r.wall_p95_ms,
         r.largest_difference,
         r.median_difference,
+        r.handover_difference,
+        r.elsewhere_difference,
         r.blades_drawn,
         r.blades_drawn_mean,
         r.billboards_drawn,
@@ -292,6 +336,91 @@ pub fn format_flight(r: &FlightReport) -> String {
         r.gpu_mib,
         r.blades_reset_nonfinite,
     )
+}
+
+/// Which ground each block of [`HANDOVER_BLOCK`] pixels sees (row-major blocks): 0 the
+/// handover band (`band`: horizontal distance from the camera, m), 1 other ground, 2 no
+/// ground within the far plane (sky).
+pub fn ground_classes(
+    terrain: &HeightField,
+    camera: &CameraView,
+    size: (u32, u32),
+    band: (f32, f32),
+) -> Vec<u8> {
+    let (bw, bh) = (
+        size.0.div_ceil(HANDOVER_BLOCK),
+        size.1.div_ceil(HANDOVER_BLOCK),
+    );
+    let aspect = size.0 as f32 / size.1.max(1) as f32;
+    let inverse = camera.view_proj(aspect).inverse();
+    let mut out = Vec::with_capacity((bw * bh) as usize);
+    for by in 0..bh {
+        for bx in 0..bw {
+            let px = ((bx * HANDOVER_BLOCK + HANDOVER_BLOCK / 2).min(size.0 - 1) as f32 + 0.5)
+                / size.0 as f32;
+            let py = ((by * HANDOVER_BLOCK + HANDOVER_BLOCK / 2).min(size.1 - 1) as f32 + 0.5)
+                / size.1 as f32;
+            let ndc = glam::Vec4::new(2.0 * px - 1.0, 1.0 - 2.0 * py, 1.0, 1.0);
+            let far = inverse * ndc;
+            let dir = (far.truncate() / far.w - camera.eye).normalize_or_zero();
+            out.push(match ray_ground(terrain, camera.eye, dir, camera.far) {
+                Some(p) => {
+                    let d = Vec2::new(p.x - camera.eye.x, p.z - camera.eye.z).length();
+                    u8::from(!(band.0..=band.1).contains(&d))
+                }
+                None => 2,
+            });
+        }
+    }
+    out
+}
+
+/// Where a ray from `eye` along `dir` first meets the terrain within `far` metres: steps
+/// of 2 % of the distance walked (at least 5 cm), then bisection.
+fn ray_ground(terrain: &HeightField, eye: Vec3, dir: Vec3, far: f32) -> Option<Vec3> {
+    let above = |p: Vec3| p.y - terrain.height(p.x, p.z);
+    if dir == Vec3::ZERO || above(eye) < 0.0 {
+        return None;
+    }
+    let mut t = 0.0f32;
+    while t < far {
+        let next = t + (0.02 * t).max(0.05);
+        if above(eye + dir * next) < 0.0 {
+            let (mut lo, mut hi) = (t, next);
+            for _ in 0..12 {
+                let mid = 0.5 * (lo + hi);
+                if above(eye + dir * mid) < 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(eye + dir * hi);
+        }
+        t = next;
+    }
+    None
+}
+
+/// Sums of the RGB channel differences and pixel counts of two frames per class of
+/// [`ground_classes`]: the handover band and the other ground (the sky is left out).
+pub fn band_differences(
+    a: &image::RgbaImage,
+    b: &image::RgbaImage,
+    classes: &[u8],
+) -> [(u64, u64); 2] {
+    let mut out = [(0u64, 0u64); 2];
+    let bw = a.width().div_ceil(HANDOVER_BLOCK);
+    for (x, y, p) in a.enumerate_pixels() {
+        let class = classes[((y / HANDOVER_BLOCK) * bw + x / HANDOVER_BLOCK) as usize];
+        if class < 2 {
+            let q = b.get_pixel(x, y);
+            let d: u64 = (0..3).map(|i| u64::from(p[i].abs_diff(q[i]))).sum();
+            out[class as usize].0 += d;
+            out[class as usize].1 += 1;
+        }
+    }
+    out
 }
 
 /// Refuses options that mean nothing in a flight.
@@ -333,6 +462,34 @@ mod tests {
         let clearance = |c: &CameraView| c.eye.y - terrain.height(c.eye.x, c.eye.z);
         assert!((clearance(&later) - clearance(&start)).abs() < 1e-3);
         assert!(((later.target - later.eye) - (start.target - start.eye)).length() < 1e-4);
+    }
+
+    #[test]
+    fn ground_classes_follow_the_distance_on_flat_ground() {
+        let terrain = HeightField::from_scene(&crate::scene::Terrain {
+            height: crate::scene::types::HeightSource::Flat,
+            ..Default::default()
+        })
+        .unwrap();
+        let camera = CameraView {
+            eye: Vec3::new(0.0, 2.0, 0.0),
+            target: Vec3::new(0.0, 0.0, -10.0),
+            fov_y: 60.0,
+            near: 0.05,
+            far: 500.0,
+        };
+        let classes = ground_classes(&terrain, &camera, (64, 64), (30.0, 45.0));
+        let column: Vec<u8> = (0..4).map(|by| classes[by * 4 + 1]).collect();
+        // Looking down 11.3° with a 60° view, the four block rows' centres look 12° above,
+        // then 3.1°, 19.5° and 34.7° below the horizon: the sky, ground 37 m away (in the
+        // band), then 5.6 and 2.9 m away.
+        assert_eq!(column, [2, 0, 1, 1], "{classes:?}");
+        // The differences are summed per class; the sky is left out.
+        let a = image::RgbaImage::from_pixel(64, 64, image::Rgba([10, 10, 10, 255]));
+        let b = image::RgbaImage::from_pixel(64, 64, image::Rgba([13, 10, 10, 255]));
+        let sums = band_differences(&a, &b, &classes);
+        let band = classes.iter().filter(|&&c| c == 0).count() as u64 * 256;
+        assert_eq!(sums[0], (3 * band, band));
     }
 
     #[test]
