@@ -225,7 +225,8 @@ fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
 
 // The vertex at (u, v) of a blade: Eq. 21-24.
 fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f32) -> BladePoint {
-    let half_width = 0.5 * blade.v2_width.w * thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    let widen = thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    let half_width = 0.5 * blade.v2_width.w * widen;
     let up = blade.up_stiffness.xyz;
     // Eq. 21: the curve point c and the tangent t0.
     let centre = centre_line(blade, ctx, index, v);
@@ -246,7 +247,9 @@ fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f3
     // The paper prints t(1 - Phi) + u Phi^2; we blend linearly, which meets the same two
     // limits (Phi = 0: the shape, Phi = 1: the quad) without the dip in between.
     if frame.width_correction.y > 0.0 {
-        let wp = length(to_screen(c1) - to_screen(c0));
+        // The blade's own width, before the thinning widens it: the widened blades stand
+        // for the full field's, and keep the shape those would have.
+        let wp = length(to_screen(c1) - to_screen(c0)) / widen;
         let phi = 1.0 - min(max((wp - frame.width_correction.x) / frame.width_correction.y, 0.0), 1.0);
         t = t * (1.0 - phi) + u * phi;
     }

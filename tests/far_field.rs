@@ -10,7 +10,9 @@
 //! - every band within 20 levels (11.0 measured here; 7.9 at 480 × 270, where the cards are
 //!   within 4 levels and the thinned blades are the worst; the billboards
 //!   were 60 levels darker before they and the far ground took the blades' light);
-//! - the thinned near field within 12 levels (the kept blades widen, `thinning_widen`).
+//! - the thinned near field within the 5 levels and 30 % (1.9 levels and 7 %
+//!   measured: the kept blades widen, `thinning_widen`, and keep the shape the full
+//!   field's thinner blades have).
 
 mod common;
 
@@ -65,7 +67,7 @@ fn billboards_and_the_far_ground_read_as_the_blades_they_replace() {
     let near: Vec<_> = diffs.iter().filter(|d| d.top >= SIZE.1 * 2 / 3).collect();
     assert!(!near.is_empty());
     for d in near {
-        assert!(d.luminance.abs() <= 12.0, "near band {d:?}");
+        assert!(d.luminance.abs() <= 5.0, "near band {d:?}");
         assert!(d.contrast.abs() <= 0.3, "near band {d:?}");
     }
 }
