@@ -26,6 +26,8 @@
 @group(0) @binding(9) var density_map: texture_2d<f32>;
 @group(0) @binding(10) var<storage, read_write> cards: array<DrawnCard>;
 @group(0) @binding(11) var<storage, read_write> args: CardDrawArgs;
+// The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`, `wave_blades`).
+@group(0) @binding(12) var<storage, read> waves: array<u32, 2>;
 
 //!include wind_sample.wgsl
 //!include billboard_sway.wgsl
@@ -84,7 +86,7 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let slope = terrain_height(c.pos.xz);
     let ground_n = normalize(vec3<f32>(-slope.y, 1.0, -slope.z));
     let albedo = max(bb.albedo.rgb, vec3<f32>(1e-4));
-    let l = far_grass_facings(centre, ground_n, albedo);
+    let l = far_grass_facings(centre, ground_n, albedo, mean_wave(waves[0], waves[1]));
     out.light_ambient = vec4<f32>(l.ambient / albedo, 0.0);
     for (var j = 0u; j < 4u; j++) {
         out.light_sun[j] = vec4<f32>(l.sun[j] / albedo, 0.0);

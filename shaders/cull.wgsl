@@ -52,6 +52,9 @@ struct CullOutput {
     // Entries of the broad phase's shared pool taken this frame.
     pool_used: atomic<u32>,
     spheres_used: array<atomic<u32>, SPHERE_WORDS>,
+    // The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`).
+    wave_sum: atomic<u32>,
+    wave_blades: atomic<u32>,
 }
 
 // PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
@@ -119,6 +122,8 @@ fn hiz_texel(p: vec2<i32>, level: u32) -> f32 {
 @group(1) @binding(2) var<storage, read_write> patch_spheres: array<u32>;
 // The blade passes' second group: one SEEN_* word per blade.
 @group(1) @binding(3) var<storage, read_write> seen: array<u32>;
+// The blades' rest tips (the blade passes' group 1): how far the gusts bend them.
+@group(1) @binding(4) var<storage, read> states: array<BladeState>;
 
 fn update_list() -> u32 {
     return params.patch_count + 1u;
@@ -161,6 +166,8 @@ fn reset() {
     atomicStore(&out.patch_sphere_pairs, 0u);
     atomicStore(&out.culled_occlusion_grass, 0u);
     atomicStore(&out.pool_used, 0u);
+    atomicStore(&out.wave_sum, 0u);
+    atomicStore(&out.wave_blades, 0u);
     for (var w = 0u; w < SPHERE_WORDS; w++) {
         atomicStore(&out.spheres_used[w], 0u);
     }
@@ -646,6 +653,25 @@ fn main(
         atomicAdd(&out.draws[level].instance_count, 1u);
     }
     visible[level * region() + at] = i;
+    count_wave(i, blade);
+}
+
+// The far levels' shading waves (far_grass.wgsl): the billboards and the far ground stand
+// for blades the gusts bend as they bend the blades at the edge of the blades' reach, so
+// the blades drawn there (from half the blade radius out; all of them without a distance
+// test) count how far the gusts bend them from their rest, as the blades' shading waves
+// read it (`blade_albedos`: clamp(1.5 |v2 − rest tip| / h, 0, 1)).
+fn count_wave(i: u32, blade: Blade) {
+    let v0 = blade.v0_dir.xyz;
+    let up = blade.up_stiffness.xyz;
+    let rel = v0 - params.camera_pos.xyz;
+    let d_proj = length(rel - up * dot(rel, up));
+    if (params.tests & TEST_DISTANCE) != 0u && d_proj < 0.5 * params.max_distance {
+        return;
+    }
+    let gust = length(blade.v2_width.xyz - states[i].rest_eta.xyz) / max(blade.v1_height.w, 1e-4);
+    atomicAdd(&out.wave_sum, u32(clamp(gust * 1.5, 0.0, 1.0) * 1024.0));
+    atomicAdd(&out.wave_blades, 1u);
 }
 
 @compute @workgroup_size(64)

@@ -26,7 +26,19 @@ struct FarGrassFacings {
     sun: array<vec3<f32>, 4>,
 }
 
-fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> FarGrassFacings {
+// The mean shading wave of the blades at the edge of the blades' reach, from the cull's
+// two words (the sum of clamp(1.5 |v2 − rest tip| / h, 0, 1) in 1/1024ths and the blades
+// counted), times the waves' strength: what `blade_albedos` gives a blade, on average.
+fn mean_wave(sum: u32, blades: u32) -> f32 {
+    if blades == 0u {
+        return 0.0;
+    }
+    return f32(sum) / (1024.0 * f32(blades)) * light.shading_b.y;
+}
+
+// `wave`: the blades' mean shading wave (`mean_wave`): gusts bend them and they show their
+// paler side (`blade_albedo`, linear in the wave, so the mean wave gives the mean albedo).
+fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>, wave: f32) -> FarGrassFacings {
     let to_eye = normalize(frame.camera_pos.xyz - p);
     let sin_e = max(dot(to_eye, ground_n), 0.02);
     let k = max(0.5 * light.shading_b.z / sin_e, 1e-3);
@@ -48,7 +60,8 @@ fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> Fa
         let v = clamp(1.0 - depth, 0.0, 1.0);
         // The blade's albedo along it (`blade_albedo`: 0.55 at the root to 1.25 at the
         // tip) relative to its value at the mean height the far albedo is taken at.
-        let a = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
+        let still = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
+        let a = mix(still, still * 1.7 + vec3<f32>(0.04, 0.05, 0.02), wave * 0.6);
         // CWD-Sim's Eq. 14 for an unbent blade, where the blades' shading uses it.
         let s = frame.self_shadow;
         let self_shade = clamp(v + s.w, s.x, s.y);
@@ -77,7 +90,7 @@ fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> Fa
 }
 
 // `far_grass_facings` over every facing: the light of the grass around `p`.
-fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>) -> BladeLight {
-    let f = far_grass_facings(p, ground_n, albedo);
+fn far_grass_light(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>, wave: f32) -> BladeLight {
+    let f = far_grass_facings(p, ground_n, albedo, wave);
     return BladeLight(f.ambient, 0.25 * (f.sun[0] + f.sun[1] + f.sun[2] + f.sun[3]));
 }

@@ -14,6 +14,8 @@
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(3) var density_map: texture_2d<f32>;
 @group(0) @binding(4) var density_sampler: sampler;
+// The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`, `wave_blades`).
+@group(0) @binding(5) var<storage, read> waves: array<u32, 2>;
 
 struct VertexOut {
     // Invariant: the depth prepass and the colour pass must produce the same depth.
@@ -76,7 +78,7 @@ fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) 
     var out = terrain_vertex(vid, level);
     let to_p = out.world - frame.camera_pos.xyz;
     out.sky = sky_radiance(to_p / max(length(to_p), 1e-4));
-    let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb);
+    let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb, mean_wave(waves[0], waves[1]));
     out.grass_ambient = grass.ambient;
     out.grass_sun = grass.sun;
     // A pixel spans 2 w / (P11 · height) metres across the view at view depth w (P11 the

@@ -109,18 +109,28 @@ impl CullPass {
             ],
         });
         // The blade passes cannot bind `dispatch` (their indirect argument); their second
-        // group holds only the seen flags, at a binding the patch step does not use.
+        // group holds the seen flags and the blades' rest tips (for the far levels' shading
+        // waves), at bindings the patch step does not use.
         let seen_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.cull.seen_layout"),
-            entries: &[compute_storage_entry(3, false)],
+            entries: &[
+                compute_storage_entry(3, false),
+                compute_storage_entry(4, true),
+            ],
         });
         let seen_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("sward.cull.seen_group"),
             layout: &seen_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 3,
-                resource: buffers.seen.as_entire_binding(),
-            }],
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: buffers.seen.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: buffers.states.as_entire_binding(),
+                },
+            ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.cull.params"),

@@ -355,6 +355,12 @@ impl DrawPass {
         self.terrain_pass.height_buffers()
     }
 
+    /// The gusts' bend at the edge of the blades' reach, for the far levels' shading waves
+    /// (the frame copies it from the cull's counters; the billboards read it too).
+    pub fn waves_buffer(&self) -> &wgpu::Buffer {
+        &self.terrain_pass.waves
+    }
+
     /// The far ground's grass colour (`clipmap::far_albedo` of the field).
     pub fn set_far_albedo(&mut self, albedo: glam::Vec3) {
         self.terrain_pass.grass_albedo = albedo;

@@ -208,6 +208,14 @@ impl Renderer {
         timed(meters, encoder, timing::CULL, |e, q| {
             self.cull.encode_blades(e, &self.buffers.dispatch, q)
         });
+        // The far levels read the gusts' bend the cull measured at the blades' edge.
+        encoder.copy_buffer_to_buffer(
+            &self.cull.args,
+            crate::sim::layout::WAVE_OFFSET,
+            self.draw.waves_buffer(),
+            0,
+            8,
+        );
         if let Some(b) = &self.billboards {
             timed(meters, encoder, timing::BILLBOARDS, |e, q| {
                 b.encode_cull(e, self.light.group(), q)

@@ -85,6 +85,7 @@ impl Renderer {
                     spheres: &self.buffers.spheres,
                     sim_params: self.update.params_buffer(),
                     wind_grid: self.wind_grid(),
+                    waves: self.draw.waves_buffer(),
                 },
                 super::post::HDR_FORMAT,
                 self.samples,
@@ -105,6 +106,7 @@ impl Renderer {
                     spheres: &self.buffers.spheres,
                     sim_params: self.update.params_buffer(),
                     wind_grid: self.wind_grid(),
+                    waves: self.draw.waves_buffer(),
                 },
             );
             self.billboards = Some(b);

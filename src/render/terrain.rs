@@ -25,6 +25,9 @@ pub struct TerrainPass {
     grid: wgpu::Buffer,
     density: wgpu::Texture,
     group: wgpu::BindGroup,
+    /// The gusts' bend at the edge of the blades' reach (two words: the sum in 1/1024ths
+    /// and the blades counted), for the far grass's shading waves.
+    pub waves: wgpu::Buffer,
     indices: wgpu::Buffer,
     ranges: [(u32, u32); VARIANTS],
     /// The terrain without its grid heights: what the uniforms are computed from.
@@ -144,7 +147,16 @@ impl TerrainPass {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                read_storage(5, wgpu::ShaderStages::VERTEX),
             ],
+        });
+        // The gusts' bend at the edge of the blades' reach, copied from the cull's counters
+        // each frame (`CullCounters::wave_sum`, `wave_blades`): the far grass's shading waves.
+        let waves = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.terrain.waves"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
         let params = params_buffer(device, "sward.terrain.params");
         let grid = grid_buffer(device, terrain);
@@ -183,6 +195,10 @@ impl TerrainPass {
                     binding: 4,
                     resource: wgpu::BindingResource::Sampler(&sampler),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: waves.as_entire_binding(),
+                },
             ],
         });
         let (indices, ranges) = clipmap::ring_indices();
@@ -204,6 +220,7 @@ impl TerrainPass {
             grid,
             density: density_tex,
             group,
+            waves,
             indices,
             ranges,
             shape,

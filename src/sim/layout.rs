@@ -271,7 +271,16 @@ pub struct CullCounters {
     pub pool_used: u32,
     /// Bit s set: sphere s is on some stepped patch's list.
     pub spheres_used: [u32; MAX_SPHERES / 32],
+    /// The gusts' bend at the edge of the blades' reach, for the far levels' shading
+    /// waves (`far_grass.wgsl`): the sum over the blades drawn early from half the blade
+    /// radius out of `clamp(1.5 |v2 - rest tip| / h, 0, 1)` in 1/1024ths, and their count.
+    pub wave_sum: u32,
+    pub wave_blades: u32,
 }
+
+/// Byte offset of [`CullCounters::wave_sum`] (the draw copies the two wave words from
+/// there into the far levels' buffer).
+pub const WAVE_OFFSET: u64 = std::mem::offset_of!(CullCounters, wave_sum) as u64;
 
 // Arrays of more than 32 have no derived Default.
 impl Default for CullCounters {
@@ -387,7 +396,7 @@ const _: () = assert!(std::mem::size_of::<VerletState>() == 64);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 288);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 192 + MAX_SPHERES / 8);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 200 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);

@@ -73,6 +73,8 @@ pub struct Inputs<'a> {
     pub spheres: &'a wgpu::Buffer,
     pub sim_params: &'a wgpu::Buffer,
     pub wind_grid: &'a wgpu::Buffer,
+    /// The gusts' bend at the edge of the blades' reach (the far levels' shading waves).
+    pub waves: &'a wgpu::Buffer,
 }
 
 impl BillboardPass {
@@ -169,6 +171,7 @@ impl BillboardPass {
                 texture(9, wgpu::TextureViewDimension::D2, c),
                 compute_storage_entry(10, false),
                 compute_storage_entry(11, false),
+                compute_storage_entry(12, true),
             ],
         });
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -309,6 +312,7 @@ impl BillboardPass {
                 },
                 buf(10, cards),
                 buf(11, args),
+                buf(12, inputs.waves),
             ],
         })
     }
