@@ -87,9 +87,16 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let ground_n = normalize(vec3<f32>(-slope.y, 1.0, -slope.z));
     let albedo = max(bb.albedo.rgb, vec3<f32>(1e-4));
     let l = far_grass_facings(centre, ground_n, albedo, mean_wave(waves[0], waves[1]));
-    out.light_ambient = vec4<f32>(l.ambient / albedo, 0.0);
+    // The far ground's patches and clumps at the card's root (`grass_texture`, faded as
+    // the ground's are by the metres a pixel spans there: 2 w / (P11 · height) at view
+    // depth w), so that cards and the ground between them vary together.
+    let m = frame.view_proj;
+    let p11 = length(vec3<f32>(m[0][1], m[1][1], m[2][1]));
+    let footprint = 2.0 * clip.w / max(p11 * frame.viewport_time.y, 1e-6);
+    let patchy = grass_texture(grass_octaves(c.pos.xz), footprint);
+    out.light_ambient = vec4<f32>(patchy * l.ambient / albedo, 0.0);
     for (var j = 0u; j < 4u; j++) {
-        out.light_sun[j] = vec4<f32>(l.sun[j] / albedo, 0.0);
+        out.light_sun[j] = vec4<f32>(patchy * l.sun[j] / albedo, 0.0);
     }
     cards[at] = out;
 }
