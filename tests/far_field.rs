@@ -7,9 +7,10 @@
 //! here so that it cannot slide back (measured at 240 × 136 and 480 × 270):
 //! - the far ground at the horizon, where both frames show it, within 5 levels: the
 //!   billboards and the far ground are lit alike (`far_grass.wgsl`);
-//! - every band within 20 levels (11.0 measured here; 7.9 at 480 × 270, where the cards are
-//!   within 4 levels and the thinned blades are the worst; the billboards
-//!   were 60 levels darker before they and the far ground took the blades' light);
+//! - every band within 8 levels (3.8 measured here; at 480 × 270 the cards are up to 13.5
+//!   levels too bright after these 4 frames, while the reference's far blades settle, and
+//!   within 7.4 after 30; they were 60 levels darker before they and the far ground took
+//!   the blades' light);
 //! - the thinned near field within the 5 levels and 30 % (1.9 levels and 7 %
 //!   measured: the kept blades widen, `thinning_widen`, and keep the shape the full
 //!   field's thinner blades have).
@@ -60,7 +61,7 @@ fn billboards_and_the_far_ground_read_as_the_blades_they_replace() {
     );
     let worst_luminance = diffs.iter().map(|d| d.luminance.abs()).fold(0.0, f64::max);
     assert!(
-        worst_luminance <= 20.0,
+        worst_luminance <= 8.0,
         "a band {worst_luminance:.1} levels off: {worst:?}"
     );
     // The bottom third: blades in both, thinned in one.
