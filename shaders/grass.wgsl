@@ -212,6 +212,10 @@ fn blade_shape(blade: Blade) -> u32 {
 // at a distance where the cull keeps `keep` blades in n (cull.wgsl), each kept blade is n /
 // keep times as wide (issue 27: thinning keeps the coverage, as in Ghost of Tsushima).
 // Within the first level, and without thinning, 1.
+// At most this much wider: past it (the last levels, where keep is 1 or 2 in 8) the blades
+// would read as broad leaves, and the billboards fading in there cover the ground.
+const MAX_WIDEN: f32 = 3.0;
+
 fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
     let n = frame.thinning.w;
     if n < 0.5 {
@@ -220,7 +224,7 @@ fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
     let rel = v0 - frame.thinning.xyz;
     let d_proj = length(rel - up * dot(rel, up));
     let keep = floor(n * (1.0 - d_proj / max(frame.thinning_reach.x, 1e-6)));
-    return n / max(keep, 1.0);
+    return min(n / max(keep, 1.0), MAX_WIDEN);
 }
 
 // The vertex at (u, v) of a blade: Eq. 21-24.
