@@ -38,10 +38,13 @@ use crate::sim::layout::SimParams;
 use crate::sim::reference::{wind_at, WindGrid};
 
 /// Base cells across the billboard radius: the base cell is the radius over this (at least
-/// [`MIN_CELL`]), so the number of cards is bounded whatever the radius.
+/// [`MIN_CELL`], at most [`CELL_RADIUS_CAP`] over this); the levels double the cells out
+/// to any radius, so the number of cards grows with its logarithm only.
 pub const CELLS_PER_RADIUS: f32 = 200.0;
 /// The smallest base cell (m).
 const MIN_CELL: f32 = 0.5;
+/// The radius past which the base cell stops growing (m): 1.5 m cells.
+pub const CELL_RADIUS_CAP: f32 = 300.0;
 /// A level's inner half-size in its own cells: level k covers Chebyshev distances from
 /// this to twice this (its cells), so each level is a square ring of `(4 · LEVEL_HALF −
 /// 2)²` cells less the hole the level inside it fills.
@@ -107,7 +110,10 @@ impl BillboardLayout {
         if radius.is_nan() || radius <= 0.0 {
             return None;
         }
-        let cell = (radius.min(1e6) / CELLS_PER_RADIUS).max(MIN_CELL);
+        // The base cell follows the radius up to CELL_RADIUS_CAP and stays there: a larger
+        // radius adds levels of larger cells far away instead of coarsening the cards
+        // near the blades.
+        let cell = (radius.min(CELL_RADIUS_CAP) / CELLS_PER_RADIUS).max(MIN_CELL);
         let cell_q = (cell * QUANTA_PER_METRE as f32).round().max(1.0) as i32;
         let cell = cell_q as f32 / QUANTA_PER_METRE as f32;
         // Level k reaches at least 2^k · LEVEL_HALF cells from the camera's (Chebyshev):
@@ -314,4 +320,45 @@ pub fn drawn_cells(
         }
     }
     kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The levels reach the radius from anywhere in the camera's cell, and a radius past
+    /// the cap keeps the base cell and adds levels instead.
+    #[test]
+    fn levels_reach_the_radius_and_the_base_cell_stops_growing() {
+        let field = Field::default();
+        let layout = |radius: f32| {
+            let render = Render {
+                billboard_distance: radius,
+                ..Default::default()
+            };
+            BillboardLayout::from_scene(&render, &field).unwrap()
+        };
+        let near = layout(300.0);
+        let far = layout(3000.0);
+        assert!(
+            (near.cell_size() - 1.5).abs() < 1e-3,
+            "{}",
+            near.cell_size()
+        );
+        assert_eq!(near.cell_q, far.cell_q);
+        assert!(far.levels > near.levels, "{} {}", far.levels, near.levels);
+        for l in [near, far, layout(40.0)] {
+            let reach = LEVEL_HALF as f32 * l.cell_size() * (1u32 << l.levels) as f32;
+            assert!(reach >= l.radius + l.cell_size(), "{l:?} reaches {reach}");
+            let inner = LEVEL_HALF as f32 * l.cell_size() * (1u32 << (l.levels - 1)) as f32;
+            assert!(
+                l.levels == 1 || inner < l.radius + l.cell_size(),
+                "{l:?}: one level too many"
+            );
+        }
+        assert_eq!(
+            far.card_count(),
+            far.levels * (level_side() * level_side()) as u32
+        );
+    }
 }
