@@ -12,8 +12,8 @@ use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
 use sward::sim::layout::{CullCounters, DRAW_BATCH, LOD_LEVELS, SEEN_NO, SEEN_YES};
 use sward::sim::reference::{
-    cull_blade, early_seen, grass_hidden, late_pass, patch_spheres, patch_update, CullOutcome,
-    Late, Pyramid,
+    cull_blade, early_seen, grass_hidden, late_pass, patch_spheres, patch_update, wave_of,
+    CullOutcome, Late, Pyramid,
 };
 
 /// Blades whose outcome may differ between GPU and CPU: only those within float rounding
@@ -58,7 +58,7 @@ fn run(
     for l in &mut levels {
         l.sort_unstable();
     }
-    let (blades, _) = r.buffers.read(&gpu).expect("blades");
+    let (blades, states) = r.buffers.read(&gpu).expect("blades");
     let cp = *r.last_cull_params();
     let pyramid_levels: Option<Vec<Vec<f32>>> = (cp.hiz[3] == 1).then(|| read_pyramid(&gpu, &r));
     let pyramid = pyramid_levels.as_ref().map(|levels| Pyramid {
@@ -120,6 +120,28 @@ fn run(
     assert!(close(counters.culled_frustum, cpu.culled_frustum));
     assert!(close(counters.culled_distance, cpu.culled_distance));
     assert!(close(counters.culled_occlusion, cpu.culled_occlusion));
+
+    // The far levels' shading waves: the gusts' bend over the blades drawn early at the
+    // edge of the blades' reach (`count_wave`), summed in 1/1024ths. The visible sets may
+    // differ in a few blades, and a blade's value may round the other way by one.
+    let (mut wave_sum, mut wave_blades) = (0u64, 0u32);
+    for &i in cpu_levels.iter().flatten() {
+        if let Some(w) = wave_of(&blades[i as usize], &states[i as usize], &cp) {
+            wave_sum += u64::from(w);
+            wave_blades += 1;
+        }
+    }
+    println!(
+        "wave twin: gpu {} over {} blades, cpu {wave_sum} over {wave_blades}",
+        counters.wave_sum, counters.wave_blades
+    );
+    assert!(close(counters.wave_blades, wave_blades));
+    let slack = 1024 * allowed_mismatch(n) as u64 + u64::from(wave_blades);
+    assert!(
+        (u64::from(counters.wave_sum)).abs_diff(wave_sum) <= slack,
+        "wave sum {} against {wave_sum}",
+        counters.wave_sum
+    );
 
     // The physics list: which patches step this frame, and which of them throttled; and
     // the broad phase's sphere list of each stepped patch.

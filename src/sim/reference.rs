@@ -846,6 +846,24 @@ pub fn patch_nodes(
     (listed.len() < PATCH_SPHERE_STRIDE as usize).then_some(listed)
 }
 
+/// The twin of `count_wave` in `shaders/cull.wgsl`: for a blade the cull draws early,
+/// `Some` of how far the gusts bend it from its rest, as the blades' shading waves read it
+/// (`clamp(1.5 |v2 - rest tip| / h, 0, 1)` in whole 1/1024ths), when it lies from half the
+/// blade radius out (everywhere without a distance test); `None` nearer.
+pub fn wave_of(blade: &Blade, state: &BladeState, params: &CullParams) -> Option<u32> {
+    let v0 = Vec3::from_slice(&blade.v0_dir[..3]);
+    let up = Vec3::from_slice(&blade.up_stiffness[..3]);
+    let rel = v0 - Vec3::from_slice(&params.camera_pos[..3]);
+    let d_proj = (rel - up * rel.dot(up)).length();
+    if params.tests & TEST_DISTANCE != 0 && d_proj < 0.5 * params.max_distance {
+        return None;
+    }
+    let v2 = Vec3::from_slice(&blade.v2_width[..3]);
+    let rest = Vec3::from_slice(&state.rest_eta[..3]);
+    let gust = (v2 - rest).length() / blade.v1_height[3].max(1e-4);
+    Some(((gust * 1.5).clamp(0.0, 1.0) * 1024.0) as u32)
+}
+
 /// The cull predicate for blade `index`: the patch step (frustum and occlusion of its
 /// patch box), then Eq. 17–20 and the occlusion of v0 / m / v2; a drawn blade gets its
 /// level of detail.
