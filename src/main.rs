@@ -229,6 +229,11 @@ enum Command {
         /// against its billboards pushed out to the horizon; every band and the worst.
         #[arg(long)]
         far_field: bool,
+        /// Compare no anti-aliasing, 4x MSAA and TAA on the same scene and frames: GPU and
+        /// wall ms per frame, the work counted, and the flicker with the camera still and
+        /// the wind on (mean frame-to-frame difference of the far field and of the frame).
+        #[arg(long)]
+        antialiasing: bool,
     },
 }
 
@@ -434,6 +439,7 @@ fn main() -> ExitCode {
             models,
             light,
             far_field,
+            antialiasing,
         }) => BenchOptions::parse(
             scene,
             &frames,
@@ -450,6 +456,7 @@ fn main() -> ExitCode {
             b.models = models;
             b.light = light;
             b.far_field = far_field;
+            b.antialiasing = antialiasing;
             b
         })
         .and_then(|mut b| {

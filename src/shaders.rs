@@ -91,6 +91,7 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/ui_composite.wgsl"),
     ),
     ("tonemap.wgsl", include_str!("../shaders/tonemap.wgsl")),
+    ("taa.wgsl", include_str!("../shaders/taa.wgsl")),
     (
         "fluid_common.wgsl",
         include_str!("../shaders/fluid_common.wgsl"),
@@ -162,6 +163,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "upscale.wgsl",
     "ui_composite.wgsl",
     "tonemap.wgsl",
+    "taa.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",
     "fluid_diffuse.wgsl",

@@ -543,7 +543,11 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
                 ui.selectable_value(&mut r.msaa, n, format!("{n}×"));
             }
         });
-        if samples != r.msaa {
+        ui.checkbox(&mut r.taa, "TAA").on_hover_text(
+            "Temporal anti-aliasing: a jittered projection blended with the last frames \
+             through each pixel's motion (the blade's own for grass); replaces MSAA",
+        );
+        if samples != r.msaa && !r.taa {
             ui.label(format!("(this adapter gives {samples}× for {}×)", r.msaa));
         }
         ui.horizontal(|ui| {

@@ -138,7 +138,8 @@ pub(super) fn measure(
                 + passes[timing::GRASS_LIGHT])
                 / t,
             shadows: passes[timing::SHADOWS] / t,
-            tone_map: passes[timing::TONEMAP] / t,
+            // The TAA blend is the tone mapping's first step.
+            tone_map: (passes[timing::TONEMAP] + passes[timing::TAA]) / t,
             billboards: passes[timing::BILLBOARDS] / t,
             tiles: passes[timing::TILES] / t,
             overlays: (passes[timing::OVERLAY] + passes[timing::UPSCALE]) / t,

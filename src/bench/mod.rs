@@ -37,6 +37,7 @@ use crate::session::{check_blade_count, Session, MAX_BLADES};
 use crate::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_SIZE};
 use measure::measure;
 
+pub mod antialias;
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
 pub mod colliders;
 pub mod far_field;
@@ -102,6 +103,9 @@ pub struct BenchOptions {
     /// `--far-field`: compare the far levels with what they replace (8-row bands) instead
     /// of timing the three configurations.
     pub far_field: bool,
+    /// `--antialiasing`: compare no anti-aliasing, 4× MSAA and TAA (cost and flicker)
+    /// instead of timing the three configurations.
+    pub antialiasing: bool,
 }
 
 impl BenchOptions {
@@ -136,6 +140,7 @@ impl BenchOptions {
             models: false,
             light: false,
             far_field: false,
+            antialiasing: false,
         })
     }
 
@@ -351,6 +356,7 @@ pub struct GpuMs {
     /// What the paper's frame did not have: the sun's shadow cascades, the tone mapping,
     /// the billboards' cull and the generation of streamed tiles.
     pub shadows: f64,
+    /// The tone mapping, with the TAA blend before it where `render.taa` is on.
     pub tone_map: f64,
     pub billboards: f64,
     pub tiles: f64,
@@ -760,6 +766,13 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.
 pub fn bench(o: &BenchOptions) -> Result<()> {
+    if o.antialiasing {
+        return print_report(
+            o.json,
+            &antialias::run_antialias(o)?,
+            antialias::format_antialias,
+        );
+    }
     if o.far_field {
         return print_report(
             o.json,

@@ -221,7 +221,10 @@ impl DeferredTargets {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: VIS_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            // Copied out: the TAA twin's test reads it back.
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let list = device.create_buffer(&wgpu::BufferDescriptor {

@@ -90,6 +90,7 @@ impl Renderer {
         size: (u32, u32),
     ) {
         self.sync_msaa(gpu);
+        self.sync_taa(gpu, size);
         self.draw.sync_grass_spec(&gpu.device, &self.scene);
         self.post
             .sync_mapper(&gpu.device, self.scene.light.tone_mapping);
@@ -111,12 +112,39 @@ impl Renderer {
         let scene = self.post.view(gpu, size).clone();
         // Held outside `self` while the passes borrow it mutably.
         let target = self.msaa.take();
-        let (color, depth) = match &target {
+        let (color, pass_depth) = match &target {
             Some(m) => (&m.color, &m.depth),
             None => (&scene, depth),
         };
-        self.encode_passes(gpu, encoder, dt, camera, color, depth, size);
+        self.encode_passes(gpu, encoder, dt, camera, color, pass_depth, size);
         self.msaa = target;
+        let now = super::taa::FrameViews {
+            view_proj: self.view_crop * camera.view_proj_relative(self.aspect(size.0, size.1)),
+            jitter: self.jitter,
+            eye: camera.eye,
+        };
+        if let Some(t) = &mut self.taa {
+            let vis = self.deferred.as_ref().map(|d| d.vis_view());
+            let views = (&scene, depth, vis);
+            t.prepare(gpu, &self.post, now, views, &self.buffers.blades, size);
+        }
+    }
+
+    /// Starts or stops the temporal anti-aliasing with `render.taa` (it needs one sample
+    /// per pixel, which `sync_msaa` gives it) and sets this frame's jitter.
+    fn sync_taa(&mut self, gpu: &Gpu, size: (u32, u32)) {
+        if !(self.scene.render.taa && self.samples == 1) {
+            // Not held while unused: the history and the blades' copy go.
+            self.taa = None;
+            self.jitter = glam::Mat4::IDENTITY;
+            return;
+        }
+        let blades = &self.buffers.blades;
+        let taa = self
+            .taa
+            .get_or_insert_with(|| super::taa::TaaPass::new(gpu, blades));
+        taa.settings = self.taa_settings;
+        self.jitter = taa.next_jitter(size);
     }
 
     /// The passes of [`Renderer::encode_scene`], into the views they draw into.
@@ -133,6 +161,11 @@ impl Renderer {
     ) {
         if let Some(w) = &mut self.work {
             w.begin_frame();
+        }
+        // TAA's grass motion: the blades as the last frame drew them, before anything
+        // this frame moves or streams them.
+        if let Some(t) = &self.taa {
+            t.copy_blades(encoder, &self.buffers.blades);
         }
         let dt = self.advance(gpu, dt);
         self.frame_count = self.frame_count.wrapping_add(1);
@@ -162,7 +195,7 @@ impl Renderer {
             &gpu.queue,
             &frame,
             camera,
-            (self.aspect(size.0, size.1), self.view_crop),
+            (self.aspect(size.0, size.1), self.jitter * self.view_crop),
         );
         self.light.prepare(
             gpu,

@@ -25,6 +25,7 @@ pub mod objects;
 pub mod overlay;
 pub(crate) mod pipelines;
 pub mod post;
+pub mod taa;
 pub mod target;
 pub mod terrain;
 pub mod timing;
@@ -189,6 +190,14 @@ pub struct Renderer {
     post: post::ToneMap,
     /// The sun, the sky and the sun's shadow maps (`light`).
     light: light::LightPass,
+    /// Temporal anti-aliasing and its history, while `render.taa` is on.
+    taa: Option<taa::TaaPass>,
+    /// What the TAA pass does while `render.taa` is on (the shipped pass by default;
+    /// measurements switch parts of it off).
+    pub taa_settings: taa::TaaSettings,
+    /// This frame's sub-pixel jitter in clip space (TAA; identity without it), applied
+    /// after the projection and the crop.
+    jitter: glam::Mat4,
 }
 
 impl Renderer {
@@ -362,6 +371,9 @@ impl Renderer {
             msaa: None,
             light,
             post,
+            taa: None,
+            taa_settings: taa::TaaSettings::default(),
+            jitter: glam::Mat4::IDENTITY,
         };
         r.upload_colliders(gpu);
         r.sync_billboards(gpu);
@@ -618,9 +630,10 @@ impl Renderer {
     }
 
     /// The view-projection the passes draw `camera` with into a target of `size`: the
-    /// camera's for the display's aspect, cropped by [`Renderer::view_crop`].
+    /// camera's for the display's aspect, cropped by [`Renderer::view_crop`] and moved by
+    /// this frame's TAA jitter.
     pub(crate) fn view_proj(&self, camera: &CameraView, size: (u32, u32)) -> glam::Mat4 {
-        self.view_crop * camera.view_proj(self.aspect(size.0, size.1))
+        self.jitter * self.view_crop * camera.view_proj(self.aspect(size.0, size.1))
     }
 
     /// The projection's aspect ratio for a target of `width` × `height`.
@@ -678,6 +691,15 @@ impl Renderer {
         }
     }
 
+    /// The last TAA frame's inputs and outputs, read back (blocking; the twin's test).
+    /// `None` while `render.taa` is off or before its first frame.
+    pub fn read_taa_frame(&self, gpu: &Gpu) -> Result<Option<taa::reference::TaaFrame>> {
+        match &self.taa {
+            Some(t) => t.read_frame(gpu, &self.buffers.blades),
+            None => Ok(None),
+        }
+    }
+
     /// The sun, the sky and the shadow maps of the last frame.
     pub fn light(&self) -> &light::LightPass {
         &self.light
@@ -706,7 +728,8 @@ impl Renderer {
             + self.cull.args.size();
         let fluid = self.fluid.as_ref().map_or(0, |f| f.gpu_bytes());
         let pyramid = self.pyramid.as_ref().map_or(0, |p| p.gpu_bytes())
-            + self.deferred.as_ref().map_or(0, |d| d.gpu_bytes());
+            + self.deferred.as_ref().map_or(0, |d| d.gpu_bytes())
+            + self.taa.as_ref().map_or(0, |t| t.gpu_bytes());
         // Multisampled half-float colour (8 bytes) and depth (4 bytes) per sample.
         let msaa = self.msaa.as_ref().map_or(0, |m| {
             m.size.0 as u64 * m.size.1 as u64 * m.samples as u64 * 12

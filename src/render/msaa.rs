@@ -143,9 +143,13 @@ impl Renderer {
     /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
     /// for the new sample count before the next frame.
     pub(super) fn sync_msaa(&mut self, gpu: &Gpu) {
-        let wanted = self.sample_cap.map_or(self.scene.render.msaa, |cap| {
-            self.scene.render.msaa.min(cap)
-        });
+        // TAA takes MSAA's place: one sample per pixel, jittered from frame to frame.
+        let asked = if self.scene.render.taa {
+            1
+        } else {
+            self.scene.render.msaa
+        };
+        let wanted = self.sample_cap.map_or(asked, |cap| asked.min(cap));
         if wanted == self.requested_samples {
             return;
         }
@@ -187,9 +191,17 @@ impl Renderer {
         if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
             m.resolve(encoder, scene);
         }
+        // With TAA the tone mapping reads the history the frame was blended into.
+        let source = self
+            .taa
+            .as_ref()
+            .and_then(|t| timed(self.meters(), encoder, timing::TAA, |e, q| t.encode(e, q)));
         timed(self.meters(), encoder, timing::TONEMAP, |e, q| {
-            self.post.encode(e, self.light.group(), color, q)
+            self.post.encode(e, self.light.group(), color, source, q)
         });
+        if let Some(t) = &mut self.taa {
+            t.finish();
+        }
         if let Some(o) = &self.overlay {
             timed(self.meters(), encoder, timing::OVERLAY, |e, q| {
                 o.encode(e, color, q)

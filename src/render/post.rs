@@ -121,6 +121,19 @@ impl ToneMap {
             .map_or(0, |t| t.size.0 as u64 * t.size.1 as u64 * 8)
     }
 
+    /// A bind group that makes the pass read `view` (an [`HDR_FORMAT`] texture of the
+    /// output's size, such as the TAA history) instead of the scene target.
+    pub fn bind_view(&self, device: &wgpu::Device, view: &wgpu::TextureView) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sward.tonemap.bind_group"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(view),
+            }],
+        })
+    }
+
     fn allocate(&self, gpu: &Gpu, size: (u32, u32)) -> SceneTarget {
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("sward.tonemap.scene"),
@@ -134,20 +147,15 @@ impl ToneMap {
             dimension: wgpu::TextureDimension::D2,
             format: HDR_FORMAT,
             // Storage: the deferred grass shading writes its pixels (`render::deferred`).
+            // Copied out: the TAA twin's test reads it back.
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::STORAGE_BINDING,
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sward.tonemap.bind_group"),
-            layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(&view),
-            }],
-        });
+        let bind_group = self.bind_view(&gpu.device, &view);
         SceneTarget {
             size,
             view,
@@ -155,18 +163,21 @@ impl ToneMap {
         }
     }
 
-    /// Records the pass: the scene target through the light's exposure and curve into
-    /// `output` (same size). Does nothing before the first [`ToneMap::view`].
+    /// Records the pass: the scene target (or what `source`, a [`ToneMap::bind_view`]
+    /// group, reads) through the light's exposure and curve into `output` (same size).
+    /// Does nothing before the first [`ToneMap::view`].
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         light: &wgpu::BindGroup,
         output: &wgpu::TextureView,
+        source: Option<&wgpu::BindGroup>,
         q: PassQueries,
     ) {
         let Some(t) = &self.target else {
             return;
         };
+        let group = source.unwrap_or(&t.bind_group);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward.tonemap"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -185,7 +196,7 @@ impl ToneMap {
         });
         q.begin(&mut pass);
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &t.bind_group, &[]);
+        pass.set_bind_group(0, group, &[]);
         pass.set_bind_group(1, light, &[]);
         pass.draw(0..3, 0..1);
         q.end(&mut pass);

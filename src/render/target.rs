@@ -31,7 +31,10 @@ pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textu
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: DEPTH_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        // Copied out: the TAA twin's test reads it back.
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
     depth.create_view(&Default::default())
@@ -90,10 +93,22 @@ impl Target {
 pub fn read_texels(
     gpu: &Gpu,
     source: wgpu::TexelCopyTextureInfo,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     label: &str,
 ) -> Result<Vec<u8>> {
-    let row = width * 4;
+    read_texels_sized(gpu, source, size, 4, label)
+}
+
+/// [`read_texels`] for texels of `texel_bytes` bytes (8 for a half-float RGBA target, 16
+/// for the visibility buffer).
+pub fn read_texels_sized(
+    gpu: &Gpu,
+    source: wgpu::TexelCopyTextureInfo,
+    (width, height): (u32, u32),
+    texel_bytes: u32,
+    label: &str,
+) -> Result<Vec<u8>> {
+    let row = width * texel_bytes;
     // Buffer rows must be 256-byte aligned for texture copies.
     let padded =
         row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;

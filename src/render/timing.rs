@@ -16,9 +16,10 @@ use crate::gpu::Gpu;
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
 /// tiles entering a streamed field, the billboards' cull, the sun's shadow maps, the
 /// tone mapping, the overlays and the window's upscale; the deferred grass shading (its
-/// pixel list and its light, one scope); and the window's panel (egui). A pass that did not
+/// pixel list and its light, one scope); the window's panel (egui); and the temporal
+/// anti-aliasing. A pass that did not
 /// run in a frame reads 0.
-pub const PASSES: [&str; 17] = [
+pub const PASSES: [&str; 18] = [
     "occluders",
     "pyramid",
     "patches",
@@ -36,6 +37,7 @@ pub const PASSES: [&str; 17] = [
     "upscale",
     "grass light",
     "ui",
+    "taa",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -62,6 +64,8 @@ pub const UPSCALE: usize = 14;
 pub const GRASS_LIGHT: usize = 15;
 /// The window's panel: egui's render pass over the upscaled frame.
 pub const UI: usize = 16;
+/// Temporal anti-aliasing: the frame blended with its history (`render::taa`).
+pub const TAA: usize = 17;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

@@ -681,6 +681,11 @@ pub struct Render {
     /// pass; `render::deferred`), where it can: one sample per pixel, filled triangles, no
     /// flower heads or debug colour view. Otherwise, or false, it is lit as it is drawn.
     pub deferred_grass: bool,
+    /// Temporal anti-aliasing (`render::taa`): the projection is jittered by a sub-pixel
+    /// offset every frame and each pixel is blended with the last frames' result found
+    /// through its motion (the blade's own for grass), clamped to its neighbourhood. It
+    /// takes the place of MSAA: with it the 3D passes draw one sample per pixel.
+    pub taa: bool,
 }
 
 /// Self-shadowing among the blades, without shadow maps.
@@ -764,6 +769,7 @@ impl Default for Render {
             billboard_distance: 0.0,
             msaa: 4,
             deferred_grass: true,
+            taa: false,
         }
     }
 }

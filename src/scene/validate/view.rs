@@ -65,6 +65,7 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ),
     ("render.wireframe", Rule::Bool),
     ("render.deferred_grass", Rule::Bool),
+    ("render.taa", Rule::Bool),
     (
         "render.self_shadow",
         Rule::Choice("Height, Cwd(min: .., max: .., c1: .., c2: ..) or Off"),
