@@ -11,9 +11,6 @@
 // - the last frame's unjittered view places it, and the history is read that far from
 //   the pixel's centre (the motion between the two unjittered views; this frame's jitter
 //   is added back, so a still view reads the history at the pixel's centre);
-// - the history is read only where one of the texels around that point showed something at
-//   the distance the surface had then (the distance is kept beside the history): a blade
-//   that has moved in front of another does not take the other's history;
 // - the history is clamped to the box of the pixel's 3 x 3 neighbourhood in this frame
 //   (what it shows where it was occluded or has changed is thrown away), and blended in a
 //   compressed space, c / (1 + max(c)), so a bright sun glint does not dominate the mean.
@@ -35,8 +32,8 @@ struct TaaUniforms {
     // The blend weight of this frame, 1 with a visibility buffer, the target's size.
     params: vec4<f32>,
     // xy: this frame's jitter in normalised device coordinates; z: 1 to clamp the
-    // history to the neighbourhood and weigh the new frame up where the pixel moved or
-    // the history shows another surface (0: measurements only, `taa::TaaSettings`).
+    // history to the neighbourhood and weigh the new frame up where the pixel moved (0:
+    // measurements only, `taa::TaaSettings`).
     jitter: vec4<f32>,
 }
 
@@ -48,25 +45,10 @@ struct TaaUniforms {
 @group(0) @binding(5) var vis: texture_2d<u32>;
 @group(0) @binding(6) var<storage, read> blades: array<Blade>;
 @group(0) @binding(7) var<storage, read> prev_blades: array<Blade>;
-// The distance from the eye of what each history texel shows (written beside it).
-@group(0) @binding(8) var history_distance: texture_2d<f32>;
-
-// Relative disagreement between the distance a pixel's surface had from the last eye and
-// the distance the history shows there beyond which the history shows something else
-// (another blade in front or behind): it is dropped (twin: `taa::DISTANCE_TOLERANCE`).
-const DISTANCE_TOLERANCE: f32 = 0.03;
-
-// The weight of this frame where the history shows another surface.
-const UNSEEN_BLEND: f32 = 0.25;
-
 // The weight of this frame where the pixel moved MOVING_PIXELS or more since the last.
 const MOVING_BLEND: f32 = 0.3;
 const MOVING_PIXELS: f32 = 2.0;
 
-struct TaaOut {
-    @location(0) colour: vec4<f32>,
-    @location(1) distance: f32,
-}
 
 @vertex
 fn vs_taa(@builtin(vertex_index) vid: u32) -> @builtin(position) vec4<f32> {
@@ -82,19 +64,17 @@ fn unsquash(c: vec3<f32>) -> vec3<f32> {
     return c / max(1.0 - max(c.r, max(c.g, c.b)), 1e-4);
 }
 
-// Where the surface seen at pixel `px` (centre `centre`, in pixels) was in the last frame:
-// xy, a history texture coordinate; z, 1 where the history shows it there (0: none);
-// w, its distance from this eye.
-fn history_uv(px: vec2<i32>, centre: vec2<f32>) -> vec4<f32> {
+// Where the surface seen at pixel `px` (centre `centre`, in pixels) was in the last frame,
+// as a history texture coordinate; z = 0 where it has no history there.
+fn history_uv(px: vec2<i32>, centre: vec2<f32>) -> vec3<f32> {
+    if taa.eye_shift.w < 0.5 {
+        return vec3<f32>(0.0);
+    }
     let size = taa.params.zw;
     let d = textureLoad(depth, px, 0);
     let ndc = vec2<f32>(centre.x / size.x * 2.0 - 1.0, 1.0 - centre.y / size.y * 2.0);
     let w = taa.inv_view_proj * vec4<f32>(ndc, d, 1.0);
     var p = w.xyz / w.w;
-    let distance = length(p);
-    if taa.eye_shift.w < 0.5 {
-        return vec4<f32>(0.0, 0.0, 0.0, distance);
-    }
     if taa.params.y > 0.5 {
         let v = textureLoad(vis, px, 0);
         if v.w == 1u && bitcast<f32>(v.z) == d {
@@ -102,17 +82,16 @@ fn history_uv(px: vec2<i32>, centre: vec2<f32>) -> vec4<f32> {
             let pb = prev_blades[v.x];
             if any(b.v0_dir != pb.v0_dir) {
                 // A blade streamed into this slot since the last frame.
-                return vec4<f32>(0.0, 0.0, 0.0, distance);
+                return vec3<f32>(0.0);
             }
             let t = unpack2x16unorm(v.y).y;
             p += 2.0 * t * (1.0 - t) * (pb.v1_height.xyz - b.v1_height.xyz)
                 + t * t * (pb.v2_width.xyz - b.v2_width.xyz);
         }
     }
-    let then = p + taa.eye_shift.xyz;
-    let c = taa.prev_view_proj * vec4<f32>(then, 1.0);
+    let c = taa.prev_view_proj * vec4<f32>(p + taa.eye_shift.xyz, 1.0);
     if c.w <= 0.0 {
-        return vec4<f32>(0.0, 0.0, 0.0, distance);
+        return vec3<f32>(0.0);
     }
     // The pixel's motion between the unjittered views, from its own centre: the history
     // is read where the same jittered sample lay, so a still view reads it at the pixel's
@@ -120,18 +99,7 @@ fn history_uv(px: vec2<i32>, centre: vec2<f32>) -> vec4<f32> {
     let ndc_then = c.xy / c.w + taa.jitter.xy;
     let uv = vec2<f32>(ndc_then.x * 0.5 + 0.5, 0.5 - ndc_then.y * 0.5);
     let inside = all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
-    if !inside {
-        return vec4<f32>(0.0, 0.0, 0.0, distance);
-    }
-    // The history shows this surface if one of the texels around the point held it then.
-    let texel = clamp(vec2<i32>(uv * size - 0.5), vec2<i32>(0), vec2<i32>(size) - 2);
-    let expected = length(then);
-    var seen = false;
-    for (var i = 0; i < 4; i++) {
-        let held = textureLoad(history_distance, texel + vec2<i32>(i & 1, i >> 1u), 0).r;
-        seen = seen || abs(held - expected) <= DISTANCE_TOLERANCE * expected;
-    }
-    return vec4<f32>(uv, select(0.5, 1.0, seen), distance);
+    return vec3<f32>(uv, select(0.0, 1.0, inside));
 }
 
 // The history at `uv` through a Catmull-Rom filter (the 4 x 4 texels around it, as five
@@ -168,7 +136,7 @@ fn history_cubic(uv: vec2<f32>) -> vec3<f32> {
 }
 
 @fragment
-fn fs_taa(@builtin(position) pixel: vec4<f32>) -> TaaOut {
+fn fs_taa(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(pixel.xy);
     let last = vec2<i32>(taa.params.zw) - 1;
     let current = textureLoad(scene, px, 0);
@@ -196,7 +164,7 @@ fn fs_taa(@builtin(position) pixel: vec4<f32>) -> TaaOut {
     let h = history_uv(px, pixel.xy);
     var blend = 1.0;
     var past = now;
-    if h.z > 0.25 {
+    if h.z > 0.5 {
         past = squash(history_cubic(h.xy));
         blend = taa.params.x;
         if taa.jitter.z > 0.5 {
@@ -205,10 +173,7 @@ fn fs_taa(@builtin(position) pixel: vec4<f32>) -> TaaOut {
             // time a little softer: it keeps less of it.
             let moved = length(h.xy * taa.params.zw - pixel.xy);
             blend = mix(blend, MOVING_BLEND, clamp(moved / MOVING_PIXELS, 0.0, 1.0));
-            if h.z < 0.75 {
-                blend = max(blend, UNSEEN_BLEND);
-            }
         }
     }
-    return TaaOut(vec4<f32>(unsquash(mix(past, now, blend)), current.a), h.w);
+    return vec4<f32>(unsquash(mix(past, now, blend)), current.a);
 }

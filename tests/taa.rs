@@ -175,9 +175,9 @@ fn the_pass_matches_its_cpu_twin() {
         f.vis.is_some(),
         "the grass was deferred: blade motion in play"
     );
-    let (colours, distances) = sward::render::taa::reference::frame(&f);
-    let (mut off, mut worst, mut distance_worst) = (0usize, 0f32, 0f32);
-    for (i, (gpu_c, cpu_c)) in f.output.iter().zip(&colours).enumerate() {
+    let colours = sward::render::taa::reference::frame(&f);
+    let (mut off, mut worst) = (0usize, 0f32);
+    for (gpu_c, cpu_c) in f.output.iter().zip(&colours) {
         let e = (0..3)
             .map(|k| (gpu_c[k] - cpu_c[k]).abs() / (1.0 + cpu_c[k].abs()))
             .fold(0.0, f32::max);
@@ -185,22 +185,19 @@ fn the_pass_matches_its_cpu_twin() {
         if e > COLOUR_TOLERANCE {
             off += 1;
         }
-        let d = (f.output_distance[i] - distances[i]).abs() / distances[i].max(1e-3);
-        distance_worst = distance_worst.max(d);
     }
     let share = off as f64 / colours.len() as f64;
     println!(
-        "twin: {off} pixels ({:.3} %) over {COLOUR_TOLERANCE}, worst {worst:.4}; distances \
-         worst {distance_worst:.2e}",
+        "twin: {off} pixels ({:.3} %) over {COLOUR_TOLERANCE}, worst {worst:.4}",
         100.0 * share
     );
     assert!(share <= OFF_SHARE, "{share}");
-    assert!(distance_worst < 1e-4, "{distance_worst}");
 }
 
 /// A pixel's channel may differ from the twin by this much relative to 1 + its value: the
-/// targets hold half floats (11 bits) and the sampler interpolates with 8-bit weights.
-const COLOUR_TOLERANCE: f32 = 0.01;
-/// Pixels over it, at most this share: where the distance check or the blade's slot check
-/// sits on its threshold, the GPU and the twin may choose differently (measured 0.08 %).
-const OFF_SHARE: f64 = 0.005;
+/// targets hold half floats (11 bits) and the sampler interpolates with fixed-point
+/// weights (measured at most 0.0005).
+const COLOUR_TOLERANCE: f32 = 0.002;
+/// Pixels over it, at most this share: where a read sits on a texel's edge or the clamp on
+/// its box's, the GPU's rounding and the twin's may choose differently (measured 0).
+const OFF_SHARE: f64 = 0.001;

@@ -30,13 +30,6 @@ use crate::sim::layout::Blade;
 /// about `1 / BLEND` frames contribute.
 pub const BLEND: f32 = 0.1;
 
-/// The relative disagreement in distance beyond which the history shows another surface
-/// (`DISTANCE_TOLERANCE` in the shader).
-pub const DISTANCE_TOLERANCE: f32 = 0.03;
-
-/// The format the history's distances are kept in.
-pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-
 /// Jitter offsets before the sequence repeats.
 pub const JITTER_PHASES: u32 = 8;
 
@@ -162,10 +155,8 @@ pub fn uniforms(
 struct History {
     size: (u32, u32),
     /// Kept: the bind groups reference their views.
-    _textures: [wgpu::Texture; 4],
+    _textures: [wgpu::Texture; 2],
     views: [wgpu::TextureView; 2],
-    /// The distance from the eye of what each texel of `views` shows.
-    distances: [wgpu::TextureView; 2],
     tonemap_groups: [wgpu::BindGroup; 2],
     /// The pass's groups, with the views and buffer they were made for.
     groups: Option<(GroupKey, [wgpu::BindGroup; 2])>,
@@ -255,7 +246,6 @@ impl TaaPass {
                 texture(5, wgpu::TextureSampleType::Uint),
                 storage(6),
                 storage(7),
-                texture(8, float(false)),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -264,34 +254,16 @@ impl TaaPass {
             immediate_size: 0,
         });
         let module = crate::shaders::module(device, "taa.wgsl");
-        let target = |format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("sward.taa.pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_taa"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_taa"),
-                compilation_options: Default::default(),
-                targets: &[target(super::post::HDR_FORMAT), target(DISTANCE_FORMAT)],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::pipelines::fullscreen_pipeline(
+            device,
+            "sward.taa.pipeline",
+            &pipeline_layout,
+            &module,
+            ("vs_taa", "fs_taa"),
+            super::post::HDR_FORMAT,
+            None,
+            &[],
+        );
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.taa.uniforms"),
             size: std::mem::size_of::<TaaUniforms>() as u64,
@@ -349,7 +321,7 @@ impl TaaPass {
         let history = self
             .history
             .as_ref()
-            .map_or(0, |h| 2 * h.size.0 as u64 * h.size.1 as u64 * (8 + 4));
+            .map_or(0, |h| 2 * h.size.0 as u64 * h.size.1 as u64 * 8);
         self.prev_blades.size() + history
     }
 
@@ -454,10 +426,6 @@ impl TaaPass {
                         binding: 7,
                         resource: self.prev_blades.as_entire_binding(),
                     },
-                    wgpu::BindGroupEntry {
-                        binding: 8,
-                        resource: wgpu::BindingResource::TextureView(&h.distances[read]),
-                    },
                 ],
             })
         };
@@ -470,14 +438,7 @@ impl TaaPass {
     fn allocate(&self, gpu: &Gpu, tonemap: &super::post::ToneMap, size: (u32, u32)) -> History {
         let make = |i: usize| {
             gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(
-                    [
-                        "sward.taa.history0",
-                        "sward.taa.history1",
-                        "sward.taa.distance0",
-                        "sward.taa.distance1",
-                    ][i],
-                ),
+                label: Some(["sward.taa.history0", "sward.taa.history1"][i]),
                 size: wgpu::Extent3d {
                     width: size.0.max(1),
                     height: size.1.max(1),
@@ -486,26 +447,20 @@ impl TaaPass {
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
-                format: if i < 2 {
-                    super::post::HDR_FORMAT
-                } else {
-                    DISTANCE_FORMAT
-                },
+                format: super::post::HDR_FORMAT,
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::TEXTURE_BINDING
                     | wgpu::TextureUsages::COPY_SRC,
                 view_formats: &[],
             })
         };
-        let textures = [make(0), make(1), make(2), make(3)];
+        let textures = [make(0), make(1)];
         let views = [0, 1].map(|i| textures[i].create_view(&Default::default()));
-        let distances = [2, 3].map(|i| textures[i].create_view(&Default::default()));
         let tonemap_groups = [0, 1].map(|i| tonemap.bind_view(&gpu.device, &views[i]));
         History {
             size,
             _textures: textures,
             views,
-            distances,
             tonemap_groups,
             groups: None,
             write: 0,
@@ -527,17 +482,15 @@ impl TaaPass {
         let write = h.write;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward.taa"),
-            color_attachments: &[&h.views[write], &h.distances[write]].map(|view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            }),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &h.views[write],
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
             depth_stencil_attachment: None,
             timestamp_writes: q.render_writes(),
             occlusion_query_set: None,
@@ -625,9 +578,7 @@ impl TaaPass {
             blades: blade_list(blades)?,
             prev_blades: blade_list(&self.prev_blades)?,
             history: halves(&h.views[input])?,
-            history_distance: floats(&h.distances[input], all)?,
             output: halves(&h.views[output])?,
-            output_distance: floats(&h.distances[output], all)?,
         }))
     }
 }

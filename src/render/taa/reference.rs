@@ -3,8 +3,7 @@
 //!
 //! The twin follows the shader step by step in f32: the neighbourhood's box narrowed to
 //! mean ± σ, the surface's point from the depth and the inverted jittered view, the
-//! blade's motion from its control points, the last view's projection, the distance check
-//! against the four history texels, the Catmull-Rom read of the history as five bilinear
+//! blade's motion from its control points, the last view's projection, the Catmull-Rom read of the history as five bilinear
 //! reads (clamped to the edge, as the sampler is), the clamp and the blend in the
 //! compressed space.
 
@@ -25,16 +24,13 @@ pub struct TaaFrame {
     pub vis: Option<Vec<[u32; 4]>>,
     pub blades: Vec<Blade>,
     pub prev_blades: Vec<Blade>,
-    /// The history the pass read, and the distances beside it.
+    /// The history the pass read.
     pub history: Vec<[f32; 4]>,
-    pub history_distance: Vec<f32>,
     /// What the pass wrote.
     pub output: Vec<[f32; 4]>,
-    pub output_distance: Vec<f32>,
 }
 
 /// The shader's constants (twins of `taa.wgsl`'s).
-const UNSEEN_BLEND: f32 = 0.25;
 const MOVING_BLEND: f32 = 0.3;
 const MOVING_PIXELS: f32 = 2.0;
 
@@ -46,8 +42,8 @@ fn unsquash(c: Vec3) -> Vec3 {
     c / (1.0 - c.max_element()).max(1e-4)
 }
 
-/// The twin's result at one pixel: the colour (rgb, alpha) and the distance.
-pub fn pixel(f: &TaaFrame, x: u32, y: u32) -> ([f32; 4], f32) {
+/// The twin's result at one pixel (rgb, alpha).
+pub fn pixel(f: &TaaFrame, x: u32, y: u32) -> [f32; 4] {
     let u = &f.uniforms;
     let (w, h) = f.size;
     let at = |x: i32, y: i32| {
@@ -79,7 +75,7 @@ pub fn pixel(f: &TaaFrame, x: u32, y: u32) -> ([f32; 4], f32) {
     let found = history_uv(f, x, y, centre);
     let mut blend = 1.0;
     let mut past = now;
-    if found.z > 0.25 {
+    if found.z > 0.5 {
         past = squash(history_cubic(f, Vec2::new(found.x, found.y)));
         blend = u.params[0];
         if u.jitter[2] > 0.5 {
@@ -87,17 +83,14 @@ pub fn pixel(f: &TaaFrame, x: u32, y: u32) -> ([f32; 4], f32) {
             let size = Vec2::new(u.params[2], u.params[3]);
             let moved = (Vec2::new(found.x, found.y) * size - centre).length();
             blend = blend + (MOVING_BLEND - blend) * (moved / MOVING_PIXELS).clamp(0.0, 1.0);
-            if found.z < 0.75 {
-                blend = blend.max(UNSEEN_BLEND);
-            }
         }
     }
     let out = unsquash(past + (now - past) * blend);
-    ([out.x, out.y, out.z, current.w], found.w)
+    [out.x, out.y, out.z, current.w]
 }
 
 /// `history_uv` of the shader.
-fn history_uv(f: &TaaFrame, x: u32, y: u32, centre: Vec2) -> Vec4 {
+fn history_uv(f: &TaaFrame, x: u32, y: u32, centre: Vec2) -> Vec3 {
     let u = &f.uniforms;
     let size = Vec2::new(u.params[2], u.params[3]);
     let i = (y * f.size.0 + x) as usize;
@@ -106,8 +99,7 @@ fn history_uv(f: &TaaFrame, x: u32, y: u32, centre: Vec2) -> Vec4 {
     let inv = Mat4::from_cols_array_2d(&u.inv_view_proj);
     let w = inv * Vec4::new(ndc.x, ndc.y, d, 1.0);
     let mut p = w.truncate() / w.w;
-    let distance = p.length();
-    let none = Vec4::new(0.0, 0.0, 0.0, distance);
+    let none = Vec3::ZERO;
     if u.eye_shift[3] < 0.5 {
         return none;
     }
@@ -137,16 +129,7 @@ fn history_uv(f: &TaaFrame, x: u32, y: u32, centre: Vec2) -> Vec4 {
     if uv.x < 0.0 || uv.y < 0.0 || uv.x > 1.0 || uv.y > 1.0 {
         return none;
     }
-    let texel = (uv * size - 0.5)
-        .as_ivec2()
-        .clamp(glam::IVec2::ZERO, size.as_ivec2() - 2);
-    let expected = then.length();
-    let seen = (0..4).any(|k| {
-        let q = texel + glam::IVec2::new(k & 1, k >> 1);
-        let held = f.history_distance[(q.y as u32 * f.size.0 + q.x as u32) as usize];
-        (held - expected).abs() <= super::DISTANCE_TOLERANCE * expected
-    });
-    Vec4::new(uv.x, uv.y, if seen { 1.0 } else { 0.5 }, distance)
+    Vec3::new(uv.x, uv.y, 1.0)
 }
 
 /// A bilinear read of the history at `uv`, clamped to the edge (the sampler's).
@@ -194,18 +177,15 @@ fn history_cubic(f: &TaaFrame, uv: Vec2) -> Vec3 {
     (sum / total).max(Vec3::ZERO)
 }
 
-/// The twin over the whole frame: colours and distances, row-major.
-pub fn frame(f: &TaaFrame) -> (Vec<[f32; 4]>, Vec<f32>) {
+/// The twin over the whole frame, row-major.
+pub fn frame(f: &TaaFrame) -> Vec<[f32; 4]> {
     let mut colours = Vec::with_capacity(f.output.len());
-    let mut distances = Vec::with_capacity(f.output.len());
     for y in 0..f.size.1 {
         for x in 0..f.size.0 {
-            let (c, d) = pixel(f, x, y);
-            colours.push(c);
-            distances.push(d);
+            colours.push(pixel(f, x, y));
         }
     }
-    (colours, distances)
+    colours
 }
 
 /// A half-float's value (the scene target and the history are half floats).
