@@ -679,3 +679,43 @@ fn far_field_compares_the_levels_band_by_band() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--far-field compares the far levels"));
 }
+
+/// `--antialiasing` compares no anti-aliasing, 4x MSAA and TAA on the same frames: each
+/// with its samples, times, work and flicker; MSAA differs from itself by nothing; and it
+/// goes with no other mode and needs pairs of frames.
+#[test]
+fn antialiasing_compares_none_msaa_and_taa() {
+    let r = bench_json(&[
+        "--frames",
+        "3",
+        "--warmup",
+        "1",
+        "--size",
+        "96x54",
+        "--antialiasing",
+    ]);
+    let configs = r["configurations"].as_array().expect("configurations");
+    let names: Vec<&str> = configs
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["none", "msaa 4x", "taa"]);
+    let samples: Vec<u64> = configs.iter().map(|c| u(c, &["samples"])).collect();
+    assert_eq!(samples[0], 1);
+    assert!(samples[1] > 1, "{samples:?}");
+    assert_eq!(samples[2], 1, "TAA draws one sample per pixel");
+    for c in configs {
+        assert!(f(c, &["wall_ms"]) > 0.0, "{c}");
+        assert!(f(c, &["frame_flicker"]) >= 0.0, "{c}");
+        assert!(f(c, &["far_flicker"]) >= 0.0, "{c}");
+    }
+    assert_eq!(f(&configs[1], &["difference_from_msaa"]), 0.0);
+    assert!(f(&configs[2], &["taa_ms"]) > 0.0, "the TAA pass is timed");
+    assert_eq!(f(&configs[0], &["taa_ms"]), 0.0);
+    let out = sward(&["bench", "--antialiasing", "--light", "--scene", SCENE]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--antialiasing compares"));
+    let out = sward(&["bench", "--antialiasing", "--frames", "1", "--scene", SCENE]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("at least 2"));
+}

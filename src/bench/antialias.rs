@@ -66,9 +66,21 @@ pub struct AntialiasReport {
 
 /// Refuses options that mean nothing here.
 pub fn check_antialias_options(o: &BenchOptions) -> Result<()> {
-    if !o.sweep.is_empty() {
+    if o.flight
+        || o.models
+        || o.light
+        || o.far_field
+        || !o.sweep.is_empty()
+        || o.images.is_some()
+        || o.trace.is_some()
+        || !o.pressure_solvers.is_empty()
+        || !o.colliders.is_empty()
+    {
         return Err(Error::Invalid(
-            "--sweep and --antialiasing do not go together: the comparison times one field".into(),
+            "--antialiasing compares the anti-aliasing alone: it does not go with --flight, \
+             --models, --light, --far-field, --sweep, --images, --trace, --pressure-solvers \
+             or --colliders"
+                .into(),
         ));
     }
     if o.frames < 2 {
