@@ -8,12 +8,14 @@
 //   nearest surface there) moves with its blade: the point's offset along the blade's
 //   quadratic curve (Eq. 21) is the change of the control points since the last frame,
 //   2 v (1 - v) (v1' - v1) + v^2 (v2' - v2), so swaying blades do not smear;
+// - a point on a moving collider (a ball's sphere) moves with its centre;
 // - the last frame's unjittered view places it, and the history is read that far from
 //   the pixel's centre (the motion between the two unjittered views; this frame's jitter
 //   is added back, so a still view reads the history at the pixel's centre);
 // - the history is clamped to the box of the pixel's 3 x 3 neighbourhood in this frame
-//   (what it shows where it was occluded or has changed is thrown away), and blended in a
-//   compressed space, c / (1 + max(c)), so a bright sun glint does not dominate the mean.
+//   (what it shows where it was occluded or has changed is thrown away), compared in a
+//   compressed space, c / (1 + max(c)), so a bright sun glint does not stretch the box,
+//   and blended in linear radiance, as MSAA's resolve averages.
 //
 // A pixel without a history (the first frame, off the last frame's view, a blade newly
 // streamed into its slot) takes this frame's sample alone.
@@ -33,9 +35,16 @@ struct TaaUniforms {
     params: vec4<f32>,
     // xy: this frame's jitter in normalised device coordinates; z: 1 to clamp the
     // history to the neighbourhood and weigh the new frame up where the pixel moved (0:
-    // measurements only, `taa::TaaSettings`).
+    // measurements only, `taa::TaaSettings`); w: how many of `moving` are used.
     jitter: vec4<f32>,
+    // The colliders that moved since the last frame, in pairs: the centre now relative to
+    // this eye and the radius, then the centre then (twin: `taa::MAX_MOVING`).
+    moving: array<vec4<f32>, 16>,
 }
+
+// How far from a moving collider's sphere (relative to its radius) a surface point still
+// moves with it.
+const ON_SPHERE: f32 = 0.05;
 
 @group(0) @binding(0) var<uniform> taa: TaaUniforms;
 @group(0) @binding(1) var scene: texture_2d<f32>;
@@ -75,6 +84,14 @@ fn history_uv(px: vec2<i32>, centre: vec2<f32>) -> vec3<f32> {
     let ndc = vec2<f32>(centre.x / size.x * 2.0 - 1.0, 1.0 - centre.y / size.y * 2.0);
     let w = taa.inv_view_proj * vec4<f32>(ndc, d, 1.0);
     var p = w.xyz / w.w;
+    // A point on a moving collider (a ball) moves with its centre; its spin is left out.
+    for (var i = 0u; i < u32(taa.jitter.w); i++) {
+        let now = taa.moving[2u * i];
+        if abs(distance(p, now.xyz) - now.w) <= ON_SPHERE * now.w {
+            p += taa.moving[2u * i + 1u].xyz - now.xyz;
+            break;
+        }
+    }
     if taa.params.y > 0.5 {
         let v = textureLoad(vis, px, 0);
         if v.w == 1u && bitcast<f32>(v.z) == d {
@@ -175,5 +192,8 @@ fn fs_taa(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
             blend = mix(blend, MOVING_BLEND, clamp(moved / MOVING_PIXELS, 0.0, 1.0));
         }
     }
-    return vec4<f32>(unsquash(mix(past, now, blend)), current.a);
+    // The blend itself in linear radiance, as MSAA's resolve averages: averaging in the
+    // compressed space would weigh the dark gaps between far blades up and leave the far
+    // field darker than the blades' mean (5 to 12 levels on the prairie).
+    return vec4<f32>(mix(unsquash(past), max(current.rgb, vec3<f32>(0.0)), blend), current.a);
 }

@@ -26,6 +26,8 @@ const FAR_OFF: f64 = 0.01;
 fn scene(model: BladeModel) -> Scene {
     let mut s = Scene::default();
     s.render.msaa = 1;
+    // The light's two paths compared on the same unjittered frame: no TAA.
+    s.render.taa = false;
     s.physics.model = model;
     s
 }

@@ -53,6 +53,8 @@ fn four_samples_blend_the_blade_edges() {
     for msaa in [1, 4] {
         let mut scene = common::still_scene();
         scene.render.msaa = msaa;
+        // Against one sample without any anti-aliasing.
+        scene.render.taa = false;
         let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
         let mut r = common::stepped(&gpu, &session, 0, 0.0);
         assert_eq!(r.msaa_samples(), msaa, "4× is guaranteed by WebGPU");

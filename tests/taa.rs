@@ -31,6 +31,7 @@ fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
 
 fn taa_scene() -> Scene {
     let mut s = Scene::default();
+    s.render.msaa = 1;
     s.render.taa = true;
     s
 }

@@ -33,6 +33,10 @@ fn run(
     camera: impl Fn(&Session) -> CameraView,
 ) -> CullCounters {
     scene.culling.grass_occlusion = false;
+    // Multisampled (the default, said here because it matters): the pyramid then keeps
+    // its own level 0, so reading it back after the frame gives what the cull saw (with
+    // one sample its level 0 is the frame's depth, which the draw fills after the cull).
+    scene.render.msaa = 4;
     let gpu = common::gpu();
     let session = Session::new(scene, blades, Some(&gpu)).expect("field");
     let camera = camera(&session);
@@ -286,6 +290,8 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
     scene.colliders.clear();
     scene.field.patch_size = 64;
     scene.culling.distance = false;
+    // Multisampled: the pyramid keeps its own level 0 (see `run`).
+    scene.render.msaa = 4;
     let gpu = common::gpu();
     let session = Session::new(scene, Some(16384), Some(&gpu)).expect("field");
     let first = camera(

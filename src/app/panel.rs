@@ -543,11 +543,12 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
                 ui.selectable_value(&mut r.msaa, n, format!("{n}×"));
             }
         });
-        ui.checkbox(&mut r.taa, "TAA").on_hover_text(
-            "Temporal anti-aliasing: a jittered projection blended with the last frames \
-             through each pixel's motion (the blade's own for grass); replaces MSAA",
-        );
-        if samples != r.msaa && !r.taa {
+        ui.add_enabled(r.msaa == 1, egui::Checkbox::new(&mut r.taa, "TAA"))
+            .on_hover_text(
+                "Temporal anti-aliasing at MSAA 1×: a jittered projection blended with the \
+                 last frames through each pixel's motion (the blade's own for grass)",
+            );
+        if samples != r.msaa {
             ui.label(format!("(this adapter gives {samples}× for {}×)", r.msaa));
         }
         ui.horizontal(|ui| {

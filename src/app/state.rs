@@ -622,9 +622,11 @@ impl AppState {
         };
         self.renderer.display_aspect = Some(self.size.0 as f32 / self.size.1.max(1) as f32);
         self.renderer.view_crop = crop;
-        // The budget caps the samples without touching the scene (Save keeps render.msaa).
+        // The budget switches the anti-aliasing off without touching the scene (Save keeps
+        // render.msaa and render.taa): MSAA by capping the samples, TAA outright.
         self.renderer
             .set_sample_cap(self.budget.msaa_off().then_some(1));
+        self.renderer.taa_allowed = !self.budget.msaa_off();
         self.renderer.billboard_share = self.budget.billboards();
         self.renderer.grass_shadows = !self.budget.grass_shadows_off();
         self.renderer

@@ -122,20 +122,28 @@ impl Renderer {
             view_proj: self.view_crop * camera.view_proj_relative(self.aspect(size.0, size.1)),
             jitter: self.jitter,
             eye: camera.eye,
+            spheres: if self.taa.as_ref().is_some_and(|t| t.active()) {
+                self.frame_spheres()
+            } else {
+                Vec::new()
+            },
         };
-        if let Some(t) = &mut self.taa {
+        if let Some(t) = self.taa.as_mut().filter(|t| t.active()) {
             let vis = self.deferred.as_ref().map(|d| d.vis_view());
             let views = (&scene, depth, vis);
             t.prepare(gpu, &self.post, now, views, &self.buffers.blades, size);
         }
     }
 
-    /// Starts or stops the temporal anti-aliasing with `render.taa` (it needs one sample
-    /// per pixel, which `sync_msaa` gives it) and sets this frame's jitter.
+    /// Starts or stops the temporal anti-aliasing with `render.taa` (it anti-aliases
+    /// frames of one sample per pixel; the window's budget may switch it off) and sets
+    /// this frame's jitter.
     fn sync_taa(&mut self, gpu: &Gpu, size: (u32, u32)) {
-        if !(self.scene.render.taa && self.samples == 1) {
+        if !(self.scene.render.taa && self.samples == 1 && self.taa_allowed) {
             // Not held while unused: the history and the blades' copy go.
-            self.taa = None;
+            if let Some(t) = &mut self.taa {
+                t.release();
+            }
             self.jitter = glam::Mat4::IDENTITY;
             return;
         }
@@ -143,6 +151,7 @@ impl Renderer {
         let taa = self
             .taa
             .get_or_insert_with(|| super::taa::TaaPass::new(gpu, blades));
+        taa.resume(&gpu.device, blades);
         taa.settings = self.taa_settings;
         self.jitter = taa.next_jitter(size);
     }

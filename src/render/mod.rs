@@ -192,6 +192,9 @@ pub struct Renderer {
     light: light::LightPass,
     /// Temporal anti-aliasing and its history, while `render.taa` is on.
     taa: Option<taa::TaaPass>,
+    /// Whether `render.taa` may run: the window's frame budget switches anti-aliasing off
+    /// (MSAA by its sample cap, TAA by this) without touching the scene.
+    pub taa_allowed: bool,
     /// What the TAA pass does while `render.taa` is on (the shipped pass by default;
     /// measurements switch parts of it off).
     pub taa_settings: taa::TaaSettings,
@@ -373,6 +376,7 @@ impl Renderer {
             post,
             taa: None,
             taa_settings: taa::TaaSettings::default(),
+            taa_allowed: true,
             jitter: glam::Mat4::IDENTITY,
         };
         r.upload_colliders(gpu);
@@ -564,7 +568,9 @@ impl Renderer {
         let mut p = cull_params(
             &self.scene.culling,
             &CullInputs {
-                view_proj: self.view_proj(camera, size),
+                // Unjittered: the TAA jitter moves the picture, not what is in view (and
+                // the cull's CPU twins see the camera's own view).
+                view_proj: self.view_crop * camera.view_proj(self.aspect(size.0, size.1)),
                 camera: camera.eye,
                 fov_y: camera.fov_y,
                 near: camera.near,

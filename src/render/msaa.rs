@@ -143,12 +143,7 @@ impl Renderer {
     /// Applies a changed `render.msaa` (the panel): the pipelines and targets are rebuilt
     /// for the new sample count before the next frame.
     pub(super) fn sync_msaa(&mut self, gpu: &Gpu) {
-        // TAA takes MSAA's place: one sample per pixel, jittered from frame to frame.
-        let asked = if self.scene.render.taa {
-            1
-        } else {
-            self.scene.render.msaa
-        };
+        let asked = self.scene.render.msaa;
         let wanted = self.sample_cap.map_or(asked, |cap| asked.min(cap));
         if wanted == self.requested_samples {
             return;
@@ -195,6 +190,7 @@ impl Renderer {
         let source = self
             .taa
             .as_ref()
+            .filter(|t| t.ready())
             .and_then(|t| timed(self.meters(), encoder, timing::TAA, |e, q| t.encode(e, q)));
         timed(self.meters(), encoder, timing::TONEMAP, |e, q| {
             self.post.encode(e, self.light.group(), color, source, q)

@@ -672,19 +672,23 @@ pub struct Render {
     pub self_shadow: SelfShadow,
     /// Billboards of grass from the blades' radius out to this distance (m); 0: none.
     pub billboard_distance: f32,
-    /// Samples per pixel of the 3D passes (MSAA): 1 (off), 2, 4 or 8. Thin, moving blades
-    /// shimmer without it. 4 by default: every WebGPU adapter supports 4× for the formats
-    /// used; where the adapter lacks the count asked for, the largest count below it is
-    /// used (with a warning).
+    /// Samples per pixel of the 3D passes (MSAA): 1 (off, or TAA with `taa`), 2, 4 or 8.
+    /// Thin, moving blades shimmer without anti-aliasing. 4 by default: every WebGPU
+    /// adapter supports 4× for the formats used, and the far levels are calibrated on
+    /// the blades at 4× (with one sample the far blades' band reads darker); where the
+    /// adapter lacks the count asked for, the largest count below it is used (with a
+    /// warning).
     pub msaa: u32,
     /// Light the grass once per pixel, after the draw (a visibility buffer and a compute
     /// pass; `render::deferred`), where it can: one sample per pixel, filled triangles, no
     /// flower heads or debug colour view. Otherwise, or false, it is lit as it is drawn.
     pub deferred_grass: bool,
-    /// Temporal anti-aliasing (`render::taa`): the projection is jittered by a sub-pixel
-    /// offset every frame and each pixel is blended with the last frames' result found
-    /// through its motion (the blade's own for grass), clamped to its neighbourhood. It
-    /// takes the place of MSAA: with it the 3D passes draw one sample per pixel.
+    /// Temporal anti-aliasing (`render::taa`) for frames of one sample per pixel
+    /// (`msaa: 1`): the projection is jittered by a sub-pixel offset every frame and each
+    /// pixel is blended with the last frames' result found through its motion (the
+    /// blade's own for grass), clamped to its neighbourhood. On the software adapter it
+    /// costs about a sixth of what 4× MSAA does and flickers half as much (`sward bench
+    /// --antialiasing`); off by default (see `msaa`).
     pub taa: bool,
 }
 

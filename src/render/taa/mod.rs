@@ -30,6 +30,10 @@ use crate::sim::layout::Blade;
 /// about `1 / BLEND` frames contribute.
 pub const BLEND: f32 = 0.1;
 
+/// Moving colliders (balls) whose surface pixels move with them, at most; the others move
+/// by the depth alone.
+pub const MAX_MOVING: usize = 8;
+
 /// Jitter offsets before the sequence repeats.
 pub const JITTER_PHASES: u32 = 8;
 
@@ -100,8 +104,11 @@ pub struct TaaUniforms {
     /// [`BLEND`], 1 with a visibility buffer, the target's width and height.
     pub params: [f32; 4],
     /// xy: this frame's jitter in normalised device coordinates; z: 1 to clamp the
-    /// history; w: 1 to move grass with its blades.
+    /// history; w: how many spheres of `moving` are used.
     pub jitter: [f32; 4],
+    /// The colliders that moved since the last frame, in pairs: the centre now relative
+    /// to this eye and the radius, then the centre then relative to this eye.
+    pub moving: [[f32; 4]; 2 * MAX_MOVING],
 }
 
 /// One frame's views, as the pass reads them.
@@ -111,6 +118,8 @@ pub struct FrameViews {
     /// The jitter applied after it.
     pub jitter: Mat4,
     pub eye: Vec3,
+    /// The colliders this frame (centre and radius, world), in the renderer's order.
+    pub spheres: Vec<[f32; 4]>,
 }
 
 /// The uniforms of a frame of `size` drawn with `now`, after a frame drawn with `last`
@@ -127,6 +136,7 @@ pub fn uniforms(
         Some(l) => (l.view_proj, now.eye - l.eye, 1.0),
         None => (Mat4::IDENTITY, Vec3::ZERO, 0.0),
     };
+    let moving = last.map_or((0, [[0.0; 4]; 2 * MAX_MOVING]), |l| moving_spheres(now, l));
     TaaUniforms {
         inv_view_proj: inv.to_cols_array_2d(),
         prev_view_proj: prev.to_cols_array_2d(),
@@ -145,9 +155,29 @@ pub fn uniforms(
             now.jitter.w_axis.x,
             now.jitter.w_axis.y,
             if settings.clamp { 1.0 } else { 0.0 },
-            0.0,
+            moving.0 as f32,
         ],
+        moving: moving.1,
     }
+}
+
+/// The first [`MAX_MOVING`] colliders of `now` whose centre differs from the same
+/// collider's in `last`, as the shader reads them, and how many.
+fn moving_spheres(now: &FrameViews, last: &FrameViews) -> (usize, [[f32; 4]; 2 * MAX_MOVING]) {
+    let mut out = [[0.0; 4]; 2 * MAX_MOVING];
+    let mut n = 0;
+    for (a, b) in now.spheres.iter().zip(&last.spheres) {
+        if n == MAX_MOVING {
+            break;
+        }
+        if a[..3] != b[..3] {
+            let rel = |c: &[f32; 4]| (Vec3::new(c[0], c[1], c[2]) - now.eye).extend(c[3]);
+            out[2 * n] = rel(a).into();
+            out[2 * n + 1] = rel(b).into();
+            n += 1;
+        }
+    }
+    (n, out)
 }
 
 /// The two history targets of one size (written in turn) and the bind groups that read
@@ -181,7 +211,7 @@ pub struct TaaPass {
     /// Bound where the grass is drawn forward (no visibility buffer).
     no_vis: wgpu::TextureView,
     /// The blades as the last frame drew them.
-    prev_blades: wgpu::Buffer,
+    prev_blades: Option<wgpu::Buffer>,
     history: Option<History>,
     /// Frames drawn with this pass (the jitter's phase).
     frame: u32,
@@ -292,14 +322,7 @@ impl TaaPass {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        let prev_blades = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward.taa.prev_blades"),
-            size: blades.size(),
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let prev_blades = Some(prev_blades_buffer(device, blades));
         Self {
             pipeline,
             layout,
@@ -322,7 +345,33 @@ impl TaaPass {
             .history
             .as_ref()
             .map_or(0, |h| 2 * h.size.0 as u64 * h.size.1 as u64 * 8);
-        self.prev_blades.size() + history
+        self.prev_blades.as_ref().map_or(0, |b| b.size()) + history
+    }
+
+    /// Lets go of the history and the blades' copy while the pass is switched off (the
+    /// pipeline stays: building it again each time costs the software adapter memory).
+    pub fn release(&mut self) {
+        self.history = None;
+        self.prev_blades = None;
+        self.last = None;
+        self.now = None;
+    }
+
+    /// Takes the blades' copy back after [`TaaPass::release`]; the history starts over.
+    pub fn resume(&mut self, device: &wgpu::Device, blades: &wgpu::Buffer) {
+        if self.prev_blades.is_none() {
+            self.prev_blades = Some(prev_blades_buffer(device, blades));
+        }
+    }
+
+    /// Whether this frame was prepared and its pass can be recorded.
+    pub fn ready(&self) -> bool {
+        self.now.is_some() && self.history.as_ref().is_some_and(|h| h.groups.is_some())
+    }
+
+    /// Whether the pass holds its buffers (not released).
+    pub fn active(&self) -> bool {
+        self.prev_blades.is_some()
     }
 
     /// This frame's jitter as a clip-space matrix for a target of `size` (advances the
@@ -340,7 +389,9 @@ impl TaaPass {
     /// Records the copy of the blades as the last frame left them, before this frame's
     /// update moves them (the grass's motion is the difference).
     pub fn copy_blades(&self, encoder: &mut wgpu::CommandEncoder, blades: &wgpu::Buffer) {
-        encoder.copy_buffer_to_buffer(blades, 0, &self.prev_blades, 0, blades.size());
+        if let Some(prev) = &self.prev_blades {
+            encoder.copy_buffer_to_buffer(blades, 0, prev, 0, blades.size());
+        }
     }
 
     /// Sets this frame's views and inputs (`scene`, this frame's radiance; `depth`; `vis`,
@@ -383,7 +434,7 @@ impl TaaPass {
             depth: depth.clone(),
             vis: vis.cloned(),
         };
-        let Some(h) = &self.history else {
+        let (Some(h), Some(prev)) = (&self.history, &self.prev_blades) else {
             return;
         };
         if h.groups.as_ref().map(|g| &g.0) == Some(&key) {
@@ -424,7 +475,7 @@ impl TaaPass {
                     },
                     wgpu::BindGroupEntry {
                         binding: 7,
-                        resource: self.prev_blades.as_entire_binding(),
+                        resource: prev.as_entire_binding(),
                     },
                 ],
             })
@@ -576,9 +627,24 @@ impl TaaPass {
             depth: floats(&key.depth, wgpu::TextureAspect::DepthOnly)?,
             vis,
             blades: blade_list(blades)?,
-            prev_blades: blade_list(&self.prev_blades)?,
+            prev_blades: match &self.prev_blades {
+                Some(b) => blade_list(b)?,
+                None => return Ok(None),
+            },
             history: halves(&h.views[input])?,
             output: halves(&h.views[output])?,
         }))
     }
+}
+
+/// The copy of the blades from before the update: as large as the blade buffer.
+fn prev_blades_buffer(device: &wgpu::Device, blades: &wgpu::Buffer) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.taa.prev_blades"),
+        size: blades.size(),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
 }

@@ -3,9 +3,9 @@
 //!
 //! The twin follows the shader step by step in f32: the neighbourhood's box narrowed to
 //! mean ± σ, the surface's point from the depth and the inverted jittered view, the
-//! blade's motion from its control points, the last view's projection, the Catmull-Rom read of the history as five bilinear
-//! reads (clamped to the edge, as the sampler is), the clamp and the blend in the
-//! compressed space.
+//! moving colliders' and the blade's motion, the last view's projection, the Catmull-Rom read of the history as five bilinear
+//! reads (clamped to the edge, as the sampler is), the clamp in the compressed space and
+//! the blend in linear radiance.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -33,6 +33,7 @@ pub struct TaaFrame {
 /// The shader's constants (twins of `taa.wgsl`'s).
 const MOVING_BLEND: f32 = 0.3;
 const MOVING_PIXELS: f32 = 2.0;
+const ON_SPHERE: f32 = 0.05;
 
 fn squash(c: Vec3) -> Vec3 {
     c / (1.0 + c.max_element())
@@ -85,7 +86,8 @@ pub fn pixel(f: &TaaFrame, x: u32, y: u32) -> [f32; 4] {
             blend = blend + (MOVING_BLEND - blend) * (moved / MOVING_PIXELS).clamp(0.0, 1.0);
         }
     }
-    let out = unsquash(past + (now - past) * blend);
+    let past = unsquash(past);
+    let out = past + (current.truncate().max(Vec3::ZERO) - past) * blend;
     [out.x, out.y, out.z, current.w]
 }
 
@@ -102,6 +104,13 @@ fn history_uv(f: &TaaFrame, x: u32, y: u32, centre: Vec2) -> Vec3 {
     let none = Vec3::ZERO;
     if u.eye_shift[3] < 0.5 {
         return none;
+    }
+    for k in 0..u.jitter[3] as usize {
+        let now = Vec4::from(u.moving[2 * k]);
+        if (p.distance(now.truncate()) - now.w).abs() <= ON_SPHERE * now.w {
+            p += Vec4::from(u.moving[2 * k + 1]).truncate() - now.truncate();
+            break;
+        }
     }
     if u.params[1] > 0.5 {
         if let Some(vis) = &f.vis {
