@@ -178,7 +178,7 @@ impl Session {
         };
         let density = DensityMap::from_scene(&self.scene.terrain)
             .map_err(|e| self.scene.image_error("terrain.density_map", e))?;
-        let eye = crate::render::camera::CameraView::from_scene(&self.scene.camera).eye;
+        let eye = glam::Vec3::from(self.scene.camera.eye);
         let mut pool = crate::field::tiles::generate_pool(
             layout,
             &self.scene.field,
@@ -353,4 +353,94 @@ fn check_pool(scene: &Scene, layout: &TileLayout, gpu: Option<&Gpu>) -> Result<(
         check_blade_count(gpu, pool as f64)?;
     }
     Ok(())
+}
+
+/// The scene's image errors, raised when the session loads its images (moved here from
+/// `scene::origin`: they build a session, a layer above the scene).
+#[cfg(test)]
+mod image_error_tests {
+    use crate::field::grid::tests::png_declaring;
+    use crate::scene::{load_scene, load_scene_with_sets, Scene};
+    use crate::session::Session;
+
+    /// The error of building the session of `scene` (its terrain and density map).
+    fn session_error(scene: Scene) -> String {
+        match Session::new(scene, None, None) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("the session should fail"),
+        }
+    }
+
+    #[test]
+    fn image_errors_name_the_scene_line_field_and_image() {
+        let dir = std::env::temp_dir().join(format!("sward-origin-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let dir = std::path::absolute(&dir).unwrap();
+        std::fs::write(dir.join("huge.png"), png_declaring(100_000, 100_000)).unwrap();
+        std::fs::write(dir.join("garbage.png"), b"not a png").unwrap();
+        let scene_file = dir.join("scene.ron");
+        let load = |density_map: &str| {
+            let text = format!(
+                "(\n  terrain: (\n    size: 2.0, resolution: 3, height: Flat,\n    \
+                 density_map: \"{density_map}\",\n  ),\n  field: (density: 1.0),\n)\n"
+            );
+            std::fs::write(&scene_file, text).unwrap();
+            load_scene(&scene_file).unwrap()
+        };
+        let at = scene_file.display();
+        let image = |name: &str| dir.join(name).display().to_string();
+
+        assert_eq!(
+            session_error(load("huge.png")),
+            format!(
+                "{at}:4:5: terrain.density_map = \"huge.png\": cannot decode {}: declares \
+                 100000x100000 pixels; allowed at most 16384x16384",
+                image("huge.png")
+            )
+        );
+        let garbage = session_error(load("garbage.png"));
+        assert!(
+            garbage.starts_with(&format!(
+                "{at}:4:5: terrain.density_map = \"garbage.png\": cannot decode {}: ",
+                image("garbage.png")
+            )),
+            "{garbage}"
+        );
+        let missing = session_error(load("missing.png"));
+        assert!(
+            missing.starts_with(&format!(
+                "{at}:4:5: terrain.density_map = \"missing.png\": cannot read {}: ",
+                image("missing.png")
+            )),
+            "{missing}"
+        );
+
+        // The height map, and an image named by --set.
+        std::fs::write(&scene_file, "(terrain: (size: 2.0, resolution: 3, height: Png(path: \"huge.png\", scale: 1.0)), field: (density: 1.0))").unwrap();
+        let m = session_error(load_scene(&scene_file).unwrap());
+        assert!(
+            m.starts_with(&format!(
+                "{at}:1:50: terrain.height.path = \"huge.png\": cannot decode"
+            )),
+            "{m}"
+        );
+        let sets = ["terrain.height=Png(path: \"garbage.png\", scale: 1.0)".to_owned()];
+        let m = session_error(load_scene_with_sets(&scene_file, &sets).unwrap());
+        assert!(
+            m.starts_with(&format!(
+                "--set {}: terrain.height = Png(path: \"garbage.png\", scale: 1.0): cannot decode {}",
+                sets[0],
+                image("garbage.png")
+            )),
+            "{m}"
+        );
+
+        // A scene built in code has no origin: the image error names the image.
+        let mut scene = Scene::default();
+        scene.terrain.size = 2.0;
+        scene.terrain.density_map = Some(image("huge.png"));
+        let m = session_error(scene);
+        assert!(m.starts_with(&image("huge.png")), "{m}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -19,8 +19,7 @@ use bytemuck::{Pod, Zeroable};
 use super::noise::hash32;
 use crate::scene::Field;
 
-/// Species a field mixes at most.
-pub const MAX_SPECIES: usize = 8;
+pub use crate::scene::limits::MAX_SPECIES;
 const UNIT: f32 = 1.0 / 16_777_216.0;
 const SALT_ANGLE: u32 = 0x68bc_21eb;
 const SALT_TINT: u32 = 0x02e5_be93;
@@ -57,8 +56,7 @@ pub struct FieldTraits {
     pub flower_kinds: [[f32; 4]; 2 * MAX_FLOWER_KINDS],
 }
 
-/// Kinds of flower a field has at most.
-pub const MAX_FLOWER_KINDS: usize = 4;
+pub use crate::scene::limits::MAX_FLOWER_KINDS;
 /// Width of a flower stem (m).
 pub const STEM_WIDTH: f32 = 0.006;
 const SALT_FLOWER: u32 = 0x7feb_352d;

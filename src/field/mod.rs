@@ -3,6 +3,8 @@
 //! sized, compact patches whose blades are sorted so that neighbours have close indices.
 //! Everything is seeded: the same scene gives bit-identical buffers on every run.
 
+pub mod blade;
+pub mod carried;
 pub mod clumps;
 mod density;
 pub(crate) mod grid;
@@ -14,7 +16,7 @@ mod rng;
 pub mod surface;
 mod terrain;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 pub mod tiles;
 
 pub use density::DensityMap;
@@ -26,7 +28,7 @@ pub use placement::rest_state;
 pub use terrain::{slope_may_shadow, HeightField, NoiseSurface, Surface, MAX_RESOLUTION};
 
 use crate::scene::types::Field;
-use crate::sim::layout::{Blade, BladeState, PatchBox, WORKGROUP_SIZE};
+use blade::{Blade, BladeState, PatchBox, WORKGROUP_SIZE};
 
 /// The blades ready for upload: patch after patch, `patch_size` blades each.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -42,7 +44,7 @@ pub struct GeneratedField {
     pub patch_size: u32,
     /// The blades and patches of moving objects' grass, which the renderer carries with
     /// their objects (`sim::carry`; empty when none moves).
-    pub carried: crate::sim::carry::Carried,
+    pub carried: carried::Carried,
 }
 
 impl GeneratedField {

@@ -7,7 +7,7 @@
 //! Inside a patch the blades follow the Morton (Z-order) curve, which keeps neighbours
 //! close in both axes, unlike the paper's lexicographic sort which only does so in one.
 
-use crate::sim::layout::{Blade, PatchBox};
+use super::blade::{Blade, PatchBox};
 
 /// Reorders `blades` into consecutive patches of `patch_size` blades and returns their
 /// boxes. `blades.len()` must be a multiple of `patch_size`.

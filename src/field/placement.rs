@@ -6,13 +6,13 @@
 
 use glam::{Vec2, Vec3};
 
+use super::blade::{blade_frame, rest_pose};
+use super::blade::{Blade, BladeState};
 use super::density::DensityMap;
 use super::poisson::poisson_disk;
 use super::rng::Rng;
 use super::terrain::HeightField;
 use crate::scene::types::Field;
-use crate::sim::layout::{Blade, BladeState};
-use crate::sim::reference::{blade_frame, rest_pose};
 
 /// RNG streams: one per consumer, so that e.g. a different tuft fraction does not change
 /// the attributes drawn for the blades.

@@ -11,12 +11,12 @@
 
 use glam::{Mat3, Mat4, Vec3};
 
+use super::blade::{blade_frame, rest_pose};
+use super::blade::{Blade, PatchBox};
 use super::patches::morton;
 use super::rng::Rng;
 use crate::mesh::Mesh;
 use crate::scene::types::Field;
-use crate::sim::layout::{Blade, PatchBox};
-use crate::sim::reference::{blade_frame, rest_pose};
 
 /// RNG streams of the surface placement.
 const STREAM_ROOTS: u64 = 11;

@@ -4,11 +4,11 @@
 
 use glam::Vec3;
 
+use super::tiles::TileStreamer;
 use super::timing::{self, timed, Meters};
 use super::{billboard, Renderer, TileStats};
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::sim::tiles::TileStreamer;
 
 impl Renderer {
     /// Moves a streamed field's tiles with the camera at `eye` and records the generation

@@ -28,6 +28,7 @@ pub mod post;
 pub mod taa;
 pub mod target;
 pub mod terrain;
+pub mod tiles;
 pub mod timing;
 pub mod upscale;
 mod wind;
@@ -46,7 +47,6 @@ use crate::sim::colliders::spheres_at;
 use crate::sim::fluid::{FluidConfig, FluidSolver};
 use crate::sim::layout::{CullCounters, CullParams, FrameUniforms, TEST_GRASS_OCCLUSION};
 use crate::sim::params::{cull_params, sim_params, throttled_dt, CullInputs};
-use crate::sim::tiles::TileStreamer;
 use crate::sim::update::{BladeBuffers, UpdatePass};
 use crate::sim::wind_layout::{ObstacleGpu, MAX_OBSTACLES};
 use camera::CameraView;
@@ -55,6 +55,7 @@ use draw::DrawPass;
 use grass_bind::ModelBuffers;
 use hiz::DepthPyramid;
 use mesh::LodMeshes;
+use tiles::TileStreamer;
 use timing::{timed, GpuTimer, Meters};
 
 /// What one frame did, read back from the GPU.

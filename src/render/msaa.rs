@@ -12,8 +12,7 @@ use super::timing::{self, timed};
 use super::Renderer;
 use crate::gpu::Gpu;
 
-/// The sample counts a scene may ask for (`render.msaa`).
-pub const SAMPLE_COUNTS: [u32; 4] = [1, 2, 4, 8];
+pub use crate::scene::limits::SAMPLE_COUNTS;
 
 /// Whether the device can render `format` with `samples` samples per pixel. Without the
 /// adapter-specific format features the device validates against WebGPU's guaranteed ones

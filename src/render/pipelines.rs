@@ -53,6 +53,32 @@ pub fn fullscreen_pipeline(
     })
 }
 
+/// A render pass that clears `view` and draws into it alone, with `q`'s timestamps: the
+/// full-screen passes (TAA, tone mapping, upscale) begin with it.
+pub fn fullscreen_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    q: &crate::gpu::queries::PassQueries<'_>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: q.render_writes(),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 pub(crate) struct PipelineSpec<'a> {
     pub label: &'a str,
     pub shader: &'a str,

@@ -178,22 +178,7 @@ impl ToneMap {
             return;
         };
         let group = source.unwrap_or(&t.bind_group);
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sward.tonemap"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: output,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: q.render_writes(),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = super::pipelines::fullscreen_pass(encoder, "sward.tonemap", output, &q);
         q.begin(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);

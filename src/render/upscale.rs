@@ -174,22 +174,7 @@ impl Upscale {
         let Some(t) = &self.target else {
             return;
         };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sward.upscale.pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: output,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: q.render_writes(),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = super::pipelines::fullscreen_pass(encoder, "sward.upscale.pass", output, &q);
         q.begin(&mut pass);
         let [x, y, w, h] = region.map(|v| v as f32);
         pass.set_viewport(x, y, w, h, 0.0, 1.0);

@@ -28,6 +28,7 @@
 //! )
 //! ```
 
+pub mod limits;
 mod load;
 mod origin;
 pub mod save;

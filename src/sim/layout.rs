@@ -3,11 +3,9 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Workgroup size of every per-blade compute pass; patches are a multiple of it.
-pub const WORKGROUP_SIZE: u32 = 64;
-/// Upper bound on sphere colliders uploaded per frame: enough for the 10,000 spheres of the
-/// hierarchy's cost table (issue 14); a flat list of that many is what the hierarchy beats.
-pub const MAX_SPHERES: usize = 16384;
+pub use crate::field::blade::{Blade, BladeState, PatchBox, WORKGROUP_SIZE};
+
+pub use crate::scene::limits::MAX_SPHERES;
 /// Where the colliders' hierarchy starts in the spheres buffer, in `vec4`s: node k is the two
 /// `vec4`s at `BVH_NODE_BASE + 2k` (`sim::bvh::encode`). One buffer for both keeps the cull
 /// pass within the eight storage buffers per stage of the WebGPU defaults.
@@ -37,28 +35,6 @@ pub const DRAW_BATCH: u32 = 32;
 /// Count value of a patch whose spheres did not fit its list.
 pub const SPHERES_ALL: u32 = u32::MAX;
 
-/// One blade of grass: the paper's four 4D vectors (Section 4).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
-pub struct Blade {
-    /// v0 (root, fixed) and the direction angle in radians.
-    pub v0_dir: [f32; 4],
-    /// v1 (middle control point) and the height h.
-    pub v1_height: [f32; 4],
-    /// v2 (tip, moved by the forces) and the width w.
-    pub v2_width: [f32; 4],
-    /// Local up vector and the stiffness s.
-    pub up_stiffness: [f32; 4],
-}
-
-/// Per-blade simulation state beside the blade: the rest tip I_v2 and the collision
-/// strength η (the paper keeps η in the fourth channel of its force map).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
-pub struct BladeState {
-    pub rest_eta: [f32; 4],
-}
-
 /// The Verlet blade's state beside the blade (`VerletState` in `common.wgsl`; only
 /// allocated for `physics.model: Verlet`): P2, the cubic's second inner control point (P1
 /// and P3 are the blade's v1 and v2), with the Δt of the last step (0: never stepped), and
@@ -71,15 +47,6 @@ pub struct VerletState {
     pub o1_x: [f32; 4],
     pub o2_y: [f32; 4],
     pub o3_z: [f32; 4],
-}
-
-/// A patch's bounding box, already grown by the tallest blade so that it holds every pose.
-/// `min[3]`: 1 for an empty patch; `max[3]`: the smallest up.y of its blades.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
-pub struct PatchBox {
-    pub min: [f32; 4],
-    pub max: [f32; 4],
 }
 
 /// Uniforms of the blade update (`shaders/update.wgsl`).

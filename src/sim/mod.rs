@@ -14,7 +14,6 @@ pub mod params;
 pub mod propagation;
 pub mod propagation_pass;
 pub mod reference;
-pub mod tiles;
 pub mod update;
 pub mod verlet;
 pub mod wind_layout;

@@ -32,8 +32,7 @@ use crate::scene::Propagation;
 pub const SCALE: f32 = 1.0e6;
 /// A push is clamped to ±1 m before it is summed, so that 2,000 pushes fit an i32.
 pub const MAX_PUSH: f32 = 1.0;
-/// Most generations per step (each is one dispatch).
-pub const MAX_GENERATIONS: u32 = 16;
+pub use crate::scene::limits::MAX_GENERATIONS;
 /// The generation of a cell not reached.
 pub const UNREACHED: f32 = -1.0;
 

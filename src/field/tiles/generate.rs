@@ -19,10 +19,10 @@ use glam::Vec3;
 
 use super::tufts::{period_for, TuftLayout};
 use super::{TileLayout, EMPTY_PATCH, QUANTA_PER_METRE};
+use crate::field::blade::{blade_frame, rest_pose};
+use crate::field::blade::{Blade, BladeState, PatchBox};
 use crate::field::{hash32, DensityMap, HeightField};
 use crate::scene::types::Field;
-use crate::sim::layout::{Blade, BladeState, PatchBox};
-use crate::sim::reference::{blade_frame, rest_pose};
 
 /// Candidate blades per tuft.
 const TUFT_BLADES: u32 = 16;

@@ -179,7 +179,7 @@ fn blades_stay_near_their_patch_with_attributes_in_range() {
         let v0 = glam::Vec3::from_slice(&b.v0_dir[..3]);
         let v1 = glam::Vec3::from_slice(&b.v1_height[..3]);
         let v2 = glam::Vec3::from_slice(&b.v2_width[..3]);
-        let len = crate::sim::reference::curve_length(v0, v1, v2);
+        let len = crate::field::blade::curve_length(v0, v1, v2);
         assert!(
             (len - h).abs() < 1e-3 * h.max(1.0),
             "blade {i}: length {len} vs {h}"
@@ -220,7 +220,7 @@ fn a_density_map_thins_and_an_edge_removes() {
         if b.v1_height[3] > 0.0 {
             assert!(b.v0_dir[0] <= 2.0 && b.v0_dir[2] <= 2.0);
         } else {
-            assert_eq!(*b, crate::sim::layout::Blade::default());
+            assert_eq!(*b, crate::field::blade::Blade::default());
         }
     }
     assert!(live(&t) > 0 && live(&t) < t.blades.len());

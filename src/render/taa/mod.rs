@@ -531,22 +531,7 @@ impl TaaPass {
         let h = self.history.as_ref()?;
         let (_, groups) = h.groups.as_ref()?;
         let write = h.write;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sward.taa"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &h.views[write],
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: q.render_writes(),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = super::pipelines::fullscreen_pass(encoder, "sward.taa", &h.views[write], &q);
         q.begin(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &groups[1 - write], &[]);

@@ -7,8 +7,8 @@ use super::allowed::{Allowed, Integers, Rule};
 use super::objects::{motion, motion_rules, POSITION};
 use super::{tuple3, Checker};
 use crate::error::Result;
+use crate::scene::limits::MAX_SPHERES;
 use crate::scene::types::MeshObject;
-use crate::sim::layout::MAX_SPHERES;
 
 /// Turns of at most a full circle either way (more says the same with a larger number).
 const ANGLE: Allowed = Allowed::closed(-360.0, 360.0, "degrees");

@@ -143,7 +143,7 @@ pub(crate) fn validate_with_sets(
     // The packed spheres join the colliders in the update pass's fixed list.
     let packed = meshes::packed_spheres(&scene.objects);
     let total = scene.colliders.len() + packed;
-    if packed > 0 && total > crate::sim::layout::MAX_SPHERES {
+    if packed > 0 && total > crate::scene::limits::MAX_SPHERES {
         let last = scene
             .objects
             .iter()
@@ -155,7 +155,7 @@ pub(crate) fn validate_with_sets(
              make {total} spheres; allowed at most {} in all (what the update pass takes): \
              lower the packings' counts (e.g. {name}=Spheres((count: 100)))",
             scene.colliders.len(),
-            crate::sim::layout::MAX_SPHERES
+            crate::scene::limits::MAX_SPHERES
         );
         return Err(check.error(&name, message));
     }

@@ -37,7 +37,7 @@ const FORCE: Allowed = Allowed::closed(0.0, 10.0, "s/m");
 const CELL: Allowed = Allowed::closed(0.01, 1000.0, "m");
 const ATT: Allowed = Allowed::closed(0.0, 1.0, "");
 const THRESHOLD: Allowed = Allowed::closed(0.0, 1.0, "m");
-use crate::sim::propagation::MAX_GENERATIONS;
+use crate::scene::limits::MAX_GENERATIONS;
 const GENERATIONS: Integers = Integers::new(1, MAX_GENERATIONS as u64, "");
 const PROPAGATION_CELL: Allowed = Allowed::closed(0.01, 10.0, "m");
 const PROPAGATION_EXTENT: Allowed = Allowed::closed(0.1, 1000.0, "m");

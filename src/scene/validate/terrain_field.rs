@@ -166,7 +166,7 @@ pub(super) fn field(check: &Checker, prefix: &str, field: &Field) -> Result<()> 
             format!("{name} = {tile} is out of range: allowed {TILE_SIZE_TEXT}"),
         ));
     }
-    if field.species.len() > crate::field::clumps::MAX_SPECIES {
+    if field.species.len() > crate::scene::limits::MAX_SPECIES {
         let name = at("species");
         return Err(check.error(
             &name,
@@ -189,7 +189,7 @@ pub(super) fn field(check: &Checker, prefix: &str, field: &Field) -> Result<()> 
         check.range(&at("flowers.height"), f.height, HEIGHT)?;
         check.real(&at("flowers.head_size"), f.head_size, HEAD_SIZE)?;
         let n = f.kinds.len();
-        if n == 0 || n > crate::field::clumps::MAX_FLOWER_KINDS {
+        if n == 0 || n > crate::scene::limits::MAX_FLOWER_KINDS {
             let name = at("flowers.kinds");
             return Err(check.error(&name, format!("{name} has {n} kinds: allowed {KINDS_TEXT}")));
         }

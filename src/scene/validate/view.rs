@@ -173,7 +173,7 @@ pub(super) fn render(check: &Checker, render: &mut Render) -> Result<()> {
         render.billboard_distance,
         BILLBOARD_DISTANCE,
     )?;
-    if !crate::render::msaa::SAMPLE_COUNTS.contains(&render.msaa) {
+    if !crate::scene::limits::SAMPLE_COUNTS.contains(&render.msaa) {
         let message = format!(
             "render.msaa = {} is not a sample count: allowed {MSAA_TEXT}",
             render.msaa

@@ -442,3 +442,68 @@ pub fn cull_blade(
         params,
     ))
 }
+
+/// The patch bound against the field's own blades (moved here from the field's tests: it
+/// checks the cull's twin, a layer above the field).
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::patch_beyond_distance;
+    use crate::field::generate;
+    use crate::field::tests::hills;
+    use crate::scene::types::Field;
+    use crate::sim::layout::CullParams;
+
+    fn v3(a: [f32; 4]) -> Vec3 {
+        Vec3::new(a[0], a[1], a[2])
+    }
+
+    #[test]
+    fn a_patch_beyond_the_distance_bound_holds_no_blade_the_distance_test_keeps() {
+        // Steep hills (2 m over 8 m), blades leaning with the slope; cameras on the ground,
+        // above it and high over it, each with a small and a large radius.
+        let g = generate(
+            &Field {
+                density: 60.0,
+                patch_size: 256,
+                ..Field::default()
+            },
+            &hills(),
+            None,
+        );
+        let mut beyond = 0;
+        let mut kept = 0;
+        for (eye, max_distance) in [
+            (Vec3::new(-5.0, 1.0, -5.0), 3.0),
+            (Vec3::new(0.0, 3.0, 0.0), 2.0),
+            (Vec3::new(4.0, 12.0, -2.0), 4.0),
+            (Vec3::new(-20.0, 40.0, 15.0), 30.0),
+            (Vec3::new(3.0, -1.0, 5.0), 5.0),
+        ] {
+            let params = CullParams {
+                camera_pos: [eye.x, eye.y, eye.z, 1.0],
+                max_distance,
+                ..Default::default()
+            };
+            for (patch, b) in g.blades.chunks(g.patch_size as usize).zip(&g.patches) {
+                if !patch_beyond_distance(b, &params) {
+                    kept += 1;
+                    continue;
+                }
+                beyond += 1;
+                for blade in patch {
+                    let rel = eye - v3(blade.v0_dir);
+                    let up = v3(blade.up_stiffness);
+                    let d_proj = (rel - up * rel.dot(up)).length();
+                    assert!(
+                        d_proj >= max_distance * (1.0 - 1e-5),
+                        "a blade at d_proj {d_proj} < {max_distance} in a patch culled whole"
+                    );
+                }
+            }
+        }
+        // The bound is useful (culls patches) and not everything.
+        assert!(beyond > 10 && kept > 10, "beyond {beyond}, kept {kept}");
+    }
+}

@@ -6,16 +6,16 @@
 use crate::gpu::queries::PassQueries;
 use wgpu::util::DeviceExt;
 
-use super::update::{compute_storage_entry, uniform_entry, BladeBuffers};
+use super::{clipmap, terrain as terrain_gpu};
 use crate::error::{Error, Result};
 use crate::field::tiles::{
     GenParams, TileJob, TileLayout, TileResidency, TuftLayout, MAX_RELEASES,
 };
 use crate::field::{DensityMap, HeightField};
 use crate::gpu::Gpu;
-use crate::render::{clipmap, terrain as terrain_gpu};
 use crate::scene::types::Field;
 use crate::shaders;
+use crate::sim::update::{compute_storage_entry, uniform_entry, BladeBuffers};
 
 /// Most tiles generated in one frame after the first: a camera jump spreads its tiles over
 /// a few frames (nearest first) instead of stalling one.
@@ -71,7 +71,7 @@ impl TileGenPass {
         let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sward.tile_gen.layout"),
             entries: &[
-                crate::render::draw::read_storage(1, c),
+                super::draw::read_storage(1, c),
                 compute_storage_entry(2, true),
                 uniform_entry(3, c),
                 compute_storage_entry(4, true),
