@@ -11,6 +11,14 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/blade_shade.wgsl"),
     ),
     ("far_grass.wgsl", include_str!("../shaders/far_grass.wgsl")),
+    (
+        "grass_texture.wgsl",
+        include_str!("../shaders/grass_texture.wgsl"),
+    ),
+    (
+        "grass_texture_probe.wgsl",
+        include_str!("../shaders/grass_texture_probe.wgsl"),
+    ),
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
     (
@@ -155,6 +163,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "grass_deferred.wgsl",
     "terrain.wgsl",
     "terrain_probe.wgsl",
+    "grass_texture_probe.wgsl",
     "sky.wgsl",
     "spheres.wgsl",
     "mesh.wgsl",

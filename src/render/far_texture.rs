@@ -1,0 +1,157 @@
+//! The far grass's texture (issue 27, point 3; `shaders/grass_texture.wgsl`): the CPU twin
+//! of its value noise, octaves and footprint fade, and a probe that runs the WGSL on the
+//! GPU at given points so tests can hold the two together. The far ground and the cards'
+//! roots are shaded with it; its mean is 1, so it keeps the grass's colour on average.
+
+use glam::{Vec2, Vec3};
+use wgpu::util::DeviceExt;
+
+use crate::error::Result;
+use crate::gpu::{read_buffer, Gpu};
+
+/// How much each octave (periods 2.9, 0.6 and 0.14 m) moves the light, at most
+/// (`GRASS_TEXTURE`).
+pub const GRASS_TEXTURE: Vec3 = Vec3::new(0.55, 0.45, 0.3);
+
+/// The octaves' frequencies per metre (`grass_octaves`).
+const FREQUENCIES: [f32; 3] = [0.35, 1.7, 7.0];
+
+/// Integer hash to [0, 1) (`hash01` in `common.wgsl`).
+pub fn hash01(x: u32) -> f32 {
+    let mut h = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    h = ((h >> ((h >> 28) + 4)) ^ h).wrapping_mul(277_803_737);
+    h = (h >> 22) ^ h;
+    h as f32 / 4_294_967_296.0
+}
+
+/// Smooth value noise on the unit lattice (`value_noise`): WGSL's i32 products wrap, as
+/// `wrapping_mul` does.
+pub fn value_noise(p: Vec2) -> f32 {
+    let i = p.floor();
+    let f = p - i;
+    let s = f * f * (3.0 - 2.0 * f);
+    let corner = |dx: f32, dy: f32| {
+        let x = ((i.x + dx) as i32).wrapping_mul(73_856_093);
+        let y = ((i.y + dy) as i32).wrapping_mul(19_349_663);
+        hash01((x ^ y) as u32)
+    };
+    let (a, b, c, d) = (
+        corner(0.0, 0.0),
+        corner(1.0, 0.0),
+        corner(0.0, 1.0),
+        corner(1.0, 1.0),
+    );
+    let top = a + (b - a) * s.x;
+    let bottom = c + (d - c) * s.x;
+    top + (bottom - top) * s.y
+}
+
+/// The three octaves at world (x, z) (`grass_octaves`).
+pub fn grass_octaves(q: Vec2) -> Vec3 {
+    Vec3::from(FREQUENCIES.map(|k| value_noise(q * k)))
+}
+
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The texture from the octaves at a footprint of `footprint` metres per pixel
+/// (`grass_texture`): each octave fades out as its period nears four pixels.
+pub fn grass_texture(octaves: Vec3, footprint: f32) -> f32 {
+    let keep = Vec3::from(FREQUENCIES.map(|k| 1.0 - smoothstep(2.0, 4.0, footprint * k * 8.0)));
+    1.0 + ((octaves - 0.5) * GRASS_TEXTURE).dot(keep)
+}
+
+/// The WGSL at `points` (world x, z and the footprint): each point's octaves and texture,
+/// read back from the GPU.
+pub fn probe_grass_texture(gpu: &Gpu, points: &[Vec3]) -> Result<Vec<(Vec3, f32)>> {
+    let device = &gpu.device;
+    let count = points.len().max(1);
+    let mut flat: Vec<[f32; 4]> = points.iter().map(|p| [p.x, p.y, p.z, 0.0]).collect();
+    flat.resize(count, [0.0; 4]);
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("sward.grass_texture_probe.points"),
+        contents: bytemuck::cast_slice(&flat),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let out_size = (count * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.grass_texture_probe.out"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let module = crate::shaders::module(device, "grass_texture_probe.wgsl");
+    // The layout is taken from the shader: two storage buffers.
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("sward.grass_texture_probe"),
+        layout: None,
+        module: &module,
+        entry_point: Some("probe"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sward.grass_texture_probe.group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("sward.grass_texture_probe"),
+    });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.grass_texture_probe"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((count as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(gpu, &output, out_size)?;
+    let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    Ok(values
+        .iter()
+        .take(points.len())
+        .map(|v| (Vec3::new(v[0], v[1], v[2]), v[3]))
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The texture averages to 1 over many points at every footprint, and a footprint of
+    /// many metres per pixel leaves it flat.
+    #[test]
+    fn the_texture_averages_to_one_and_fades_with_the_footprint() {
+        for footprint in [0.001, 0.05, 0.3, 2.0] {
+            let n = 40_000;
+            let mean = (0..n)
+                .map(|k| {
+                    let q = Vec2::new((k % 200) as f32 * 0.731, (k / 200) as f32 * 0.917);
+                    grass_texture(grass_octaves(q), footprint)
+                })
+                .sum::<f32>()
+                / n as f32;
+            assert!(
+                (mean - 1.0).abs() < 0.02,
+                "footprint {footprint}: mean {mean}"
+            );
+        }
+        let q = Vec2::new(3.3, -7.1);
+        assert_eq!(grass_texture(grass_octaves(q), 10.0), 1.0);
+        assert_ne!(grass_texture(grass_octaves(q), 0.001), 1.0);
+    }
+}
