@@ -16,6 +16,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/grass_texture.wgsl"),
     ),
     (
+        "far_grass_probe.wgsl",
+        include_str!("../shaders/far_grass_probe.wgsl"),
+    ),
+    (
         "grass_texture_probe.wgsl",
         include_str!("../shaders/grass_texture_probe.wgsl"),
     ),
@@ -163,6 +167,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "grass_deferred.wgsl",
     "terrain.wgsl",
     "terrain_probe.wgsl",
+    "far_grass_probe.wgsl",
     "grass_texture_probe.wgsl",
     "sky.wgsl",
     "spheres.wgsl",
