@@ -548,6 +548,35 @@ impl FramePacer {
     }
 }
 
+/// Runs a one-shot compute probe (the kernels that evaluate a shader function at given
+/// points for its CPU twin's test): `pipeline` with `groups` bound from 0, one invocation
+/// per point in workgroups of 64, then reads `output` (`size` bytes) back, blocking.
+pub fn run_probe(
+    gpu: &Gpu,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    groups: &[&wgpu::BindGroup],
+    points: usize,
+    (output, size): (&wgpu::Buffer, u64),
+) -> Result<Vec<u8>> {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        for (k, g) in groups.iter().enumerate() {
+            pass.set_bind_group(k as u32, *g, &[]);
+        }
+        pass.dispatch_workgroups((points.max(1) as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    read_buffer(gpu, output, size)
+}
+
 /// Copies a buffer back to the host (blocking). `buffer` needs COPY_SRC usage.
 pub fn read_buffer(gpu: &Gpu, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
     let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {

@@ -9,7 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::Renderer;
 use crate::error::Result;
-use crate::gpu::{read_buffer, Gpu};
+use crate::gpu::Gpu;
 use crate::sim::layout::{FrameUniforms, LightUniforms};
 
 fn v3(a: [f32; 4]) -> Vec3 {
@@ -215,21 +215,14 @@ pub fn probe_far_grass(
             },
         ],
     });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("sward.far_grass_probe"),
-    });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sward.far_grass_probe"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.set_bind_group(1, renderer.light().group(), &[]);
-        pass.dispatch_workgroups((count as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = read_buffer(gpu, &output, out_size)?;
+    let bytes = crate::gpu::run_probe(
+        gpu,
+        "sward.far_grass_probe",
+        &pipeline,
+        &[&group, renderer.light().group()],
+        count,
+        (&output, out_size),
+    )?;
     let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     Ok(values
         .chunks_exact(5)

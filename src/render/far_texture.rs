@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 use wgpu::util::DeviceExt;
 
 use crate::error::Result;
-use crate::gpu::{read_buffer, Gpu};
+use crate::gpu::Gpu;
 
 /// How much each octave (periods 2.9, 0.6 and 0.14 m) moves the light, at most
 /// (`GRASS_TEXTURE`).
@@ -106,20 +106,14 @@ pub fn probe_grass_texture(gpu: &Gpu, points: &[Vec3]) -> Result<Vec<(Vec3, f32)
             },
         ],
     });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("sward.grass_texture_probe"),
-    });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sward.grass_texture_probe"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((count as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = read_buffer(gpu, &output, out_size)?;
+    let bytes = crate::gpu::run_probe(
+        gpu,
+        "sward.grass_texture_probe",
+        &pipeline,
+        &[&group],
+        count,
+        (&output, out_size),
+    )?;
     let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     Ok(values
         .iter()

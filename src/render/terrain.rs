@@ -14,7 +14,7 @@ use super::clipmap::{self, TerrainUniforms, MAX_LEVELS, VARIANTS};
 use super::draw::read_storage;
 use crate::error::Result;
 use crate::field::{DensityMap, HeightField, Surface};
-use crate::gpu::{read_buffer, Gpu};
+use crate::gpu::Gpu;
 use crate::shaders;
 use crate::sim::update::uniform_entry;
 
@@ -366,20 +366,14 @@ pub fn probe_heights(gpu: &Gpu, terrain: &HeightField, points: &[Vec2]) -> Resul
         compilation_options: Default::default(),
         cache: None,
     });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("sward.terrain_probe"),
-    });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sward.terrain_probe"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((count as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = read_buffer(gpu, &output, out_size)?;
+    let bytes = crate::gpu::run_probe(
+        gpu,
+        "sward.terrain_probe",
+        &pipeline,
+        &[&group],
+        count,
+        (&output, out_size),
+    )?;
     let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     Ok(values
         .iter()
