@@ -8,6 +8,15 @@ struct Blade {
     up_stiffness: vec4<f32>,  // local up, stiffness s
 }
 
+// A blade's control points as the last frame drew them (TAA's grass motion, `taa.wgsl`;
+// copied by `taa_prev.wgsl`): v0 (and the direction, which tells a new blade in the slot),
+// v1 and v2.
+struct PrevBlade {
+    v0_dir: vec4<f32>,
+    v1_height: vec4<f32>,
+    v2_width: vec4<f32>,
+}
+
 struct BladeState {
     rest_eta: vec4<f32>,      // rest tip I_v2, collision strength eta
 }

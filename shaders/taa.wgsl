@@ -53,7 +53,7 @@ const ON_SPHERE: f32 = 0.05;
 @group(0) @binding(4) var depth: texture_depth_2d;
 @group(0) @binding(5) var vis: texture_2d<u32>;
 @group(0) @binding(6) var<storage, read> blades: array<Blade>;
-@group(0) @binding(7) var<storage, read> prev_blades: array<Blade>;
+@group(0) @binding(7) var<storage, read> prev_blades: array<PrevBlade>;
 // The weight of this frame where the pixel moved MOVING_PIXELS or more since the last.
 const MOVING_BLEND: f32 = 0.3;
 const MOVING_PIXELS: f32 = 2.0;

@@ -104,6 +104,7 @@ const FILES: &[(&str, &str)] = &[
     ),
     ("tonemap.wgsl", include_str!("../shaders/tonemap.wgsl")),
     ("taa.wgsl", include_str!("../shaders/taa.wgsl")),
+    ("taa_prev.wgsl", include_str!("../shaders/taa_prev.wgsl")),
     (
         "fluid_common.wgsl",
         include_str!("../shaders/fluid_common.wgsl"),
@@ -178,6 +179,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "ui_composite.wgsl",
     "tonemap.wgsl",
     "taa.wgsl",
+    "taa_prev.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",
     "fluid_diffuse.wgsl",

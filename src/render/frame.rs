@@ -173,8 +173,12 @@ impl Renderer {
         }
         // TAA's grass motion: the blades as the last frame drew them, before anything
         // this frame moves or streams them.
-        if let Some(t) = &self.taa {
-            t.copy_blades(encoder, &self.buffers.blades);
+        if let Some(t) = self.taa.as_ref().filter(|t| t.active()) {
+            let count = self.buffers.blades.size()
+                / std::mem::size_of::<crate::sim::layout::Blade>() as u64;
+            timed(self.meters(), encoder, timing::TAA, |e, q| {
+                t.copy_blades(e, count, q)
+            });
         }
         let dt = self.advance(gpu, dt);
         self.frame_count = self.frame_count.wrapping_add(1);

@@ -210,8 +210,11 @@ pub struct TaaPass {
     sampler: wgpu::Sampler,
     /// Bound where the grass is drawn forward (no visibility buffer).
     no_vis: wgpu::TextureView,
-    /// The blades as the last frame drew them.
-    prev_blades: Option<wgpu::Buffer>,
+    /// The blades' control points as the last frame drew them, and the copy pass's group
+    /// that writes them.
+    prev_blades: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    /// The copy pass (`shaders/taa_prev.wgsl`).
+    copy: wgpu::ComputePipeline,
     history: Option<History>,
     /// Frames drawn with this pass (the jitter's phase).
     frame: u32,
@@ -322,8 +325,18 @@ impl TaaPass {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        let prev_blades = Some(prev_blades_buffer(device, blades));
+        let copy = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("sward.taa.copy_prev"),
+            // The layout is the shader's: the blades, read, and their copy, written.
+            layout: None,
+            module: &crate::shaders::module(device, "taa_prev.wgsl"),
+            entry_point: Some("copy_prev"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let prev_blades = Some(prev_blades_buffer(device, &copy, blades));
         Self {
+            copy,
             pipeline,
             layout,
             uniforms,
@@ -345,7 +358,7 @@ impl TaaPass {
             .history
             .as_ref()
             .map_or(0, |h| 2 * h.size.0 as u64 * h.size.1 as u64 * 8);
-        self.prev_blades.as_ref().map_or(0, |b| b.size()) + history
+        self.prev_blades.as_ref().map_or(0, |b| b.0.size()) + history
     }
 
     /// Lets go of the history and the blades' copy while the pass is switched off (the
@@ -360,7 +373,7 @@ impl TaaPass {
     /// Takes the blades' copy back after [`TaaPass::release`]; the history starts over.
     pub fn resume(&mut self, device: &wgpu::Device, blades: &wgpu::Buffer) {
         if self.prev_blades.is_none() {
-            self.prev_blades = Some(prev_blades_buffer(device, blades));
+            self.prev_blades = Some(prev_blades_buffer(device, &self.copy, blades));
         }
     }
 
@@ -386,12 +399,30 @@ impl TaaPass {
         jitter_matrix(offset, size)
     }
 
-    /// Records the copy of the blades as the last frame left them, before this frame's
-    /// update moves them (the grass's motion is the difference).
-    pub fn copy_blades(&self, encoder: &mut wgpu::CommandEncoder, blades: &wgpu::Buffer) {
-        if let Some(prev) = &self.prev_blades {
-            encoder.copy_buffer_to_buffer(blades, 0, prev, 0, blades.size());
-        }
+    /// Records the copy of the blades' control points as the last frame left them, before
+    /// this frame's update moves them (the grass's motion is the difference): a compute
+    /// pass over `blade_count` slots, timed and counted as part of the TAA.
+    pub fn copy_blades(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        blade_count: u64,
+        q: PassQueries,
+    ) {
+        let Some((_, group)) = &self.prev_blades else {
+            return;
+        };
+        let groups = blade_count.div_ceil(u64::from(COPY_GROUP)).max(1);
+        let x = groups.min(u64::from(MAX_GROUPS_X));
+        let y = groups.div_ceil(x);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sward.taa.copy_prev"),
+            timestamp_writes: q.compute_writes(),
+        });
+        q.begin(&mut pass);
+        pass.set_pipeline(&self.copy);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(x as u32, y as u32, 1);
+        q.end(&mut pass);
     }
 
     /// Sets this frame's views and inputs (`scene`, this frame's radiance; `depth`; `vis`,
@@ -434,7 +465,7 @@ impl TaaPass {
             depth: depth.clone(),
             vis: vis.cloned(),
         };
-        let (Some(h), Some(prev)) = (&self.history, &self.prev_blades) else {
+        let (Some(h), Some((prev, _))) = (&self.history, &self.prev_blades) else {
             return;
         };
         if h.groups.as_ref().map(|g| &g.0) == Some(&key) {
@@ -613,7 +644,20 @@ impl TaaPass {
             vis,
             blades: blade_list(blades)?,
             prev_blades: match &self.prev_blades {
-                Some(b) => blade_list(b)?,
+                Some((b, _)) => {
+                    // 48 bytes a slot: v0 and direction, v1 and height, v2 and width.
+                    let words: Vec<[f32; 12]> =
+                        bytemuck::pod_collect_to_vec(&crate::gpu::read_buffer(gpu, b, b.size())?);
+                    words
+                        .iter()
+                        .map(|w| Blade {
+                            v0_dir: [w[0], w[1], w[2], w[3]],
+                            v1_height: [w[4], w[5], w[6], w[7]],
+                            v2_width: [w[8], w[9], w[10], w[11]],
+                            up_stiffness: [0.0; 4],
+                        })
+                        .collect()
+                }
                 None => return Ok(None),
             },
             history: halves(&h.views[input])?,
@@ -622,14 +666,40 @@ impl TaaPass {
     }
 }
 
-/// The copy of the blades from before the update: as large as the blade buffer.
-fn prev_blades_buffer(device: &wgpu::Device, blades: &wgpu::Buffer) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
+/// Invocations per workgroup of the copy pass (`COPY_GROUP` in `taa_prev.wgsl`).
+pub const COPY_GROUP: u32 = 256;
+/// Workgroups along x a dispatch may have (WebGPU's limit); the copy folds the rest into y.
+const MAX_GROUPS_X: u32 = 65_535;
+/// Bytes of one blade's copy: v0, v1 and v2 with their fourth components.
+pub const PREV_BLADE_BYTES: u64 = 48;
+
+/// The copy of the blades' control points from before the update (48 of each blade's 64
+/// bytes), and the copy pass's group that writes it from `blades`.
+fn prev_blades_buffer(
+    device: &wgpu::Device,
+    copy: &wgpu::ComputePipeline,
+    blades: &wgpu::Buffer,
+) -> (wgpu::Buffer, wgpu::BindGroup) {
+    let slots = blades.size() / std::mem::size_of::<Blade>() as u64;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sward.taa.prev_blades"),
-        size: blades.size(),
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC,
+        size: slots.max(1) * PREV_BLADE_BYTES,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
-    })
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sward.taa.copy_prev.group"),
+        layout: &copy.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: blades.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: buffer.as_entire_binding(),
+            },
+        ],
+    });
+    (buffer, group)
 }
