@@ -1,5 +1,5 @@
 //! What the user is holding and dragging, fed by window events and by replayed scripts alike
-//! (both arrive as [`replay::Event`]s), and turned into one [`CameraInput`] per frame.
+//! (both arrive as [`super::replay::Event`]s), and turned into one [`CameraInput`] per frame.
 
 use std::collections::HashSet;
 

@@ -3,10 +3,10 @@
 //!
 //! The paper compares three configurations on "frames having the exact same input data
 //! from a fixed reference viewpoint": all features, collision detection disabled, culling
-//! disabled. Here each configuration gets a fresh [`Renderer`] over the same [`Session`]
+//! disabled. Here each configuration gets a fresh [`crate::render::Renderer`] over the same [`Session`]
 //! (same field, same terrain), starts at t = 0 and steps the same frames with the same
 //! Δt = 1/30 s and the scene's camera, so the three columns differ only in the feature
-//! switched off. After every frame [`Renderer::stats`] blocks until the GPU is done and
+//! switched off. After every frame [`crate::render::Renderer::stats`] blocks until the GPU is done and
 //! returns the cull counters and the per-pass GPU times (timestamp queries); the first
 //! `--warmup` frames are left out of the means (pipeline caches, first-touch allocations,
 //! blades settling out of the colliders).

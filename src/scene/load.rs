@@ -21,8 +21,8 @@ use crate::error::Result;
 ///
 /// # Errors
 ///
-/// [`Error::Read`] naming `path` if the file cannot be read (missing, unreadable, not
-/// UTF-8); [`Error::Scene`] with line and column for a syntax error, an unknown field, a
+/// [`crate::Error::Read`] naming `path` if the file cannot be read (missing, unreadable, not
+/// UTF-8); [`crate::Error::Scene`] with line and column for a syntax error, an unknown field, a
 /// wrong type or a value out of range.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let text = crate::input::read_text(path)?;
@@ -45,8 +45,8 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 ///
 /// # Errors
 ///
-/// [`Error::Scene`] with line and column for a syntax error, an unknown field, a wrong type
-/// or a value out of range.
+/// [`crate::Error::Scene`] with line and column for a syntax error, an unknown field, a
+/// wrong type or a value out of range.
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene> {
     // The same path as with `--set` arguments, with none.
     super::parse_scene_with_sets(text, path, &[])

@@ -38,7 +38,7 @@ use crate::sim::layout::SimParams;
 use crate::sim::reference::{wind_at, WindGrid};
 
 /// Base cells across the billboard radius: the base cell is the radius over this (at least
-/// [`MIN_CELL`], at most [`CELL_RADIUS_CAP`] over this); the levels double the cells out
+/// `MIN_CELL`, at most [`CELL_RADIUS_CAP`] over this); the levels double the cells out
 /// to any radius, so the number of cards grows with its logarithm only.
 pub const CELLS_PER_RADIUS: f32 = 200.0;
 /// The smallest base cell (m).
