@@ -122,8 +122,9 @@ impl Renderer {
             view_proj: self.view_crop * camera.view_proj_relative(self.aspect(size.0, size.1)),
             jitter: self.jitter,
             eye: camera.eye,
+            // The list the frame uploaded, not computed again.
             spheres: if self.taa.as_ref().is_some_and(|t| t.active()) {
-                self.frame_spheres()
+                self.uploaded_spheres.clone()
             } else {
                 Vec::new()
             },

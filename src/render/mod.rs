@@ -195,6 +195,9 @@ pub struct Renderer {
     light: light::LightPass,
     /// Temporal anti-aliasing and its history, while `render.taa` is on.
     taa: Option<taa::TaaPass>,
+    /// The colliders of the last upload (`frame_spheres` at this frame's time): TAA moves
+    /// the pixels on a moving ball with its centre.
+    uploaded_spheres: Vec<[f32; 4]>,
     /// Whether `render.taa` may run: the window's frame budget switches anti-aliasing off
     /// (MSAA by its sample cap, TAA by this) without touching the scene.
     pub taa_allowed: bool,
@@ -380,6 +383,7 @@ impl Renderer {
             taa: None,
             taa_settings: taa::TaaSettings::default(),
             taa_allowed: true,
+            uploaded_spheres: Vec::new(),
             jitter: glam::Mat4::IDENTITY,
         };
         r.upload_colliders(gpu);
@@ -421,6 +425,7 @@ impl Renderer {
             Vec::new()
         };
         self.buffers.upload_bvh(&gpu.queue, &self.bvh);
+        self.uploaded_spheres = spheres;
     }
 
     /// The spheres drawn: all but the objects' packed ones (which follow the colliders
