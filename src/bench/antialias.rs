@@ -66,23 +66,7 @@ pub struct AntialiasReport {
 
 /// Refuses options that mean nothing here.
 pub fn check_antialias_options(o: &BenchOptions) -> Result<()> {
-    if o.flight
-        || o.models
-        || o.light
-        || o.far_field
-        || !o.sweep.is_empty()
-        || o.images.is_some()
-        || o.trace.is_some()
-        || !o.pressure_solvers.is_empty()
-        || !o.colliders.is_empty()
-    {
-        return Err(Error::Invalid(
-            "--antialiasing compares the anti-aliasing alone: it does not go with --flight, \
-             --models, --light, --far-field, --sweep, --images, --trace, --pressure-solvers \
-             or --colliders"
-                .into(),
-        ));
-    }
+    super::refuse_beside(o, "--antialiasing", "compares the anti-aliasing alone")?;
     if o.frames < 2 {
         return Err(Error::Invalid(format!(
             "--frames must be at least 2 with --antialiasing (got {}): the flicker needs \

@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
 use crate::compare::{bands, compare_bands, worst_band, Band, BandDiff};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::render::camera::CameraView;
 use crate::render::target::Target;
 use crate::scene::Scene;
@@ -24,22 +24,7 @@ use crate::session::Session;
 
 /// Checks the flags that do not go with `--far-field`.
 pub fn check_far_field_options(o: &BenchOptions) -> Result<()> {
-    if o.flight
-        || o.models
-        || o.light
-        || !o.sweep.is_empty()
-        || o.images.is_some()
-        || o.trace.is_some()
-        || !o.pressure_solvers.is_empty()
-        || !o.colliders.is_empty()
-    {
-        return Err(Error::Invalid(
-            "--far-field compares the far levels alone: it does not go with --flight, \
-             --models, --light, --sweep, --images, --trace, --pressure-solvers or --colliders"
-                .into(),
-        ));
-    }
-    Ok(())
+    super::refuse_beside(o, "--far-field", "compares the far levels alone")
 }
 
 /// How far the reference draws blades: 1.75 times the scene's blade radius, at least 50 m

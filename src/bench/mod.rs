@@ -144,6 +144,23 @@ impl BenchOptions {
         })
     }
 
+    /// The flags that choose a mode or shape its frames, and whether each is set: what a
+    /// mode that runs alone refuses beside it ([`refuse_beside`]).
+    pub fn mode_flags(&self) -> [(&'static str, bool); 10] {
+        [
+            ("--flight", self.flight),
+            ("--models", self.models),
+            ("--light", self.light),
+            ("--far-field", self.far_field),
+            ("--antialiasing", self.antialiasing),
+            ("--sweep", !self.sweep.is_empty()),
+            ("--images", self.images.is_some()),
+            ("--trace", self.trace.is_some()),
+            ("--pressure-solvers", !self.pressure_solvers.is_empty()),
+            ("--colliders", !self.colliders.is_empty()),
+        ]
+    }
+
     /// `--images DIR`: where to save the compared frames; the folder must exist.
     pub fn with_images(mut self, dir: Option<PathBuf>) -> Result<Self> {
         if let Some(d) = &dir {
@@ -762,6 +779,25 @@ fn ratios(configs: &[ConfigReport]) -> Ratios {
         }),
         ..Default::default()
     }
+}
+
+/// Refuses mode `flag` beside any other of `o`'s [`BenchOptions::mode_flags`] that is
+/// set: "`flag` `what`: it does not go with …", naming every other flag.
+pub(super) fn refuse_beside(o: &BenchOptions, flag: &str, what: &str) -> Result<()> {
+    let others: Vec<(&str, bool)> = o
+        .mode_flags()
+        .into_iter()
+        .filter(|(name, _)| *name != flag)
+        .collect();
+    if !others.iter().any(|(_, set)| *set) {
+        return Ok(());
+    }
+    let names: Vec<&str> = others.iter().map(|(name, _)| *name).collect();
+    let (last, rest) = names.split_last().expect("other flags");
+    Err(Error::Invalid(format!(
+        "{flag} {what}: it does not go with {} or {last}",
+        rest.join(", ")
+    )))
 }
 
 /// Runs `sward bench` and prints the table (or the JSON object with `--json`) to stdout.

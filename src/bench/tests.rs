@@ -43,6 +43,39 @@ fn flags_are_checked() {
     }
 }
 
+/// A mode that runs alone refuses every other mode flag that is set, and names them all;
+/// its own flag does not count against it.
+#[test]
+fn a_mode_alone_refuses_the_others() {
+    let mut o = BenchOptions::parse(
+        None,
+        "2",
+        "64x40",
+        "0",
+        None,
+        false,
+        crate::gpu::AdapterChoice::Auto,
+    )
+    .expect("options");
+    o.antialiasing = true;
+    assert!(refuse_beside(&o, "--antialiasing", "compares").is_ok());
+    o.light = true;
+    let e = refuse_beside(&o, "--antialiasing", "compares the anti-aliasing alone")
+        .expect_err("--light is set")
+        .to_string();
+    assert!(
+        e.starts_with(
+            "--antialiasing compares the anti-aliasing alone: it does not go with --flight, "
+        ),
+        "{e}"
+    );
+    assert!(
+        e.contains("--light") && e.ends_with(" or --colliders"),
+        "{e}"
+    );
+    assert!(!e.contains("--antialiasing,"), "{e}");
+}
+
 #[test]
 fn configurations_switch_one_feature() {
     let mut scene = Scene::default();
