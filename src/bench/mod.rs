@@ -145,7 +145,7 @@ impl BenchOptions {
     }
 
     /// The flags that choose a mode or shape its frames, and whether each is set: what a
-    /// mode that runs alone refuses beside it ([`refuse_beside`]).
+    /// mode that runs alone refuses beside it (`refuse_beside`).
     pub fn mode_flags(&self) -> [(&'static str, bool); 10] {
         [
             ("--flight", self.flight),
