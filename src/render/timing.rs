@@ -9,7 +9,7 @@ use wgpu_profiler::{GpuProfiler, GpuProfilerQuery, GpuProfilerSettings, GpuTimer
 
 use crate::error::{Error, Result};
 use crate::gpu::queries::{PassQueries, WorkCounter};
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, MAX_FRAMES_IN_FLIGHT};
 
 /// The passes that are timed, by scope name: the occluders' depth pass, the depth pyramid,
 /// the patch pass, the blade update, the blade cull and the draw; then, with grass
@@ -79,6 +79,8 @@ pub struct GpuTimer {
     last: Option<[f64; PASSES.len()]>,
     /// Every finished frame's scopes (seconds on the GPU clock), while recording a trace.
     trace: Option<Vec<GpuTimerQueryResult>>,
+    /// Frames handed to the profiler whose results were not taken yet.
+    pending: usize,
 }
 
 impl GpuTimer {
@@ -100,6 +102,7 @@ impl GpuTimer {
             profiler,
             last: None,
             trace: None,
+            pending: 0,
         })
     }
 
@@ -121,11 +124,17 @@ impl GpuTimer {
         self.profiler.resolve_queries(encoder);
     }
 
-    /// Ends the profiler's frame: call once its command buffer was submitted. Frames
-    /// already finished on the GPU are collected (without waiting).
+    /// Ends the profiler's frame: call once its command buffer was submitted and the
+    /// frame pacer has waited (`gpu::FramePacer::submitted`). The frames the pacer has
+    /// waited for are collected; the [`MAX_FRAMES_IN_FLIGHT`] newest stay pending even when
+    /// they happen to be finished already, so the profiler holds the same number of query
+    /// pools whatever the GPU's speed (3: two pending, one recording). Collecting whatever
+    /// had finished made that number depend on the load of the machine (2 or 3 pools), and
+    /// the memory test could not tell a bounded pool from a leak.
     pub fn end_frame(&mut self, gpu: &Gpu) {
-        if let Err(e) = self.profiler.end_frame() {
-            log::warn!("GPU timing of this frame is lost: {e}");
+        match self.profiler.end_frame() {
+            Ok(()) => self.pending += 1,
+            Err(e) => log::warn!("GPU timing of this frame is lost: {e}"),
         }
         // A trace keeps every frame: waiting here keeps the profiler from dropping frames
         // whose results are not back yet (the pass times themselves are unaffected).
@@ -133,14 +142,21 @@ impl GpuTimer {
             if let Err(e) = crate::gpu::wait_idle(&gpu.device) {
                 log::warn!("GPU timing: {e}");
             }
+            self.collect(gpu, 0);
+        } else {
+            self.collect(gpu, MAX_FRAMES_IN_FLIGHT);
         }
-        self.collect(gpu);
     }
 
-    /// Takes every finished frame's results from the profiler.
-    fn collect(&mut self, gpu: &Gpu) {
+    /// Takes finished frames' results from the profiler, oldest first, until `keep` frames
+    /// are left pending (or the oldest is not finished).
+    fn collect(&mut self, gpu: &Gpu, keep: usize) {
         let period = gpu.queue.get_timestamp_period();
-        while let Some(frame) = self.profiler.process_finished_frame(period) {
+        while self.pending > keep {
+            let Some(frame) = self.profiler.process_finished_frame(period) else {
+                break;
+            };
+            self.pending -= 1;
             self.last = Some(pass_ms(&frame));
             if let Some(trace) = &mut self.trace {
                 trace.extend(frame);
@@ -152,7 +168,7 @@ impl GpuTimer {
     /// 0 for passes that did not run in it.
     pub fn read_ms(&mut self, gpu: &Gpu) -> Result<[f64; PASSES.len()]> {
         crate::gpu::wait_idle(&gpu.device)?;
-        self.collect(gpu);
+        self.collect(gpu, 0);
         Ok(self.last.unwrap_or_default())
     }
 
@@ -164,7 +180,7 @@ impl GpuTimer {
     /// The recorded scopes of every frame finished so far (blocks until the GPU is idle).
     pub fn take_trace(&mut self, gpu: &Gpu) -> Result<Vec<GpuTimerQueryResult>> {
         crate::gpu::wait_idle(&gpu.device)?;
-        self.collect(gpu);
+        self.collect(gpu, 0);
         Ok(self.trace.replace(Vec::new()).unwrap_or_default())
     }
 }
