@@ -21,7 +21,7 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
-        out += &sward::bench::gpu_tables::report_table(label, &report);
+        out += &sward_app::bench::gpu_tables::report_table(label, &report);
         out.push('\n');
     }
     print!("{out}");

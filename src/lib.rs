@@ -1,22 +1,8 @@
-//! sward: a real-time grass renderer. Every blade is a quadratic Bézier curve simulated on
-//! the GPU (Jahrmann & Wimmer 2017), culled on the GPU and drawn with indirect draws; the
-//! same frames render headless to PNG on a software adapter.
+//! The sward application, built on the `sward` library (crates/sward): the window with its
+//! panel, the AGC wind editor, the replay of recorded input and the frame budget
+//! ([`app`]), the benchmarks ([`bench`]) and what the binary sets up before it starts
+//! ([`runtime_env`]). The command line itself is `src/main.rs`.
 
 pub mod app;
 pub mod bench;
-pub mod commands;
-pub mod compare;
-pub mod error;
-pub mod field;
-pub mod gpu;
-pub mod input;
-pub mod mesh;
-pub mod output;
-pub mod render;
 pub mod runtime_env;
-pub mod scene;
-pub mod session;
-pub mod shaders;
-pub mod sim;
-
-pub use error::{Error, Result};

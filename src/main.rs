@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use sward::app::AppOptions;
-use sward::bench::{bench, BenchOptions};
 use sward::commands::{render, simulate, RenderOptions, SimulateOptions, MAX_FRAMES};
 use sward::gpu::AdapterChoice;
+use sward_app::app::AppOptions;
+use sward_app::bench::{bench, BenchOptions};
 
 #[derive(Parser)]
 #[command(
@@ -344,7 +344,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 fn main() -> ExitCode {
-    sward::runtime_env::ensure_runtime_dir();
+    sward_app::runtime_env::ensure_runtime_dir();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
     let adapter: AdapterChoice = cli.adapter.adapter.parse().expect("infallible");
@@ -355,7 +355,7 @@ fn main() -> ExitCode {
             let sets = w.overrides.sets();
             overrides = Some(w.overrides);
             let fixed_dt = w.dt.or(w.replay.as_ref().map(|_| 1.0 / 30.0));
-            sward::app::run(AppOptions {
+            sward_app::app::run(AppOptions {
                 save_path: w.save_to.or_else(|| w.scene.clone()),
                 scene: w.scene,
                 sets,
@@ -461,10 +461,10 @@ fn main() -> ExitCode {
         })
         .and_then(|mut b| {
             if let Some(text) = &pressure_solvers {
-                b.pressure_solvers = sward::bench::pressure::parse_pressure_solvers(text)?;
+                b.pressure_solvers = sward_app::bench::pressure::parse_pressure_solvers(text)?;
             }
             if let Some(text) = &colliders {
-                b.colliders = sward::bench::colliders::parse_collider_counts(text)?;
+                b.colliders = sward_app::bench::colliders::parse_collider_counts(text)?;
             }
             Ok(b)
         })

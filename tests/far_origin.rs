@@ -7,12 +7,12 @@
 mod common;
 
 use glam::Vec3;
-use sward::bench::flight::mean_abs_difference;
 use sward::render::camera::CameraView;
 use sward::render::target::{Target, COLOR_FORMAT};
 use sward::render::Renderer;
 use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
+use sward_app::bench::flight::mean_abs_difference;
 
 const SIZE: (u32, u32) = (128, 80);
 

@@ -1,17 +1,21 @@
-//! The library's layers (issue 28, point 5; `docs/layers.md`): every top-level module of
-//! `src/` has a layer, and its code refers (`crate::…`) only to modules of lower layers. A
-//! module that reaches up — the scene validating against a limit kept by the renderer, the
-//! field building its blades from the simulation's types — fails here, naming the file,
-//! the line and both layers. A new top-level module must be given a layer below.
+//! The layers (issue 28, points 1 and 5; `docs/layers.md`): every top-level module of the
+//! library (`crates/sward/src/`) and of the application (`src/`) has a layer, and its code
+//! refers (`crate::…`) only to modules of lower layers. A module that reaches up — the
+//! scene validating against a limit kept by the renderer, the field building its blades
+//! from the simulation's types — fails here, naming the file, the line and both layers. A
+//! new top-level module must be given a layer below. The library's manifest must not
+//! bring in what only the application needs (window, panel, command line, logger,
+//! executor).
 
 use std::path::{Path, PathBuf};
 
-/// The layers, lowest first: a module may use the modules of the layers before its own.
-const LAYERS: &[(&str, &[&str])] = &[
-    (
-        "foundations",
-        &["error", "shaders", "runtime_env", "compare"],
-    ),
+/// A crate's layers, lowest first: a module may use the modules of the layers before its
+/// own.
+type Layers = &'static [(&'static str, &'static [&'static str])];
+
+/// The library `sward`.
+const LIBRARY: Layers = &[
+    ("foundations", &["error", "shaders", "compare"]),
     ("foundations over errors", &["output", "gpu", "mesh"]),
     ("input", &["input"]),
     ("scene data", &["scene"]),
@@ -20,11 +24,28 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("session", &["session"]),
     ("rendering", &["render"]),
     ("commands", &["commands"]),
+];
+
+/// The application `sward-app` (the library is below all of it).
+const APPLICATION: Layers = &[
+    ("start-up", &["runtime_env"]),
     ("application", &["bench", "app"]),
 ];
 
-fn layer_of(module: &str) -> Option<usize> {
-    LAYERS.iter().position(|(_, ms)| ms.contains(&module))
+/// What the library must not depend on: the application's window, panel, command line,
+/// logger and executor.
+const NOT_IN_THE_LIBRARY: &[&str] = &[
+    "winit",
+    "egui",
+    "egui-wgpu",
+    "egui-winit",
+    "clap",
+    "env_logger",
+    "pollster",
+];
+
+fn layer_of(layers: Layers, module: &str) -> Option<usize> {
+    layers.iter().position(|(_, ms)| ms.contains(&module))
 }
 
 /// One upward reference: file, line, the module there, the module it names.
@@ -38,8 +59,8 @@ struct Violation {
 
 /// The upward references in `source`, a file of top-level module `from`. Comments are left
 /// out (a doc may name a module above to say where something is used).
-fn violations_in(file: &str, from: &str, source: &str) -> Vec<Violation> {
-    let Some(own) = layer_of(from) else {
+fn violations_in(layers: Layers, file: &str, from: &str, source: &str) -> Vec<Violation> {
+    let Some(own) = layer_of(layers, from) else {
         return Vec::new();
     };
     let mut out = Vec::new();
@@ -52,7 +73,7 @@ fn violations_in(file: &str, from: &str, source: &str) -> Vec<Violation> {
                 .chars()
                 .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
                 .collect();
-            if let Some(layer) = layer_of(&name) {
+            if let Some(layer) = layer_of(layers, &name) {
                 if name != from && layer >= own {
                     out.push(Violation {
                         file: file.into(),
@@ -78,15 +99,14 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-#[test]
-fn every_module_refers_only_to_layers_below_it() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+/// Checks the crate whose sources are `src` against `layers`; returns the files checked.
+fn check_crate(src: &Path, layers: Layers) -> usize {
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    rust_files(src, &mut files);
     let mut found = Vec::new();
     let mut checked = 0;
     for path in &files {
-        let rel = path.strip_prefix(&src).expect("under src");
+        let rel = path.strip_prefix(src).expect("under src");
         let top = rel
             .components()
             .next()
@@ -97,25 +117,31 @@ fn every_module_refers_only_to_layers_below_it() {
             continue;
         }
         assert!(
-            layer_of(&top).is_some(),
-            "src/{top} has no layer: give it one in tests/layers.rs and docs/layers.md"
+            layer_of(layers, &top).is_some(),
+            "{}/{top} has no layer: give it one in tests/layers.rs and docs/layers.md",
+            src.display()
         );
         let source = std::fs::read_to_string(path).expect("read");
-        found.extend(violations_in(&rel.display().to_string(), &top, &source));
+        found.extend(violations_in(
+            layers,
+            &rel.display().to_string(),
+            &top,
+            &source,
+        ));
         checked += 1;
     }
-    assert!(checked > 100, "only {checked} files checked");
     let report: Vec<String> = found
         .iter()
         .map(|v| {
             format!(
-                "src/{}:{}: {} ({}) refers to {} ({})",
+                "{}/{}:{}: {} ({}) refers to {} ({})",
+                src.display(),
                 v.file,
                 v.line,
                 v.from,
-                LAYERS[layer_of(&v.from).unwrap()].0,
+                layers[layer_of(layers, &v.from).unwrap()].0,
                 v.to,
-                LAYERS[layer_of(&v.to).unwrap()].0
+                layers[layer_of(layers, &v.to).unwrap()].0
             )
         })
         .collect();
@@ -124,6 +150,59 @@ fn every_module_refers_only_to_layers_below_it() {
         "references to a layer at or above the module's own:\n{}",
         report.join("\n")
     );
+    checked
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn every_module_refers_only_to_layers_below_it() {
+    let library = check_crate(&root().join("crates/sward/src"), LIBRARY);
+    assert!(library > 100, "only {library} library files checked");
+    let application = check_crate(&root().join("src"), APPLICATION);
+    assert!(
+        application > 20,
+        "only {application} application files checked"
+    );
+}
+
+/// The names of the `[dependencies]` table of a Cargo manifest (not the dev- or build-
+/// dependencies).
+fn normal_dependencies(manifest: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut inside = false;
+    for line in manifest.lines() {
+        let line = line.trim();
+        if line.starts_with('[') {
+            inside = line == "[dependencies]";
+        } else if inside && !line.starts_with('#') {
+            if let Some((name, _)) = line.split_once('=') {
+                out.push(name.trim().to_string());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_library_depends_on_no_window_panel_or_command_line() {
+    let manifest =
+        std::fs::read_to_string(root().join("crates/sward/Cargo.toml")).expect("manifest");
+    let deps = normal_dependencies(&manifest);
+    assert!(deps.iter().any(|d| d == "wgpu"), "read {deps:?}");
+    let bad: Vec<&String> = deps
+        .iter()
+        .filter(|d| NOT_IN_THE_LIBRARY.contains(&d.as_str()))
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "crates/sward/Cargo.toml depends on {bad:?}, which are the application's"
+    );
+    // The reader itself: a table after [dependencies] ends it.
+    let sample = "[dependencies]\nwgpu = \"30\"\n[dev-dependencies]\nclap = \"4\"\n";
+    assert_eq!(normal_dependencies(sample), vec!["wgpu".to_string()]);
 }
 
 /// The checker itself: an upward reference in code is found, one in a comment, a module's
@@ -135,7 +214,7 @@ fn the_checker_finds_a_reference_upwards() {
                   let x = crate::sim::layout::MAX_SPHERES;\n\
                   //! see crate::render::draw\n\
                   use crate::render::msaa::SAMPLE_COUNTS;\n";
-    let found = violations_in("field/x.rs", "field", source);
+    let found = violations_in(LIBRARY, "field/x.rs", "field", source);
     assert_eq!(
         found,
         vec![
@@ -155,8 +234,8 @@ fn the_checker_finds_a_reference_upwards() {
     );
     // A module of the same layer as another counts as above it: bench and app are apart.
     assert_eq!(
-        violations_in("bench/x.rs", "bench", "crate::app::run();").len(),
+        violations_in(APPLICATION, "bench/x.rs", "bench", "crate::app::run();").len(),
         1
     );
-    assert!(violations_in("app/x.rs", "app", "crate::render::Renderer").is_empty());
+    assert!(violations_in(APPLICATION, "app/x.rs", "app", "crate::runtime_env::x()").is_empty());
 }

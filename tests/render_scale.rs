@@ -15,11 +15,11 @@
 
 mod common;
 
-use sward::app::adaptive::MIN_SCALE;
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
 use sward::render::upscale::scaled_size;
 use sward::session::Session;
+use sward_app::app::adaptive::MIN_SCALE;
 
 const FULL: (u32, u32) = (320, 180);
 /// At most this share of the blades the occlusion test sees is decided differently at a

@@ -24,7 +24,7 @@ fn every_entry_file_parses_and_validates() {
 
 #[test]
 fn every_shader_file_is_reachable_from_an_entry_file() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/sward/shaders");
     let all: String = ENTRY_FILES.iter().map(|n| source(n)).collect();
     for entry in std::fs::read_dir(&dir).expect("shaders/ exists") {
         let path = entry.expect("readable").path();

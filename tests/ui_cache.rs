@@ -6,8 +6,8 @@
 mod common;
 
 use egui::epaint::{ClippedPrimitive, Mesh, Primitive};
-use sward::app::ui_cache::{self, painted_bounds, UiCache};
 use sward::gpu::Gpu;
+use sward_app::app::ui_cache::{self, painted_bounds, UiCache};
 
 const SIZE: (u32, u32) = (320, 180);
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;

@@ -11,13 +11,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 
 use glam::{Vec2, Vec3};
-use sward::app::camera::CameraController;
-use sward::app::picking::{pick_terrain, project, screen_ray};
-use sward::app::replay::{Button, Event, Key, Script, Step};
 use sward::field::HeightField;
 use sward::render::arrows::ARROW_LIFT;
 use sward::render::camera::CameraView;
 use sward::scene::load_scene;
+use sward_app::app::camera::CameraController;
+use sward_app::app::picking::{pick_terrain, project, screen_ray};
+use sward_app::app::replay::{Button, Event, Key, Script, Step};
 
 const SIZE: (u32, u32) = (960, 540);
 

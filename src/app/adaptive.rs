@@ -39,7 +39,7 @@
 //! culling is off and the budget needs to cull, it switches it on (the status says so) and
 //! leaves it on: switching it back off would be a step the gradual control cannot undo.
 
-use crate::scene::Culling;
+use sward::scene::Culling;
 
 /// Weight of the newest frame in the smoothed frame time.
 pub const SMOOTHING: f32 = 0.25;

@@ -12,7 +12,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::field::HeightField;
+use sward::field::HeightField;
 
 /// Longest physics sub-step in seconds.
 pub const MAX_SUBSTEP: f32 = 1.0 / 240.0;

@@ -12,8 +12,8 @@ use std::f32::consts::TAU;
 
 use glam::{Vec2, Vec3};
 
-use crate::field::HeightField;
-use crate::render::camera::CameraView;
+use sward::field::HeightField;
+use sward::render::camera::CameraView;
 
 /// Radians of yaw/pitch per pixel dragged.
 pub const LOOK_RADIANS_PER_PIXEL: f32 = 0.004;

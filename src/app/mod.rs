@@ -21,7 +21,7 @@ pub mod window;
 
 use std::path::PathBuf;
 
-use crate::gpu::AdapterChoice;
+use sward::gpu::AdapterChoice;
 
 pub use window::run;
 

@@ -8,12 +8,12 @@ use egui::{Color32, RichText, Ui};
 
 use super::camera::CameraMode;
 use super::state::{AppState, Mode, Status};
-use crate::gpu::Gpu;
-use crate::render::timing::PASSES;
-use crate::scene::{
+use sward::gpu::Gpu;
+use sward::render::timing::PASSES;
+use sward::scene::{
     Advection, Boundary, ColorMode, PressureSolver, Range, SelfShadow, Shape, WindSource,
 };
-use crate::sim::fluid::{MAX_LAYERS, MAX_MULTIGRID_CYCLES};
+use sward::sim::fluid::{MAX_LAYERS, MAX_MULTIGRID_CYCLES};
 
 /// Keyboard and mouse shortcuts, shown in the Help window (and listed in the README).
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -539,7 +539,7 @@ fn rendering_section(ui: &mut Ui, app: &mut AppState) {
         // MSAA: the renderer rebuilds its pipelines and targets before the next frame.
         ui.horizontal(|ui| {
             ui.label("MSAA");
-            for n in crate::render::msaa::SAMPLE_COUNTS {
+            for n in sward::render::msaa::SAMPLE_COUNTS {
                 ui.selectable_value(&mut r.msaa, n, format!("{n}×"));
             }
         });

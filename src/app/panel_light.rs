@@ -6,7 +6,7 @@
 use egui::Ui;
 
 use super::state::AppState;
-use crate::scene::{Shading, SkyModel, ToneMapping};
+use sward::scene::{Shading, SkyModel, ToneMapping};
 
 /// Shadow map sizes offered, up to the adapter's largest texture.
 const RESOLUTIONS: [u32; 4] = [512, 1024, 2048, 4096];

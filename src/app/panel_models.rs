@@ -6,8 +6,8 @@
 use egui::Ui;
 
 use super::state::{AppState, Status};
-use crate::gpu::Gpu;
-use crate::scene::BladeModel;
+use sward::gpu::Gpu;
+use sward::scene::BladeModel;
 
 pub fn model_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     let before = app.renderer.scene.physics.model;
@@ -56,7 +56,7 @@ pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     let before = p.propagation.clone();
     ui.checkbox(&mut on, "grass-to-grass propagation (Qiu Eq. 4)");
     if on != p.propagation.is_some() {
-        p.propagation = on.then(crate::scene::Propagation::default);
+        p.propagation = on.then(sward::scene::Propagation::default);
     }
     if let Some(q) = &mut p.propagation {
         ui.add(egui::Slider::new(&mut q.att, 0.0..=1.0).text("att (decay)"));
@@ -68,7 +68,7 @@ pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
         ui.add(
             egui::Slider::new(
                 &mut q.generations,
-                1..=crate::sim::propagation::MAX_GENERATIONS,
+                1..=sward::sim::propagation::MAX_GENERATIONS,
             )
             .text("generations"),
         );
@@ -88,7 +88,7 @@ pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
 /// The field draft's species, clumps and flowers (applied by the Field section's
 /// Regenerate): each species' share and colour, adding and removing species, the clumps'
 /// settings, and the flowers' share, head size and kinds' colours.
-pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
+pub fn species_controls(ui: &mut Ui, f: &mut sward::scene::Field) {
     ui.label("species (empty: the field's own ranges)");
     let mut remove = None;
     for (k, s) in f.species.iter_mut().enumerate() {
@@ -107,8 +107,8 @@ pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
     if let Some(k) = remove {
         f.species.remove(k);
     }
-    if f.species.len() < crate::field::clumps::MAX_SPECIES && ui.button("add species").clicked() {
-        f.species.push(crate::scene::Species {
+    if f.species.len() < sward::field::clumps::MAX_SPECIES && ui.button("add species").clicked() {
+        f.species.push(sward::scene::Species {
             height: f.height,
             width: f.width,
             stiffness: f.stiffness,
@@ -119,7 +119,7 @@ pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
     let mut on = f.clumps.is_some();
     ui.checkbox(&mut on, "clumps");
     if on != f.clumps.is_some() {
-        f.clumps = on.then(crate::scene::Clumps::default);
+        f.clumps = on.then(sward::scene::Clumps::default);
     }
     if let Some(c) = &mut f.clumps {
         ui.add(egui::Slider::new(&mut c.size, 0.05..=5.0).text("clump size m"));
@@ -130,7 +130,7 @@ pub fn species_controls(ui: &mut Ui, f: &mut crate::scene::Field) {
     let mut flowers = f.flowers.is_some();
     ui.checkbox(&mut flowers, "flowers");
     if flowers != f.flowers.is_some() {
-        f.flowers = flowers.then(crate::scene::Flowers::default);
+        f.flowers = flowers.then(sward::scene::Flowers::default);
     }
     if let Some(fl) = &mut f.flowers {
         ui.add(egui::Slider::new(&mut fl.fraction, 0.0..=0.3).text("share of blades"));

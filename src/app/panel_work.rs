@@ -7,7 +7,7 @@
 use egui::{RichText, Ui};
 
 use super::state::AppState;
-use crate::gpu::Gpu;
+use sward::gpu::Gpu;
 
 pub(super) fn work_counters(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     if !gpu.pipeline_statistics {
@@ -26,7 +26,7 @@ pub(super) fn work_counters(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     }
     match app.renderer.last_work() {
         Some(work) => {
-            let lines = crate::render::work::table(work, app.renderer.samples());
+            let lines = sward::render::work::table(work, app.renderer.samples());
             ui.label(RichText::new(lines.join("\n")).monospace().small());
         }
         None => {

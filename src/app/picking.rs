@@ -9,10 +9,10 @@
 
 use glam::{DVec3, DVec4, Mat4, Vec2, Vec3};
 
-use crate::field::HeightField;
-use crate::render::camera::CameraView;
-use crate::scene::Guide;
-use crate::sim::agc::{GuideId, PointId};
+use sward::field::HeightField;
+use sward::render::camera::CameraView;
+use sward::scene::Guide;
+use sward::sim::agc::{GuideId, PointId};
 
 /// A half-line in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -229,7 +229,7 @@ pub fn pick_point(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::GuidePoint;
+    use sward::scene::GuidePoint;
 
     fn view(eye: Vec3, target: Vec3) -> CameraView {
         CameraView {

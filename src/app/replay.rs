@@ -28,8 +28,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Result};
-use crate::output::write_atomic;
+use sward::error::{Error, Result};
+use sward::output::write_atomic;
 
 /// The keys the window reacts to (camera flight, editor shortcuts, panels).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -103,7 +103,7 @@ impl Script {
     /// column of a syntax error, an unknown key or event, a frame smaller than the step
     /// before, or a non-finite coordinate or scroll.
     pub fn load(path: &Path) -> Result<Script> {
-        let text = crate::input::read_text(path)?;
+        let text = sward::input::read_text(path)?;
         Self::parse(&text, path)
     }
 

@@ -16,17 +16,17 @@ use super::editor::{Editor, Selection};
 use super::input::InputState;
 use super::picking::{pick_point, pick_terrain, screen_ray};
 use super::replay::{Button, Event, Key};
-use crate::error::{Error, Result};
-use crate::gpu::Gpu;
-use crate::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
-use crate::render::camera::{crop_x, CameraView};
-use crate::render::post::HDR_FORMAT;
-use crate::render::timing;
-use crate::render::upscale::{scaled_size, Upscale};
-use crate::render::{DynamicSphere, FrameStats, Renderer};
-use crate::scene::save::save_scene;
-use crate::scene::{load_scene, parse_scene, Scene, WindSource};
-use crate::session::Session;
+use sward::error::{Error, Result};
+use sward::gpu::Gpu;
+use sward::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
+use sward::render::camera::{crop_x, CameraView};
+use sward::render::post::HDR_FORMAT;
+use sward::render::timing;
+use sward::render::upscale::{scaled_size, Upscale};
+use sward::render::{DynamicSphere, FrameStats, Renderer};
+use sward::scene::save::save_scene;
+use sward::scene::{load_scene, parse_scene, Scene, WindSource};
+use sward::session::Session;
 
 /// The Stats' frame times and budget line as last refreshed.
 #[derive(Clone, Debug, Default)]
@@ -101,7 +101,7 @@ pub struct AppState {
     /// exits non-zero.
     pub failed_save: Option<String>,
     /// The field settings the next "Regenerate" applies.
-    pub field_draft: crate::scene::Field,
+    pub field_draft: sward::scene::Field,
     pub status: Option<Status>,
     pub show_help: bool,
     /// Wall-clock milliseconds of the last frames (the Stats plot).
@@ -133,15 +133,15 @@ pub struct AppState {
 /// The default meadow, parsed from the built-in scene.
 pub fn default_scene() -> Result<Scene> {
     parse_scene(
-        crate::commands::DEFAULT_SCENE,
-        Path::new(crate::commands::DEFAULT_SCENE_PATH),
+        sward::commands::DEFAULT_SCENE,
+        Path::new(sward::commands::DEFAULT_SCENE_PATH),
     )
 }
 
 /// Validates a scene edited in memory by writing it and loading it back through the same
 /// checks as a file; errors name the field and the allowed range.
 pub fn validated(scene: &Scene) -> Result<Scene> {
-    let text = crate::scene::save::scene_to_string(scene)?;
+    let text = sward::scene::save::scene_to_string(scene)?;
     parse_scene(&text, Path::new("(panel)"))
 }
 
@@ -166,7 +166,7 @@ impl AppState {
                 eprintln!("error: {e}\nopening the default meadow instead");
                 (
                     // The default meadow, with the command line's --set still applied.
-                    crate::commands::load(None, sets)?,
+                    sward::commands::load(None, sets)?,
                     Some(Status::Error(format!(
                         "{e} — the default meadow was opened instead; Save will not write \
                          over the file that failed to load"
@@ -390,7 +390,7 @@ impl AppState {
         let refused = self
             .unsaveable
             .as_deref()
-            .is_some_and(|failed| crate::output::same_file(failed, &path));
+            .is_some_and(|failed| sward::output::same_file(failed, &path));
         let result = if path.as_os_str().is_empty() {
             Err("no path: type where to save in the panel".to_string())
         } else if refused {

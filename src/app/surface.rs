@@ -3,9 +3,9 @@
 //! resizing (a zero size while minimised is kept out of the configuration), and every
 //! status `get_current_texture` can return.
 
-use crate::error::{Error, Result};
-use crate::gpu::Gpu;
-use crate::render::target::depth_view;
+use sward::error::{Error, Result};
+use sward::gpu::Gpu;
+use sward::render::target::depth_view;
 
 /// What acquiring the next frame gave.
 pub enum Acquired {

@@ -98,14 +98,14 @@ impl UiCache {
                 count: None,
             }],
         });
-        let module = crate::shaders::module(device, "ui_composite.wgsl");
+        let module = sward::shaders::module(device, "ui_composite.wgsl");
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.window.ui_cache.pipeline_layout"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
         // egui's own blending: premultiplied colour over the frame.
-        let pipeline = crate::render::pipelines::fullscreen_pipeline(
+        let pipeline = sward::render::pipelines::fullscreen_pipeline(
             device,
             "sward.window.ui_composite",
             &pipeline_layout,

@@ -16,9 +16,9 @@ use super::state::AppState;
 use super::surface::{Acquired, SurfaceState};
 use super::ui_cache::{self, UiCache};
 use super::AppOptions;
-use crate::error::{Error, Result};
-use crate::gpu::Gpu;
-use crate::output::Outputs;
+use sward::error::{Error, Result};
+use sward::gpu::Gpu;
+use sward::output::Outputs;
 
 /// Frames between two read-backs of the cull counters and GPU timers: each read-back waits
 /// for the GPU, so doing it every frame would serialise CPU and GPU.
@@ -53,7 +53,7 @@ pub struct WindowApp {
     /// The `--replay` script, read and checked before the window opened.
     script: Option<Script>,
     /// The scene (or why it failed to load), read before the window opened.
-    scene: Option<Result<crate::scene::Scene>>,
+    scene: Option<Result<sward::scene::Scene>>,
 }
 
 impl WindowApp {
@@ -78,7 +78,7 @@ impl WindowApp {
             outputs.add("--trace", path)?;
         }
         let script = options.replay.as_deref().map(Script::load).transpose()?;
-        let scene = crate::commands::load(options.scene.as_deref(), &options.sets);
+        let scene = sward::commands::load(options.scene.as_deref(), &options.sets);
         // A bad --set is a mistake on the command line, not in a file the user may want to
         // fix from the panel: it stops the run like every other bad flag. A scene file
         // that fails to load opens the default meadow with the error in the panel.
@@ -129,7 +129,7 @@ impl WindowApp {
         let scene = self
             .scene
             .take()
-            .unwrap_or_else(|| crate::commands::load(o.scene.as_deref(), &o.sets));
+            .unwrap_or_else(|| sward::commands::load(o.scene.as_deref(), &o.sets));
         let mut app = AppState::new(
             &gpu,
             format,
@@ -246,11 +246,11 @@ impl WindowApp {
         if let Some(path) = &self.options.trace {
             // The frames of the renderer in use at the end (a field rebuilt from the panel
             // starts a new renderer, and its trace, from there).
-            let tracks = [crate::render::timing::TraceTrack {
+            let tracks = [sward::render::timing::TraceTrack {
                 name: "sward window".into(),
                 scopes: r.app.renderer.take_trace(&r.gpu)?,
             }];
-            crate::render::timing::write_trace(outputs, path, &tracks, r.gpu.timestamps)?;
+            sward::render::timing::write_trace(outputs, path, &tracks, r.gpu.timestamps)?;
         }
         if let Some(path) = &self.options.screenshot {
             if !outputs.is_written(path) {
@@ -450,7 +450,7 @@ impl Running {
         let cache = &self.ui_cache;
         self.app
             .renderer
-            .encode_timed(&mut encoder, crate::render::timing::UI, |e, q| {
+            .encode_timed(&mut encoder, sward::render::timing::UI, |e, q| {
                 if redraw {
                     let transparent = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
                     let writes = q.render_writes_part(true, false);
@@ -495,7 +495,7 @@ impl Running {
                         path.display()
                     )));
                 }
-                let image = crate::render::target::read_texture(&self.gpu, &texture.texture)?;
+                let image = sward::render::target::read_texture(&self.gpu, &texture.texture)?;
                 // Staged: renamed into place with --record when the run ends well.
                 outputs.write_png(path, &image)?;
             }

@@ -17,12 +17,12 @@ use serde::Serialize;
 use super::flight::{band_differences, ground_classes, mean_abs_difference};
 use super::measure::{count_frame, fresh_renderer, run_frames, FrameTimes};
 use super::{BenchOptions, BENCH_DT};
-use crate::error::{Error, Result};
-use crate::render::camera::CameraView;
-use crate::render::target::Target;
-use crate::render::work::WorkReport;
-use crate::scene::Scene;
-use crate::session::Session;
+use sward::error::{Error, Result};
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::render::work::WorkReport;
+use sward::scene::Scene;
+use sward::session::Session;
 
 /// Where the far field starts, in blade radii from the camera.
 pub const FAR_FROM: f32 = 0.5;
@@ -120,7 +120,7 @@ pub fn run_antialias(o: &BenchOptions) -> Result<AntialiasReport> {
             |stats| {
                 taa_ms += stats
                     .pass_ms
-                    .map_or(0.0, |ms| ms[crate::render::timing::TAA]);
+                    .map_or(0.0, |ms| ms[sward::render::timing::TAA]);
             },
         )?;
         let work = count_frame(&gpu, &mut renderer, &camera, &target)?;

@@ -24,14 +24,14 @@ use glam::Vec3;
 use serde::Serialize;
 
 use super::{opt, utc_now, BenchOptions};
-use crate::error::{Error, Result};
-use crate::gpu::Gpu;
-use crate::render::camera::CameraView;
-use crate::render::target::Target;
-use crate::render::timing;
-use crate::scene::{MeshCollider, Motion, Scene, Sphere};
-use crate::session::Session;
-use crate::sim::layout::{Blade, MAX_SPHERES};
+use sward::error::{Error, Result};
+use sward::gpu::Gpu;
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::render::timing;
+use sward::scene::{MeshCollider, Motion, Scene, Sphere};
+use sward::session::Session;
+use sward::sim::layout::{Blade, MAX_SPHERES};
 
 /// Share of the disk the spheres' footprints cover.
 const COVER: f32 = 0.2;
@@ -300,8 +300,8 @@ pub fn run_collider_bench(o: &BenchOptions, counts: &[usize]) -> Result<Collider
         let radius = spheres[0].radius;
         let mut scene = session.scene.clone();
         scene.colliders = spheres;
-        let depth = crate::sim::bvh::depth(&crate::sim::bvh::build(
-            &crate::sim::colliders::spheres_at(&scene.colliders, &session.terrain, 0.0),
+        let depth = sward::sim::bvh::depth(&sward::sim::bvh::build(
+            &sward::sim::colliders::spheres_at(&scene.colliders, &session.terrain, 0.0),
         ));
         let mut runs: Vec<RunResult> = Vec::new();
         for mode in &MODES {

@@ -15,12 +15,12 @@
 use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
-use crate::compare::{bands, compare_bands, worst_band, Band, BandDiff};
-use crate::error::Result;
-use crate::render::camera::CameraView;
-use crate::render::target::Target;
-use crate::scene::Scene;
-use crate::session::Session;
+use sward::compare::{bands, compare_bands, worst_band, Band, BandDiff};
+use sward::error::Result;
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::scene::Scene;
+use sward::session::Session;
 
 /// Checks the flags that do not go with `--far-field`.
 pub fn check_far_field_options(o: &BenchOptions) -> Result<()> {
@@ -166,7 +166,7 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
                 "worst band: rows {}-{}: {:+.1} levels, contrast {:+.0} %; {} of {} bands \
                  within 5 levels and 30 %\n",
                 w.top,
-                w.top + crate::compare::BAND_ROWS - 1,
+                w.top + sward::compare::BAND_ROWS - 1,
                 w.luminance,
                 100.0 * w.contrast,
                 c.within,

@@ -24,13 +24,13 @@ use glam::{Vec2, Vec3};
 use serde::Serialize;
 
 use super::{BenchOptions, BENCH_DT, MIB};
-use crate::error::{Error, Result};
-use crate::field::HeightField;
-use crate::render::camera::CameraView;
-use crate::render::target::{Target, COLOR_FORMAT};
-use crate::render::Renderer;
-use crate::scene::Camera;
-use crate::session::Session;
+use sward::error::{Error, Result};
+use sward::field::HeightField;
+use sward::render::camera::CameraView;
+use sward::render::target::{Target, COLOR_FORMAT};
+use sward::render::Renderer;
+use sward::scene::Camera;
+use sward::session::Session;
 
 /// Flight speed in metres per second: a slow walk-to-jog, where pops are easiest to see.
 pub const FLIGHT_SPEED: f32 = 4.0;
@@ -223,7 +223,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         tiles_generated = total - tiles_at_start;
         tile_ms += stats
             .pass_ms
-            .map_or(0.0, |ms| ms[crate::render::timing::TILES]);
+            .map_or(0.0, |ms| ms[sward::render::timing::TILES]);
         wall_ms.push(wall);
         if let Some(ms) = stats.pass_ms {
             let wind: f64 = stats.wind_ms.iter().flatten().map(|(_, m)| m).sum();
@@ -248,11 +248,11 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
         previous = Some(image);
     }
     if let Some(path) = &o.trace {
-        let tracks = [crate::render::timing::TraceTrack {
+        let tracks = [sward::render::timing::TraceTrack {
             name: "flight".into(),
             scopes: renderer.take_trace(&gpu)?,
         }];
-        crate::render::timing::write_trace(&mut outputs, path, &tracks, gpu.timestamps)?;
+        sward::render::timing::write_trace(&mut outputs, path, &tracks, gpu.timestamps)?;
     }
     outputs.commit()?;
     let timestamps = gpu_ms.len() == wall_ms.len() && !gpu_ms.is_empty();
@@ -452,7 +452,7 @@ mod tests {
 
     #[test]
     fn the_flight_keeps_its_height_above_the_terrain_and_its_heading() {
-        let terrain = HeightField::from_scene(&crate::scene::Terrain::default()).unwrap();
+        let terrain = HeightField::from_scene(&sward::scene::Terrain::default()).unwrap();
         let camera = Camera::default();
         let start = flight_camera(&camera, &terrain, 0.0);
         assert!((start.eye - Vec3::from(camera.eye)).length() < 1e-4);
@@ -466,8 +466,8 @@ mod tests {
 
     #[test]
     fn ground_classes_follow_the_distance_on_flat_ground() {
-        let terrain = HeightField::from_scene(&crate::scene::Terrain {
-            height: crate::scene::types::HeightSource::Flat,
+        let terrain = HeightField::from_scene(&sward::scene::Terrain {
+            height: sward::scene::types::HeightSource::Flat,
             ..Default::default()
         })
         .unwrap();

@@ -17,12 +17,12 @@
 use serde::Serialize;
 
 use super::{opt, opt_ratio as ratio, utc_now, BenchOptions, BENCH_DT};
-use crate::error::{Error, Result};
-use crate::render::camera::CameraView;
-use crate::render::target::Target;
-use crate::render::timing;
-use crate::scene::{Scene, Shading};
-use crate::session::Session;
+use sward::error::{Error, Result};
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::render::timing;
+use sward::scene::{Scene, Shading};
+use sward::session::Session;
 
 /// Checks the flags that do not go with `--light`.
 pub fn check_light_options(o: &BenchOptions) -> Result<()> {
@@ -62,7 +62,7 @@ pub struct LightRun {
     /// `wall_ms` over the `no shadows` configuration's.
     pub wall_over_no_shadows: Option<f64>,
     /// One counted frame after the measured ones (`None` without pipeline statistics).
-    pub work: Option<crate::render::work::WorkReport>,
+    pub work: Option<sward::render::work::WorkReport>,
 }
 
 /// Everything `sward bench --light` measured.

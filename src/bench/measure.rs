@@ -5,16 +5,16 @@
 use std::time::Instant;
 
 use super::{BladeCounts, GpuMs, BENCH_DT};
-use crate::error::Result;
-use crate::gpu::Gpu;
-use crate::render::camera::CameraView;
-use crate::render::target::{Target, COLOR_FORMAT};
-use crate::render::timing;
-use crate::render::work::WorkReport;
-use crate::render::Renderer;
-use crate::scene::Scene;
-use crate::session::Session;
-use crate::sim::layout::CullCounters;
+use sward::error::Result;
+use sward::gpu::Gpu;
+use sward::render::camera::CameraView;
+use sward::render::target::{Target, COLOR_FORMAT};
+use sward::render::timing;
+use sward::render::work::WorkReport;
+use sward::render::Renderer;
+use sward::scene::Scene;
+use sward::session::Session;
+use sward::sim::layout::CullCounters;
 
 /// What one configuration's frames gave.
 pub(super) struct Measured {
@@ -203,7 +203,7 @@ pub(super) fn run_frames(
     camera: &CameraView,
     target: &Target,
     (warmup, frames): (u32, u32),
-    mut each: impl FnMut(&crate::render::FrameStats),
+    mut each: impl FnMut(&sward::render::FrameStats),
 ) -> Result<FrameTimes> {
     let size = (target.width, target.height);
     let (mut wall, mut gpu_sum, mut timed) = (0.0, 0.0, 0u32);

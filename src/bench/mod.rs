@@ -3,10 +3,10 @@
 //!
 //! The paper compares three configurations on "frames having the exact same input data
 //! from a fixed reference viewpoint": all features, collision detection disabled, culling
-//! disabled. Here each configuration gets a fresh [`crate::render::Renderer`] over the same [`Session`]
+//! disabled. Here each configuration gets a fresh [`sward::render::Renderer`] over the same [`Session`]
 //! (same field, same terrain), starts at t = 0 and steps the same frames with the same
 //! Δt = 1/30 s and the scene's camera, so the three columns differ only in the feature
-//! switched off. After every frame [`crate::render::Renderer::stats`] blocks until the GPU is done and
+//! switched off. After every frame [`sward::render::Renderer::stats`] blocks until the GPU is done and
 //! returns the cull counters and the per-pass GPU times (timestamp queries); the first
 //! `--warmup` frames are left out of the means (pipeline caches, first-touch allocations,
 //! blades settling out of the colliders).
@@ -20,22 +20,22 @@
 //! the paper, so that drawn + culled = total holds exactly); times are means over the
 //! measured frames.
 
-use crate::render::work::WorkReport;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
+use sward::render::work::WorkReport;
 
 use serde::Serialize;
 
-use crate::commands::{load, DEFAULT_SCENE_PATH};
-use crate::error::{Error, Result};
-use crate::gpu::{AdapterChoice, Gpu};
-use crate::output::Outputs;
-use crate::render::target::Target;
-use crate::render::timing;
-use crate::scene::Scene;
-use crate::session::{check_blade_count, Session, MAX_BLADES};
-use crate::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_SIZE};
 use measure::measure;
+use sward::commands::{load, DEFAULT_SCENE_PATH};
+use sward::error::{Error, Result};
+use sward::gpu::{AdapterChoice, Gpu};
+use sward::output::Outputs;
+use sward::render::target::Target;
+use sward::render::timing;
+use sward::scene::Scene;
+use sward::session::{check_blade_count, Session, MAX_BLADES};
+use sward::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_SIZE};
 
 pub mod antialias;
 /// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
@@ -90,7 +90,7 @@ pub struct BenchOptions {
     pub trace: Option<PathBuf>,
     /// `--pressure-solvers jacobi,multigrid`: time the wind solver alone once per pressure
     /// solver instead of the three configurations (empty: not asked for).
-    pub pressure_solvers: Vec<crate::scene::PressureSolver>,
+    pub pressure_solvers: Vec<sward::scene::PressureSolver>,
     /// `--colliders 100,1000,10000`: time the collisions against that many spheres, flat
     /// and through the hierarchy, instead of the three configurations (empty: not asked).
     pub colliders: Vec<usize>,
@@ -553,7 +553,7 @@ pub fn sweep_scene(base: &Scene, count: usize) -> (Scene, usize) {
     scene.field.density = density;
     let wanted = (f64::from(density) * area).ceil().max(1.0) as usize;
     let group = WORKGROUP_SIZE as usize;
-    let mut patch = crate::field::effective_patch_size(scene.field.patch_size) as usize;
+    let mut patch = sward::field::effective_patch_size(scene.field.patch_size) as usize;
     let total = |p: usize| wanted.div_ceil(p) * p;
     while patch > group && total(patch) as f64 > wanted as f64 * 1.02 {
         patch -= group;
@@ -613,7 +613,7 @@ pub(super) fn start(
     let gpu = Gpu::new(&o.adapter)?;
     eprintln!("adapter: {}", gpu.describe());
     // Every mode draws at --size: refused here, before any target is allocated.
-    crate::render::target::Target::check_size(&gpu, "--size", o.size, scene.render.msaa)?;
+    sward::render::target::Target::check_size(&gpu, "--size", o.size, scene.render.msaa)?;
     Ok(Start {
         outputs,
         scene,
@@ -692,7 +692,7 @@ pub fn run_bench(o: &BenchOptions) -> Result<BenchReport> {
     let mut ratios = ratios(&configurations);
     let image = |c: Config| images.iter().find(|(k, _)| *k == c).map(|(_, i)| i);
     if let (Some(all), Some(off)) = (image(Config::All), image(Config::NoCulling)) {
-        if let Some(d) = crate::compare::compare(all, off) {
+        if let Some(d) = sward::compare::compare(all, off) {
             if let Some(dir) = &o.images {
                 for (name, image) in IMAGE_NAMES.iter().zip([all, off, &d.image]) {
                     outputs.write_png(&dir.join(name), image)?;

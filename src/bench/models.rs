@@ -12,13 +12,13 @@
 use serde::Serialize;
 
 use super::{opt, opt_ratio as ratio, utc_now, BenchOptions};
-use crate::error::{Error, Result};
-use crate::render::camera::CameraView;
-use crate::render::target::Target;
-use crate::render::timing;
-use crate::scene::BladeModel;
-use crate::session::Session;
-use crate::sim::layout::{VerletState, BYTES_PER_BLADE};
+use sward::error::{Error, Result};
+use sward::render::camera::CameraView;
+use sward::render::target::Target;
+use sward::render::timing;
+use sward::scene::BladeModel;
+use sward::session::Session;
+use sward::sim::layout::{VerletState, BYTES_PER_BLADE};
 
 /// Checks the flags that do not go with `--models`.
 pub fn check_model_options(o: &BenchOptions) -> Result<()> {

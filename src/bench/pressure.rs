@@ -13,12 +13,12 @@
 use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
-use crate::error::{Error, Result};
-use crate::field::HeightField;
-use crate::gpu::Gpu;
-use crate::scene::{PressureSolver, Scene};
-use crate::sim::agc;
-use crate::sim::fluid::{FluidConfig, FluidSolver, FLUID_PASSES, PRESSURE_PASS};
+use sward::error::{Error, Result};
+use sward::field::HeightField;
+use sward::gpu::Gpu;
+use sward::scene::{PressureSolver, Scene};
+use sward::sim::agc;
+use sward::sim::fluid::{FluidConfig, FluidSolver, FLUID_PASSES, PRESSURE_PASS};
 
 /// `--pressure-solvers jacobi,multigrid`: solver names, each at most once.
 pub fn parse_pressure_solvers(text: &str) -> Result<Vec<PressureSolver>> {
@@ -144,7 +144,7 @@ fn measure(
             });
         wind.encode(&mut encoder);
         gpu.queue.submit([encoder.finish()]);
-        crate::gpu::wait_idle(&gpu.device)?;
+        sward::gpu::wait_idle(&gpu.device)?;
         let elapsed = start.elapsed().as_secs_f64() * 1000.0;
         gpu.check_errors()?;
         if frame < o.warmup {

@@ -200,9 +200,9 @@ pub fn format_report(r: &BenchReport) -> String {
         let _ = writeln!(
             s,
             "  culled vs unculled frame: mean difference {mean:.3} (tolerance {}), failing pixels {:.3} % (tolerance {:.1} %): {}",
-            crate::compare::MEAN_TOLERANCE,
+            sward::compare::MEAN_TOLERANCE,
             failing * 100.0,
-            crate::compare::MAX_FAILING * 100.0,
+            sward::compare::MAX_FAILING * 100.0,
             if ok { "within" } else { "OUTSIDE" }
         );
     }
@@ -264,8 +264,8 @@ fn time_label_short(timestamps: bool) -> &'static str {
 /// The work rows of the table: one counted frame's invocations per stage (the frame's
 /// hardware-independent cost) and the lit grass's fragments per covered pixel.
 fn work_rows(s: &mut String, c: &[ConfigReport], row: &dyn Fn(&mut String, &str, Vec<String>)) {
-    use crate::render::work::WorkSummary;
     use std::fmt::Write;
+    use sward::render::work::WorkSummary;
     if c.iter().all(|x| x.work.is_none()) {
         return;
     }

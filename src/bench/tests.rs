@@ -54,7 +54,7 @@ fn a_mode_alone_refuses_the_others() {
         "0",
         None,
         false,
-        crate::gpu::AdapterChoice::Auto,
+        sward::gpu::AdapterChoice::Auto,
     )
     .expect("options");
     o.antialiasing = true;

@@ -14,8 +14,8 @@
 
 use glam::Vec2;
 
-use crate::scene::Guide;
-use crate::sim::agc::{AgcError, GuideId, GuideSet, PointId};
+use sward::scene::Guide;
+use sward::sim::agc::{AgcError, GuideId, GuideSet, PointId};
 
 /// A guide point: the guide's index and the point's index in it (0 = the root).
 pub type Selection = (GuideId, PointId);

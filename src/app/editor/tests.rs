@@ -1,7 +1,7 @@
 //! Tests of `editor`.
 
 use super::*;
-use crate::scene::GuidePoint;
+use sward::scene::GuidePoint;
 
 const SIZE: f32 = 32.0;
 

@@ -457,7 +457,7 @@ mod tests {
 
     #[test]
     fn the_bunny_is_covered_by_a_thousand_spheres() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/models/bunny.obj");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/bunny.obj");
         let mesh = super::super::load(std::path::Path::new(path)).expect("bunny");
         let p = pack(&mesh, 1000, DEFAULT_RESOLUTION);
         println!(

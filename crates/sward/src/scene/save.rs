@@ -271,7 +271,7 @@ mod tests {
 
     fn asset(name: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("assets/scenes")
+            .join("../../assets/scenes")
             .join(name)
     }
 

@@ -25,7 +25,7 @@ pub mod mesh;
 pub mod msaa;
 pub mod objects;
 pub mod overlay;
-pub(crate) mod pipelines;
+pub mod pipelines;
 pub mod post;
 pub mod taa;
 pub mod target;
@@ -325,7 +325,7 @@ impl Renderer {
             },
             &scene,
         );
-        if let Some(e) = pollster::block_on(scope.pop()) {
+        if let Some(e) = crate::gpu::block_on(scope.pop()) {
             return Err(crate::Error::Gpu(format!(
                 "{} ran out of memory for a field of {} blades: {e}",
                 gpu.info.name, buffers.count

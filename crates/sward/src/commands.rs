@@ -24,7 +24,7 @@ use crate::sim::reference;
 use crate::sim::reference::fluid::FluidCpu;
 
 /// The default scene, built into the binary so `sward` runs from any directory.
-pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/meadow.ron");
+pub const DEFAULT_SCENE: &str = include_str!("../scenes/meadow.ron");
 /// The name the built-in scene's errors and logs use.
 pub const DEFAULT_SCENE_PATH: &str = "assets/scenes/meadow.ron";
 

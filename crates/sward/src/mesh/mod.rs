@@ -433,7 +433,7 @@ mod tests {
 
     #[test]
     fn the_shipped_bunny_loads_with_smooth_normals() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/models/bunny.obj");
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models/bunny.obj");
         let m = load(&path).unwrap();
         assert_eq!(m.positions.len(), 1839);
         assert!(m.triangles() + m.degenerate == 3674 && m.triangles() > 3600);

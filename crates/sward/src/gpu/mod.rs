@@ -6,7 +6,10 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 
+mod block_on;
 pub mod queries;
+
+pub use block_on::block_on;
 
 /// Which adapter to use.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -72,13 +75,13 @@ impl Gpu {
             let mut d = descriptor();
             d.backends = native;
             let instance = wgpu::Instance::new(d);
-            let adapters = pollster::block_on(instance.enumerate_adapters(native));
+            let adapters = block_on(instance.enumerate_adapters(native));
             if let Ok(adapter) = pick(adapters, choice) {
                 return Self::from_adapter(instance, adapter);
             }
         }
         let instance = wgpu::Instance::new(descriptor());
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let adapters = block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         let adapter = pick(adapters, choice)?;
         Self::from_adapter(instance, adapter)
     }
@@ -90,7 +93,7 @@ impl Gpu {
         surface: &wgpu::Surface<'_>,
         choice: &AdapterChoice,
     ) -> Result<Gpu> {
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+        let adapters = block_on(instance.enumerate_adapters(wgpu::Backends::all()))
             .into_iter()
             .filter(|a| a.is_surface_supported(surface))
             .collect();
@@ -121,7 +124,7 @@ impl Gpu {
         features |= adapter.features() & wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
         // Ask for everything the adapter offers: large fields need its full buffer sizes.
         let limits = adapter.limits();
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        let (device, queue) = block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sward.device"),
             required_features: features,
             required_limits: limits,
