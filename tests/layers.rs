@@ -23,7 +23,7 @@ const LIBRARY: Layers = &[
     ("simulation", &["sim"]),
     ("session", &["session"]),
     ("rendering", &["render"]),
-    ("commands", &["commands"]),
+    ("commands and embedding", &["commands", "embed"]),
 ];
 
 /// The application `sward-app` (the library is below all of it).

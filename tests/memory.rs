@@ -34,7 +34,12 @@ fn resident_kib() -> i64 {
 
 /// Live wgpu objects by kind (ids handed out and not released).
 fn live(gpu: &Gpu) -> Vec<(&'static str, usize)> {
-    let report = gpu.instance.generate_report().expect("wgpu-core instance");
+    let report = gpu
+        .instance
+        .as_ref()
+        .expect("opened by sward")
+        .generate_report()
+        .expect("wgpu-core instance");
     let h = report.hub_report();
     vec![
         ("buffers", h.buffers.num_allocated),

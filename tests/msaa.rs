@@ -98,6 +98,8 @@ fn adapter_has(gpu: &sward::gpu::Gpu, n: u32) -> bool {
     gpu.device.features().contains(specific)
         && [COLOR_FORMAT, DEPTH_FORMAT].iter().all(|&f| {
             gpu.adapter
+                .as_ref()
+                .expect("opened by sward")
                 .get_texture_format_features(f)
                 .flags
                 .sample_count_supported(n)

@@ -33,7 +33,10 @@ impl SurfaceState {
         size: (u32, u32),
         vsync: bool,
     ) -> Result<Self> {
-        let caps = surface.get_capabilities(&gpu.adapter);
+        let caps =
+            surface.get_capabilities(gpu.adapter.as_ref().ok_or_else(|| {
+                sward::Error::Gpu("the window needs the adapter it opened".into())
+            })?);
         // The renderer's lighting ends in linear values: an sRGB target encodes them.
         let format = caps
             .formats

@@ -62,6 +62,17 @@ override CLUMPS: bool = true;
 override FLOWERS: bool = true;
 // False: the natural colours only (`frame.debug.x` is 0).
 override DEBUG_VIEWS: bool = true;
+// True: fs_main writes display colour (the scene's exposure and tone curve applied) for a
+// host's target (`sward::embed` with `ColorOutput::ToneMapped`); false: linear radiance
+// for the tone mapping after the 3D passes.
+override DISPLAY_OUTPUT: bool = false;
+
+fn output_color(radiance: vec3<f32>) -> vec4<f32> {
+    if DISPLAY_OUTPUT {
+        return vec4<f32>(tonemap(radiance), 1.0);
+    }
+    return vec4<f32>(radiance, 1.0);
+}
 
 struct VertexOut {
     // Invariant: the coverage measurement (render/coverage.rs) draws the blades again and
@@ -576,7 +587,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         }
         let c = select(in.petals.rgb * mix(0.85, 1.0, r), in.centre.rgb, r < 0.3);
         let head_light = light.ambient.rgb * 0.9 + light.sun.rgb * (abs(dot(flat_n, sun)) * 0.9 * lit);
-        return vec4<f32>(fog_towards(c * head_light, in.world, in.sky), 1.0);
+        return output_color(fog_towards(c * head_light, in.world, in.sky));
     }
     var albedo = mix(in.root.rgb, in.tip.rgb, v);
     if FLOWERS && in.card.x < -0.5 && v > 0.6 {
@@ -584,5 +595,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         albedo = blade_albedo(in.petals.rgb, v, in.tip.w);
     }
     let color = shade_blade(in.world, flat_n, in.side, in.uv, albedo, lit, in.shade);
-    return vec4<f32>(fog_towards(color, in.world, in.sky), 1.0);
+    return output_color(fog_towards(color, in.world, in.sky));
 }

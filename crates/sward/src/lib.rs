@@ -4,6 +4,7 @@
 
 pub mod commands;
 pub mod compare;
+pub mod embed;
 pub mod error;
 pub mod field;
 pub mod gpu;
@@ -16,4 +17,9 @@ pub mod session;
 pub mod shaders;
 pub mod sim;
 
+pub use embed::{
+    Collider, ColorOutput, FrameInputs, GrassRenderer, GrassRendererDescriptor, SceneSource,
+    WindInput,
+};
 pub use error::{Error, Result};
+pub use render::camera::CameraView;

@@ -39,8 +39,10 @@ Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers libvulkan1)
 
 /// An open device and what it can do.
 pub struct Gpu {
-    pub instance: wgpu::Instance,
-    pub adapter: wgpu::Adapter,
+    /// The instance and adapter the device was opened on; `None` for a host's device
+    /// ([`Gpu::from_host`]), which sward did not open.
+    pub instance: Option<wgpu::Instance>,
+    pub adapter: Option<wgpu::Adapter>,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
@@ -141,8 +143,8 @@ impl Gpu {
             first.get_or_insert_with(|| e.to_string());
         }));
         Ok(Gpu {
-            instance,
-            adapter,
+            instance: Some(instance),
+            adapter: Some(adapter),
             device,
             queue,
             info,
@@ -150,6 +152,23 @@ impl Gpu {
             pipeline_statistics,
             errors,
         })
+    }
+
+    /// A host's device and queue (`sward::embed`): sward records into them but leaves
+    /// their error handling to the host (no uncaptured-error handler is installed, so
+    /// [`Gpu::check_errors`] reports only what sward itself found) and times or counts
+    /// nothing (the host's own profiler may wrap sward's calls).
+    pub fn from_host(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
+        Gpu {
+            instance: None,
+            adapter: None,
+            info: device.adapter_info(),
+            device: device.clone(),
+            queue: queue.clone(),
+            timestamps: false,
+            pipeline_statistics: false,
+            errors: Arc::default(),
+        }
     }
 
     /// Fails with the first error the device reported outside an error scope (validation,

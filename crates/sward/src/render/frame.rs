@@ -10,6 +10,16 @@ use super::{msaa, post, Renderer};
 use crate::gpu::Gpu;
 use crate::sim::layout::TEST_GRASS_OCCLUSION;
 
+/// What [`Renderer::encode_before_draw`] decided for the draws after it.
+pub(crate) struct Prepared {
+    /// The cull tested against a depth pyramid.
+    occlusion: bool,
+    /// The grass takes the deferred path.
+    deferred: bool,
+    /// The cull's uniforms of this frame.
+    cp: crate::sim::layout::CullParams,
+}
+
 impl Renderer {
     /// Whether this frame's grass takes the deferred path (`render::deferred`): asked for
     /// (`render.deferred_grass`),
@@ -169,118 +179,13 @@ impl Renderer {
         depth: &wgpu::TextureView,
         size: (u32, u32),
     ) {
-        if let Some(w) = &mut self.work {
-            w.begin_frame();
-        }
-        // TAA's grass motion: the blades as the last frame drew them, before anything
-        // this frame moves or streams them.
-        if let Some(t) = self.taa.as_ref().filter(|t| t.active()) {
-            let count = self.buffers.blades.size()
-                / std::mem::size_of::<crate::sim::layout::Blade>() as u64;
-            timed(self.meters(), encoder, timing::TAA, |e, q| {
-                t.copy_blades(e, count, q)
-            });
-        }
-        let dt = self.advance(gpu, dt);
-        self.frame_count = self.frame_count.wrapping_add(1);
-        // A frozen culling camera sees other depths than the drawn view: no occlusion then.
-        let occlusion = self.scene.culling.occlusion && self.cull_camera.is_none();
-        let hiz = if occlusion {
-            self.ensure_pyramid(gpu, size, depth);
-            let p = self.pyramid.as_ref().map_or((0, 0, 0), |p| {
-                let (w, h) = p.size();
-                (w, h, p.levels())
-            });
-            [p.0, p.1, p.2, 1]
-        } else {
-            [0; 4]
-        };
-        let cull_camera = self.cull_camera.unwrap_or(*camera);
-        // The tiles follow the culling camera: a frozen one keeps its field.
-        self.stream_tiles(gpu, encoder, cull_camera.eye);
-        if let Some(c) = &self.carried {
-            c.encode(encoder);
-        }
-        let cp = self.cull_uniforms(&cull_camera, size, hiz);
-        self.cull.prepare(&gpu.queue, &cp);
-        self.last_cull = cp;
-        let frame = self.frame_uniforms(camera, size.0, size.1);
-        self.draw.prepare(
-            &gpu.queue,
-            &frame,
-            camera,
-            (self.aspect(size.0, size.1), self.jitter * self.view_crop),
-        );
-        self.light.prepare(
-            gpu,
-            &self.scene,
-            camera,
-            self.aspect(size.0, size.1),
-            &frame,
-            self.grass_shadows.then_some(super::light::GrassCasters {
-                mesh: self.lod.caster,
-                lod: cp.lod,
-            }),
-        );
-        self.sync_billboards(gpu);
+        let Prepared {
+            occlusion,
+            deferred,
+            cp,
+        } = self.encode_before_draw(gpu, encoder, dt, camera, Some(depth), size, true);
+        let meters = self.meters();
         let wireframe = self.scene.render.wireframe;
-        let deferred = self.ensure_deferred(gpu, size, wireframe);
-        self.last_billboards = self.billboards.as_ref().map(|b| {
-            let p = b.prepare(
-                &gpu.queue,
-                camera.eye,
-                &self.scene.culling,
-                self.sphere_count,
-                self.scene.terrain.size,
-                self.billboard_share,
-            );
-            (p, self.view_proj(camera, size))
-        });
-        let meters = self.meters();
-        if occlusion {
-            timed(meters, encoder, timing::OCCLUDERS, |e, q| {
-                self.draw.encode_occluders(e, depth, &self.sphere_draw(), q)
-            });
-            if let Some(p) = &self.pyramid {
-                timed(meters, encoder, timing::PYRAMID, |e, q| {
-                    p.encode(&gpu.device, e, depth, q)
-                });
-            }
-        }
-        timed(meters, encoder, timing::PATCHES, |e, q| {
-            self.cull.encode_patches(e, q)
-        });
-        self.encode_update(gpu, encoder, dt, cull_camera.eye);
-        let meters = self.meters();
-        timed(meters, encoder, timing::CULL, |e, q| {
-            self.cull.encode_blades(e, &self.buffers.dispatch, q)
-        });
-        // The far levels read the gusts' bend the cull measured at the blades' edge.
-        encoder.copy_buffer_to_buffer(
-            &self.cull.args,
-            crate::sim::layout::WAVE_OFFSET,
-            self.draw.waves_buffer(),
-            0,
-            8,
-        );
-        if let Some(b) = &self.billboards {
-            timed(meters, encoder, timing::BILLBOARDS, |e, q| {
-                b.encode_cull(e, self.light.group(), q)
-            });
-        }
-        // The sun's shadow maps, after the cull (the grass casts with its visible lists)
-        // and before every pass that receives them.
-        if self.light.cascades() > 0 {
-            let spheres = self.sphere_draw();
-            let light = &self.light;
-            let draw = &self.draw;
-            let args = light.grass_args();
-            timed(meters, encoder, timing::SHADOWS, |e, q| {
-                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass, grass| {
-                    draw.draw_casters(pass, &spheres, grass.map(|at| (args, at)))
-                })
-            });
-        }
         let vis = deferred
             .then(|| self.deferred.as_ref().map(|d| d.vis_view()))
             .flatten();
@@ -357,6 +262,146 @@ impl Renderer {
         }
         if let (Some(o), Some(f)) = (&mut self.overlay, &self.fluid) {
             o.move_grid(&gpu.queue, f.origin());
+        }
+    }
+
+    /// Everything of a frame before its colour draws: the simulation step, the tiles, the
+    /// cull (with occlusion against `depth` when given), the billboards' cull and the sun's
+    /// shadow maps. With `own_draw` the renderer draws the frame itself (its occluders go
+    /// into `depth` first, and the deferred path is prepared); without, a host draws the
+    /// grass into its own pass and `depth` is the host's, only read.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn encode_before_draw(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+        camera: &CameraView,
+        depth: Option<&wgpu::TextureView>,
+        size: (u32, u32),
+        own_draw: bool,
+    ) -> Prepared {
+        if let Some(w) = &mut self.work {
+            w.begin_frame();
+        }
+        // TAA's grass motion: the blades as the last frame drew them, before anything
+        // this frame moves or streams them.
+        if let Some(t) = self.taa.as_ref().filter(|t| t.active()) {
+            let count = self.buffers.blades.size()
+                / std::mem::size_of::<crate::sim::layout::Blade>() as u64;
+            timed(self.meters(), encoder, timing::TAA, |e, q| {
+                t.copy_blades(e, count, q)
+            });
+        }
+        let dt = self.advance(gpu, dt);
+        self.frame_count = self.frame_count.wrapping_add(1);
+        // A frozen culling camera sees other depths than the drawn view: no occlusion then.
+        // Occlusion needs a depth to build the pyramid from (a host may give none).
+        let occlusion = self.scene.culling.occlusion && self.cull_camera.is_none();
+        let depth = depth.filter(|_| occlusion);
+        let occlusion = depth.is_some();
+        let hiz = if let Some(depth) = depth {
+            self.ensure_pyramid(gpu, size, depth);
+            let p = self.pyramid.as_ref().map_or((0, 0, 0), |p| {
+                let (w, h) = p.size();
+                (w, h, p.levels())
+            });
+            [p.0, p.1, p.2, 1]
+        } else {
+            [0; 4]
+        };
+        let cull_camera = self.cull_camera.unwrap_or(*camera);
+        // The tiles follow the culling camera: a frozen one keeps its field.
+        self.stream_tiles(gpu, encoder, cull_camera.eye);
+        if let Some(c) = &self.carried {
+            c.encode(encoder);
+        }
+        let cp = self.cull_uniforms(&cull_camera, size, hiz);
+        self.cull.prepare(&gpu.queue, &cp);
+        self.last_cull = cp;
+        let frame = self.frame_uniforms(camera, size.0, size.1);
+        self.draw.prepare(
+            &gpu.queue,
+            &frame,
+            camera,
+            (self.aspect(size.0, size.1), self.jitter * self.view_crop),
+        );
+        self.light.prepare(
+            gpu,
+            &self.scene,
+            camera,
+            self.aspect(size.0, size.1),
+            &frame,
+            self.grass_shadows.then_some(super::light::GrassCasters {
+                mesh: self.lod.caster,
+                lod: cp.lod,
+            }),
+        );
+        self.sync_billboards(gpu);
+        let wireframe = self.scene.render.wireframe;
+        let deferred = own_draw && self.ensure_deferred(gpu, size, wireframe);
+        self.last_billboards = self.billboards.as_ref().map(|b| {
+            let p = b.prepare(
+                &gpu.queue,
+                camera.eye,
+                &self.scene.culling,
+                self.sphere_count,
+                self.scene.terrain.size,
+                self.billboard_share,
+            );
+            (p, self.view_proj(camera, size))
+        });
+        let meters = self.meters();
+        if let Some(depth) = depth {
+            if own_draw {
+                timed(meters, encoder, timing::OCCLUDERS, |e, q| {
+                    self.draw.encode_occluders(e, depth, &self.sphere_draw(), q)
+                });
+            }
+            if let Some(p) = &self.pyramid {
+                timed(meters, encoder, timing::PYRAMID, |e, q| {
+                    p.encode(&gpu.device, e, depth, q)
+                });
+            }
+        }
+        timed(meters, encoder, timing::PATCHES, |e, q| {
+            self.cull.encode_patches(e, q)
+        });
+        self.encode_update(gpu, encoder, dt, cull_camera.eye);
+        let meters = self.meters();
+        timed(meters, encoder, timing::CULL, |e, q| {
+            self.cull.encode_blades(e, &self.buffers.dispatch, q)
+        });
+        // The far levels read the gusts' bend the cull measured at the blades' edge.
+        encoder.copy_buffer_to_buffer(
+            &self.cull.args,
+            crate::sim::layout::WAVE_OFFSET,
+            self.draw.waves_buffer(),
+            0,
+            8,
+        );
+        if let Some(b) = &self.billboards {
+            timed(meters, encoder, timing::BILLBOARDS, |e, q| {
+                b.encode_cull(e, self.light.group(), q)
+            });
+        }
+        // The sun's shadow maps, after the cull (the grass casts with its visible lists)
+        // and before every pass that receives them.
+        if self.light.cascades() > 0 {
+            let spheres = self.sphere_draw();
+            let light = &self.light;
+            let draw = &self.draw;
+            let args = light.grass_args();
+            timed(meters, encoder, timing::SHADOWS, |e, q| {
+                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass, grass| {
+                    draw.draw_casters(pass, &spheres, grass.map(|at| (args, at)))
+                })
+            });
+        }
+        Prepared {
+            occlusion,
+            deferred,
+            cp,
         }
     }
 

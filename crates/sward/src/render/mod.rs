@@ -19,6 +19,7 @@ mod frame;
 pub mod grass_bind;
 pub mod grass_spec;
 pub mod hiz;
+pub mod host;
 mod levels;
 pub mod light;
 pub mod mesh;

@@ -19,12 +19,14 @@ pub use crate::scene::limits::SAMPLE_COUNTS;
 /// (1× and 4× for renderable formats), whatever the adapter itself could do.
 fn format_supports(gpu: &Gpu, format: wgpu::TextureFormat, samples: u32) -> bool {
     let device_features = gpu.device.features();
-    let features =
-        if device_features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
-            gpu.adapter.get_texture_format_features(format)
-        } else {
-            format.guaranteed_format_features(device_features)
-        };
+    // A host's device comes without its adapter: the guaranteed features then.
+    let adapter = gpu.adapter.as_ref().filter(|_| {
+        device_features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+    });
+    let features = match adapter {
+        Some(a) => a.get_texture_format_features(format),
+        None => format.guaranteed_format_features(device_features),
+    };
     features.flags.sample_count_supported(samples)
 }
 

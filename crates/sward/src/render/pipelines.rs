@@ -101,6 +101,17 @@ pub(crate) fn pipeline(
     samples: u32,
     spec: PipelineSpec,
 ) -> wgpu::RenderPipeline {
+    pipeline_for(device, (format, DEPTH_FORMAT), samples, spec)
+}
+
+/// [`pipeline`] for a colour target and a depth buffer of the given formats (a host's
+/// pass, `render::host`).
+pub(crate) fn pipeline_for(
+    device: &wgpu::Device,
+    (format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
+    samples: u32,
+    spec: PipelineSpec,
+) -> wgpu::RenderPipeline {
     let module = shaders::module(device, spec.shader);
     // Lit passes read the sun, the sky and the shadow map at group 1.
     let light = super::light::layout(device);
@@ -142,7 +153,7 @@ pub(crate) fn pipeline(
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
+            format: depth_format,
             depth_write_enabled: Some(spec.depth_write),
             // LessEqual: the opaque objects pass again over their own depth from the
             // occluder pass (their clip position is @invariant), and the sky (no depth

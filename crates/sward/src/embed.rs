@@ -1,0 +1,433 @@
+//! sward inside another wgpu program: the host hands over its device, queue and target
+//! formats, calls [`GrassRenderer::prepare`] once a frame (the simulation, the tiles, the
+//! cull against the host's depth, the sun's shadow maps: compute and passes of sward's own,
+//! recorded into the host's encoder) and [`GrassRenderer::render`] inside its own render
+//! pass, where the blades are depth-tested against the host's world.
+//!
+//! ```no_run
+//! # fn frame(device: &wgpu::Device, queue: &wgpu::Queue, color: &wgpu::TextureView,
+//! #          depth: &wgpu::TextureView) -> sward::Result<()> {
+//! use sward::embed::{ColorOutput, FrameInputs, GrassRenderer, GrassRendererDescriptor};
+//! let mut grass = GrassRenderer::new(device, queue, GrassRendererDescriptor {
+//!     color_format: wgpu::TextureFormat::Rgba8UnormSrgb,
+//!     depth_format: wgpu::TextureFormat::Depth32Float,
+//!     sample_count: 1,
+//!     output: ColorOutput::ToneMapped,
+//!     scene: sward::embed::SceneSource::Ron(sward::commands::DEFAULT_SCENE.into()),
+//! })?;
+//! let camera = sward::render::camera::CameraView {
+//!     eye: glam::Vec3::new(0.0, 1.7, 6.0), target: glam::Vec3::ZERO,
+//!     fov_y: 60.0, near: 0.1, far: 500.0,
+//! };
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! // ... the host's opaque pass writes `depth` ...
+//! grass.prepare(device, queue, &mut encoder, &FrameInputs {
+//!     camera, size: (1280, 720), dt: 1.0 / 60.0, colliders: &[], depth: Some(depth), wind: None,
+//! })?;
+//! {
+//!     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+//!         label: Some("host.grass"),
+//!         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+//!             view: color, depth_slice: None, resolve_target: None,
+//!             ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+//!         })],
+//!         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+//!             view: depth,
+//!             depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+//!             stencil_ops: None,
+//!         }),
+//!         ..Default::default()
+//!     });
+//!     grass.render(&mut pass);
+//! }
+//! queue.submit([encoder.finish()]);
+//! # Ok(()) }
+//! ```
+//!
+//! Conventions the host's camera and depth follow: a right-handed world with y up, wgpu's
+//! depth from 0 (near) to 1 (far) compared with `LessEqual` (not reversed), the projection
+//! of [`CameraView::view_proj`] (the host should draw its own world with that matrix so
+//! that the depths agree). The grass is sward's near level: every blade simulated, culled
+//! by orientation, distance, frustum and the host's depth. Billboards, the far ground,
+//! sward's terrain and sky stay the application's: the host has its own ground.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::render::camera::CameraView;
+use crate::render::host::{HostPipelines, HostTarget};
+use crate::render::{DynamicSphere, Renderer};
+use crate::scene::{DirectionalWind, Scene, WindSource};
+use crate::session::Session;
+
+/// The features sward cannot work without: none beyond WebGPU's core (compute, storage
+/// buffers, indirect draws).
+pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
+
+/// Features sward uses when the device has them: one multi-draw for the levels of detail
+/// (`INDIRECT_FIRST_INSTANCE`) and MSAA counts beyond 1 and 4
+/// (`TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`). Request
+/// `adapter.features() & OPTIONAL_FEATURES` beside the host's own.
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::INDIRECT_FIRST_INSTANCE
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
+
+/// The limits sward needs: WebGPU's defaults, with the storage buffers per shader stage
+/// and the storage buffer binding size its blade update and cull bind, capped by what
+/// `adapter` offers. A larger field needs larger buffers: a device with the adapter's own
+/// limits holds the most.
+pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
+    let mut limits = wgpu::Limits::default();
+    limits.max_storage_buffers_per_shader_stage = adapter
+        .max_storage_buffers_per_shader_stage
+        .min(MIN_STORAGE_BUFFERS_PER_STAGE.max(limits.max_storage_buffers_per_shader_stage));
+    limits.max_storage_buffer_binding_size = adapter.max_storage_buffer_binding_size;
+    limits.max_buffer_size = adapter.max_buffer_size;
+    limits
+}
+
+/// The most storage buffers one of sward's shader stages binds (the blade update's).
+pub const MIN_STORAGE_BUFFERS_PER_STAGE: u32 = 16;
+
+/// Where the grass's scene (field, blades, wind, light) comes from.
+#[derive(Clone, Debug)]
+pub enum SceneSource {
+    /// A scene file's text (RON, as in `assets/scenes/`); relative paths in it (density
+    /// maps, meshes) resolve from the working directory.
+    Ron(String),
+    /// A scene file on disk.
+    File(std::path::PathBuf),
+    /// A scene built in code (checked as a file would be: it is written out and read back,
+    /// so an error names the field and its allowed range).
+    Scene(Box<Scene>),
+}
+
+/// What the grass's fragment shader writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorOutput {
+    /// Linear radiance, for a host that renders into a high-dynamic-range target and
+    /// tone-maps it itself.
+    Radiance,
+    /// Display colour: the scene's exposure and tone curve (`light.tone_mapping`) applied,
+    /// for an 8-bit target (an sRGB format encodes it).
+    ToneMapped,
+}
+
+/// How to create a [`GrassRenderer`].
+#[derive(Clone, Debug)]
+pub struct GrassRendererDescriptor {
+    /// The format of the host pass's colour attachment.
+    pub color_format: wgpu::TextureFormat,
+    /// The format of the host pass's depth attachment.
+    pub depth_format: wgpu::TextureFormat,
+    /// The host pass's sample count (1, or a count its attachments were made with).
+    pub sample_count: u32,
+    /// Radiance or display colour.
+    pub output: ColorOutput,
+    /// The grass to grow.
+    pub scene: SceneSource,
+}
+
+/// A moving object of the host that pushes the grass (and the wind, where the scene has
+/// the fluid solver).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Collider {
+    /// World position of the sphere's centre (m).
+    pub center: Vec3,
+    /// Radius (m).
+    pub radius: f32,
+    /// Velocity (m/s).
+    pub velocity: Vec3,
+}
+
+/// The directional wind this frame (replaces the scene's `wind.directional` direction and
+/// strength; its gusts are kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WindInput {
+    /// Direction in the x/z plane (any length but zero).
+    pub direction: Vec2,
+    /// Mean force in m/s² (0 to 1000).
+    pub strength: f32,
+}
+
+/// What a frame needs from the host.
+pub struct FrameInputs<'a> {
+    /// The camera the host draws with (its projection: [`CameraView::view_proj`]).
+    pub camera: CameraView,
+    /// The size in pixels of the host's colour and depth attachments.
+    pub size: (u32, u32),
+    /// Seconds since the last frame (0 to 1; larger steps are clamped by the simulation).
+    pub dt: f32,
+    /// The host's moving objects this frame (at most [`crate::scene::limits::MAX_SPHERES`] spheres
+    /// with the scene's own).
+    pub colliders: &'a [Collider],
+    /// The host's depth after its opaque pass (a view of a texture with `TEXTURE_BINDING`
+    /// usage and the descriptor's sample count): blades behind the host's objects are
+    /// culled before they are drawn. `None`: no occlusion.
+    pub depth: Option<&'a wgpu::TextureView>,
+    /// The directional wind, when the host steers it.
+    pub wind: Option<WindInput>,
+}
+
+/// sward's grass in a host's frame. See the module's example.
+pub struct GrassRenderer {
+    gpu: Gpu,
+    renderer: Renderer,
+    host: HostPipelines,
+    /// The last prepared frame's size (the draw's lists were culled for it).
+    prepared: Option<(u32, u32)>,
+}
+
+impl GrassRenderer {
+    /// Grows the scene's field and builds the grass for the host's device and target.
+    ///
+    /// # Errors
+    ///
+    /// A scene that does not parse or is out of range ([`Error::Scene`] naming the field and
+    /// the allowed range), a field too large for the device ([`Error::Limits`]), a sample
+    /// count the device cannot draw, or a device error while building.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        desc: GrassRendererDescriptor,
+    ) -> Result<Self> {
+        if !desc.depth_format.is_depth_stencil_format() {
+            return Err(Error::Invalid(format!(
+                "depth_format {:?} is not a depth format",
+                desc.depth_format
+            )));
+        }
+        if desc.color_format.is_depth_stencil_format() {
+            return Err(Error::Invalid(format!(
+                "color_format {:?} is a depth format",
+                desc.color_format
+            )));
+        }
+        let counts = crate::scene::limits::SAMPLE_COUNTS;
+        if !counts.contains(&desc.sample_count) {
+            return Err(Error::Invalid(format!(
+                "sample_count {} is out of range: allowed {counts:?}",
+                desc.sample_count
+            )));
+        }
+        let mut scene = load(&desc.scene)?;
+        // The host's pass: its sample count; no TAA or grass-on-grass late pass (both need
+        // passes of sward's own after the draw).
+        scene.render.msaa = desc.sample_count;
+        scene.render.taa = false;
+        scene.culling.grass_occlusion = false;
+        let gpu = Gpu::from_host(device, queue);
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let built = build(&gpu, scene, &desc);
+        let error = crate::gpu::block_on(scope.pop());
+        let (renderer, host) = built?;
+        if let Some(e) = error {
+            return Err(Error::Gpu(format!(
+                "building the grass for the host failed: {e}"
+            )));
+        }
+        if renderer.samples() != desc.sample_count {
+            return Err(Error::Invalid(format!(
+                "sample_count {} is not supported for {:?} on {} (it would draw with {})",
+                desc.sample_count,
+                desc.color_format,
+                gpu.info.name,
+                renderer.samples()
+            )));
+        }
+        Ok(Self {
+            gpu,
+            renderer,
+            host,
+            prepared: None,
+        })
+    }
+
+    /// Records this frame's compute work and sward's own passes into `encoder`: the step of
+    /// the simulation by `dt` with the host's colliders and wind, the tiles entering the
+    /// field, the cull (against `inputs.depth`), and the sun's shadow maps. Call it after
+    /// the host's opaque pass wrote the depth and before the pass that calls
+    /// [`GrassRenderer::render`]; submit the encoder before that pass's.
+    ///
+    /// # Errors
+    ///
+    /// Inputs out of range (non-finite camera, zero size, a collider with a bad radius,
+    /// too many colliders, wind out of range), or a device other than the renderer's.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &FrameInputs,
+    ) -> Result<()> {
+        if device != &self.gpu.device || queue != &self.gpu.queue {
+            return Err(Error::Invalid(
+                "prepare got another device or queue than the one the grass was built on".into(),
+            ));
+        }
+        check_inputs(inputs, &self.gpu)?;
+        let r = &mut self.renderer;
+        // The scene's colliders and its objects' packed spheres, without last frame's.
+        let scene_spheres = r.frame_spheres().len() - r.dynamic_spheres.len();
+        let max = crate::scene::limits::MAX_SPHERES;
+        if scene_spheres + inputs.colliders.len() > max {
+            return Err(Error::Invalid(format!(
+                "{} colliders from the host with {} of the scene's: allowed at most {max} in all",
+                inputs.colliders.len(),
+                scene_spheres
+            )));
+        }
+        r.dynamic_spheres = inputs
+            .colliders
+            .iter()
+            .map(|c| DynamicSphere {
+                center: c.center,
+                radius: c.radius,
+                velocity: c.velocity,
+            })
+            .collect();
+        if let Some(w) = inputs.wind {
+            let d = w.direction.normalize();
+            let old = r.scene.wind.directional.clone().unwrap_or_default();
+            r.scene.wind.directional = Some(DirectionalWind {
+                direction: (d.x, d.y),
+                strength: w.strength,
+                ..old
+            });
+            if r.scene.wind.source == WindSource::Fluid {
+                r.scene.wind.source = WindSource::Both;
+            }
+        }
+        r.sync_for_host(&self.gpu);
+        self.host.sync(&self.gpu.device, r);
+        r.encode_before_draw(
+            &self.gpu,
+            encoder,
+            inputs.dt,
+            &inputs.camera,
+            inputs.depth,
+            inputs.size,
+            false,
+        );
+        self.prepared = Some(inputs.size);
+        Ok(())
+    }
+
+    /// Draws the blades [`GrassRenderer::prepare`] kept into the host's pass (a pass with
+    /// the descriptor's colour and depth formats and sample count). Draws nothing before
+    /// the first `prepare`.
+    pub fn render(&self, pass: &mut wgpu::RenderPass<'_>) {
+        if self.prepared.is_some() {
+            self.renderer.draw_into_host(pass, &self.host);
+        }
+    }
+
+    /// The scene as loaded and adjusted for the host (read it for the camera a scene file
+    /// proposes, the terrain's size, the light).
+    pub fn scene(&self) -> &Scene {
+        &self.renderer.scene
+    }
+
+    /// The height of sward's ground at (x, z): where the host should put its own ground so
+    /// that the blades stand on it.
+    pub fn ground_height(&self, x: f32, z: f32) -> f32 {
+        self.renderer.terrain.height(x, z)
+    }
+
+    /// The blades the last prepared frame drew, read back (blocks until the GPU is done;
+    /// for tests and statistics, not for every frame).
+    pub fn drawn_blades(&mut self) -> Result<u64> {
+        let stats = self.renderer.stats(&self.gpu)?;
+        Ok(u64::from(stats.counters.drawn()))
+    }
+}
+
+/// The scene of `source`, checked.
+fn load(source: &SceneSource) -> Result<Scene> {
+    match source {
+        SceneSource::Ron(text) => crate::scene::parse_scene(text, Path::new("<host scene>")),
+        SceneSource::File(path) => crate::scene::load_scene(path),
+        SceneSource::Scene(scene) => {
+            let text = crate::scene::save::scene_to_string(scene)?;
+            crate::scene::parse_scene(&text, Path::new("<host scene>"))
+        }
+    }
+}
+
+/// The renderer and the host's grass pipeline.
+fn build(
+    gpu: &Gpu,
+    scene: Scene,
+    desc: &GrassRendererDescriptor,
+) -> Result<(Renderer, HostPipelines)> {
+    let session = Session::new(scene, None, Some(gpu))?;
+    let renderer = Renderer::from_session(gpu, &session, desc.color_format)?;
+    let host = HostPipelines::new(
+        &gpu.device,
+        &renderer,
+        HostTarget {
+            color_format: desc.color_format,
+            depth_format: desc.depth_format,
+            samples: desc.sample_count,
+            display: desc.output == ColorOutput::ToneMapped,
+        },
+    );
+    Ok((renderer, host))
+}
+
+/// Refuses inputs that would make the frame meaningless or unsafe.
+fn check_inputs(inputs: &FrameInputs, gpu: &Gpu) -> Result<()> {
+    let c = &inputs.camera;
+    let finite = c.eye.is_finite() && c.target.is_finite() && c.fov_y.is_finite();
+    if !finite || c.eye == c.target {
+        return Err(Error::Invalid(format!(
+            "camera eye {:?} and target {:?} must be finite and apart",
+            c.eye, c.target
+        )));
+    }
+    let lens = c.fov_y > 0.0 && c.fov_y < 180.0 && c.near > 0.0 && c.far > c.near;
+    if !lens {
+        return Err(Error::Invalid(format!(
+            "camera fov_y {} (allowed 0 < fov_y < 180 degrees), near {} and far {} \
+             (allowed 0 < near < far)",
+            c.fov_y, c.near, c.far
+        )));
+    }
+    gpu.check_texture("the host's target", inputs.size.0, inputs.size.1)?;
+    if !(inputs.dt.is_finite() && (0.0..=1.0).contains(&inputs.dt)) {
+        return Err(Error::Invalid(format!(
+            "dt {} is out of range: allowed 0 <= dt <= 1 s",
+            inputs.dt
+        )));
+    }
+    for (i, k) in inputs.colliders.iter().enumerate() {
+        let ok = k.center.is_finite()
+            && k.velocity.is_finite()
+            && k.radius.is_finite()
+            && k.radius > 0.0
+            && k.radius <= 1000.0;
+        if !ok {
+            return Err(Error::Invalid(format!(
+                "colliders[{i}]: centre {:?}, radius {} and velocity {:?} must be finite, \
+                 with 0 < radius <= 1000 m",
+                k.center, k.radius, k.velocity
+            )));
+        }
+    }
+    if let Some(w) = inputs.wind {
+        let ok = w.direction.is_finite()
+            && w.direction.length() > 1e-6
+            && w.strength.is_finite()
+            && (0.0..=1000.0).contains(&w.strength);
+        if !ok {
+            return Err(Error::Invalid(format!(
+                "wind: direction {:?} must be finite and not zero, strength {} within \
+                 0..=1000 m/s²",
+                w.direction, w.strength
+            )));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,87 @@
+//! Drawing the grass into a host's render pass (`sward::embed`): the lit grass pipeline
+//! built again for the host's colour format, depth format and sample count (and, for an
+//! 8-bit target, with the scene's exposure and tone curve applied in the fragment shader:
+//! `DISPLAY_OUTPUT` in `grass.wgsl`), and the draw that binds it over the visible lists
+//! the renderer's cull wrote in `Renderer::encode_before_draw`.
+
+use super::grass_spec::GrassSpec;
+use super::pipelines::{pipeline_for, PipelineSpec};
+use super::Renderer;
+
+/// What a host's pass holds, as the grass pipeline must match it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HostTarget {
+    pub color_format: wgpu::TextureFormat,
+    pub depth_format: wgpu::TextureFormat,
+    pub samples: u32,
+    /// Display colour (tone-mapped) instead of linear radiance.
+    pub display: bool,
+}
+
+/// The grass pipeline of one host target and one specialisation of the scene.
+pub struct HostPipelines {
+    target: HostTarget,
+    spec: GrassSpec,
+    grass: wgpu::RenderPipeline,
+}
+
+impl HostPipelines {
+    /// Builds the lit grass pipeline for `target` and the renderer's current scene.
+    pub fn new(device: &wgpu::Device, renderer: &Renderer, target: HostTarget) -> Self {
+        let spec = renderer.draw.grass_spec();
+        let mut constants = spec.constants().to_vec();
+        constants.push(("DISPLAY_OUTPUT", if target.display { 1.0 } else { 0.0 }));
+        let grass = pipeline_for(
+            device,
+            (target.color_format, target.depth_format),
+            target.samples,
+            PipelineSpec {
+                label: "sward.host.grass",
+                shader: "grass.wgsl",
+                vertex: "vs_lit",
+                layout: renderer.draw.grass_layout(),
+                buffers: &[],
+                depth_write: true,
+                cull_back: false,
+                lines: false,
+                depth_only: false,
+                constants: &constants,
+            },
+        );
+        Self {
+            target,
+            spec,
+            grass,
+        }
+    }
+
+    /// Rebuilds the pipeline when the scene's specialisation changed (a scene edited
+    /// between frames); true when it did.
+    pub fn sync(&mut self, device: &wgpu::Device, renderer: &Renderer) -> bool {
+        if renderer.draw.grass_spec() == self.spec {
+            return false;
+        }
+        *self = Self::new(device, renderer, self.target);
+        true
+    }
+
+    /// The target this pipeline draws into.
+    pub fn target(&self) -> HostTarget {
+        self.target
+    }
+}
+
+impl Renderer {
+    /// What `encode_scene` brings up to date before a frame that a host's pass draws: the
+    /// grass's specialisation for the scene as it now is.
+    pub fn sync_for_host(&mut self, gpu: &crate::gpu::Gpu) {
+        self.draw.sync_grass_spec(&gpu.device, &self.scene);
+    }
+
+    /// Draws the blades the last `encode_before_draw` kept (every level of detail) into
+    /// `pass`, lit by the scene's sun, sky and shadow maps.
+    pub fn draw_into_host(&self, pass: &mut wgpu::RenderPass<'_>, host: &HostPipelines) {
+        pass.set_bind_group(1, self.light.group(), &[]);
+        self.draw.draw_grass(pass, &host.grass, &self.cull.args, 0);
+    }
+}
