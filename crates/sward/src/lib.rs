@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! sward: a real-time grass renderer. Every blade is a quadratic Bézier curve simulated on
 //! the GPU (Jahrmann & Wimmer 2017), culled on the GPU and drawn with indirect draws; the
 //! same frames render headless to PNG on a software adapter.
