@@ -4,7 +4,7 @@
 //!
 //! `cargo run --release -p sward --example embed -- --out grass.png [--size 640x360]
 //! [--frames 24]` renders headless (any adapter, the software one included) and writes a
-//! PNG; without `--out` it opens a window (Esc closes it).
+//! PNG; without `--out` it opens a window (Esc closes it, or `--frames N` after N frames).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -69,13 +69,18 @@ pub struct Host {
 }
 
 impl Host {
-    fn new(device: &wgpu::Device, queue: &wgpu::Queue, size: (u32, u32)) -> sward::Result<Self> {
+    fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        size: (u32, u32),
+        color: wgpu::TextureFormat,
+    ) -> sward::Result<Self> {
         // sward's part: a descriptor with the host's formats, and the scene.
         let grass = GrassRenderer::new(
             device,
             queue,
             sward::GrassRendererDescriptor {
-                color_format: COLOR,
+                color_format: color,
                 depth_format: DEPTH,
                 sample_count: 1,
                 output: ColorOutput::ToneMapped,
@@ -131,7 +136,7 @@ impl Host {
                 module: &module,
                 entry_point: Some("fs"),
                 compilation_options: Default::default(),
-                targets: &[Some(COLOR.into())],
+                targets: &[Some(color.into())],
             }),
             multiview_mask: None,
             cache: None,
@@ -387,7 +392,7 @@ pub fn render_image(
     setup: impl FnOnce(&mut Host),
 ) -> Result<(image::RgbaImage, u64), String> {
     let (device, queue) = open()?;
-    let mut host = Host::new(&device, &queue, size).map_err(|e| e.to_string())?;
+    let mut host = Host::new(&device, &queue, size, COLOR).map_err(|e| e.to_string())?;
     setup(&mut host);
     let target = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("host.color"),
@@ -486,7 +491,7 @@ fn read_back(
 fn main() -> ExitCode {
     let mut out = None;
     let mut size = (640, 360);
-    let mut frames = 24;
+    let mut frames = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let value = args.next();
@@ -505,7 +510,7 @@ fn main() -> ExitCode {
                 .parse()
                 .ok()
                 .filter(|n| (1..=10_000).contains(n))
-                .map(|n| frames = n)
+                .map(|n| frames = Some(n))
                 .ok_or(format!("--frames {v}: expected 1..=10000")),
             (flag, _) => Err(format!(
                 "unknown or incomplete argument {flag}: use --out FILE, --size WxH, --frames N"
@@ -517,8 +522,8 @@ fn main() -> ExitCode {
         }
     }
     let run = match out {
-        Some(out) => headless(&out, size, frames),
-        None => window::run(size),
+        Some(out) => headless(&out, size, frames.unwrap_or(24)),
+        None => window::run(size, frames),
     };
     match run {
         Ok(()) => ExitCode::SUCCESS,
@@ -541,6 +546,9 @@ mod window {
 
     struct App {
         size: (u32, u32),
+        /// Close after this many frames (`--frames`); `None`: when asked.
+        frames: Option<u32>,
+        drawn: u32,
         state: Option<State>,
         error: Option<String>,
     }
@@ -579,9 +587,17 @@ mod window {
             let mut config = surface
                 .get_default_config(&adapter, size.0, size.1)
                 .ok_or("the surface does not fit this adapter")?;
-            config.format = COLOR;
+            // An sRGB format of the surface's: the grass writes display colour.
+            let caps = surface.get_capabilities(&adapter);
+            config.format = caps
+                .formats
+                .iter()
+                .copied()
+                .find(|f| f.is_srgb())
+                .ok_or("the surface has no sRGB format")?;
             surface.configure(&device, &config);
-            let host = Host::new(&device, &queue, size).map_err(|e| e.to_string())?;
+            let host =
+                Host::new(&device, &queue, size, config.format).map_err(|e| e.to_string())?;
             Ok(Self {
                 window,
                 surface,
@@ -654,6 +670,11 @@ mod window {
                             self.error = Some(e);
                             event_loop.exit();
                         }
+                        self.drawn += 1;
+                        if self.frames.is_some_and(|n| self.drawn >= n) {
+                            println!("closed after {} frames", self.drawn);
+                            event_loop.exit();
+                        }
                     }
                 }
                 _ => {}
@@ -661,10 +682,12 @@ mod window {
         }
     }
 
-    pub fn run(size: (u32, u32)) -> Result<(), String> {
+    pub fn run(size: (u32, u32), frames: Option<u32>) -> Result<(), String> {
         let event_loop = EventLoop::new().map_err(|e| format!("no display: {e}"))?;
         let mut app = App {
             size,
+            frames,
+            drawn: 0,
             state: None,
             error: None,
         };

@@ -44,21 +44,31 @@ pub fn load(path: Option<&Path>, sets: &[String]) -> Result<Scene> {
 /// Options of `sward render`.
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
+    /// `--scene FILE`: the RON scene to render; `None` renders the built-in meadow.
     pub scene: Option<PathBuf>,
     /// `--set PATH=VALUE` overrides of the scene (`--eye` / `--target` arrive as
     /// `camera.eye=…` / `camera.target=…`).
     pub sets: Vec<String>,
+    /// Image size in pixels, (width, height); checked against the adapter's texture limits.
     pub size: (u32, u32),
+    /// Frames to simulate and render, 1..=100000 (`MAX_FRAMES`); the last one is saved.
     pub frames: u32,
+    /// Time step per frame in seconds, 0 < dt <= 1.
     pub dt: f32,
+    /// Path of the PNG the last frame is written to.
     pub out: PathBuf,
+    /// Print per-pass GPU times (timestamp queries), the cull counters and the last frame's
+    /// work counters.
     pub timings: bool,
     /// `--trace FILE`: a Chrome trace of every frame's GPU passes.
     pub trace: Option<PathBuf>,
+    /// Which GPU adapter to open.
     pub adapter: AdapterChoice,
     /// Draws the wind velocity and the AGC arrows over the frame.
     pub wind_overlay: bool,
+    /// `--pressure-iterations N`: overrides `wind.fluid.pressure_iterations` (0..=1000).
     pub pressure_iterations: Option<u32>,
+    /// `--wind-resolution N`: overrides `wind.fluid.resolution` (8..=2048 cells per side).
     pub wind_resolution: Option<u32>,
 }
 
@@ -253,18 +263,28 @@ pub fn render(o: &RenderOptions) -> Result<()> {
 /// Options of `sward simulate`.
 #[derive(Clone, Debug)]
 pub struct SimulateOptions {
+    /// `--scene FILE`: the RON scene to simulate; `None` uses the built-in meadow.
     pub scene: Option<PathBuf>,
     /// `--set PATH=VALUE` overrides of the scene.
     pub sets: Vec<String>,
+    /// Update steps to run, 1..=100000 (`MAX_FRAMES`).
     pub steps: u32,
+    /// Time step in seconds, 0 < dt <= 1.
     pub dt: f32,
+    /// Path of the JSON file the initial and final blades are written to.
     pub dump: PathBuf,
+    /// Run the CPU twin of the update instead of the GPU kernels (no adapter is opened).
     pub cpu: bool,
+    /// `--blades N`: replace the scene's field with about N blades on a flat square
+    /// (1..=50000000); `None` keeps the scene's field.
     pub blades: Option<usize>,
+    /// Which GPU adapter to open (unused with `cpu`).
     pub adapter: AdapterChoice,
     /// Writes the wind grid after the last step.
     pub dump_wind: Option<PathBuf>,
+    /// `--pressure-iterations N`: overrides `wind.fluid.pressure_iterations` (0..=1000).
     pub pressure_iterations: Option<u32>,
+    /// `--wind-resolution N`: overrides `wind.fluid.resolution` (8..=2048 cells per side).
     pub wind_resolution: Option<u32>,
 }
 
@@ -273,19 +293,31 @@ pub struct SimulateOptions {
 /// the tip and `v3` is absent.
 #[derive(Serialize)]
 pub struct BladeJson {
+    /// Root position in metres.
     pub v0: [f32; 3],
+    /// Middle control point in metres (P1 of a Verlet blade's cubic).
     pub v1: [f32; 3],
+    /// Tip of a quadratic blade in metres, or P2 of a Verlet blade's cubic.
     pub v2: [f32; 3],
+    /// Tip of a Verlet blade's cubic in metres; absent for the other models.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub v3: Option<[f32; 3]>,
+    /// The blade's local up vector: the normal of the ground (or object surface) at its
+    /// root.
     pub up: [f32; 3],
+    /// Blade height h in metres.
     pub height: f32,
+    /// Blade width w at the base in metres.
     pub width: f32,
+    /// Stiffness s of Eq. 3, in 1/s.
     pub stiffness: f32,
+    /// Collision strength η (Eq. 2): 0 untouched, 1 or more a full trail.
     pub eta: f32,
 }
 
 impl BladeJson {
+    /// The record of a blade and its state as stored (v0, v1, v2 of the quadratic, no
+    /// `v3`).
     pub fn new(b: &Blade, s: &BladeState) -> Self {
         let xyz = |a: [f32; 4]| [a[0], a[1], a[2]];
         Self {
@@ -491,7 +523,9 @@ pub fn simulate_cpu_from(
 
 /// What `simulate_cpu` ends with.
 pub struct CpuRun {
+    /// The blades after the last step.
     pub blades: Vec<Blade>,
+    /// The blades' states (rest tip and collision strength η) after the last step.
     pub states: Vec<BladeState>,
     /// The Verlet states (`physics.model: Verlet`; else empty).
     pub verlet: Vec<VerletState>,

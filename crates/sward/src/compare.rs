@@ -112,6 +112,7 @@ pub fn bands(img: &image::RgbaImage) -> Vec<Band> {
 /// How one band of an image differs from the same band of a reference.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct BandDiff {
+    /// First row of the band, in pixels from the top of the image.
     pub top: u32,
     /// The image's mean luminance minus the reference's (0–255).
     pub luminance: f64,

@@ -9,29 +9,50 @@ pub enum Error {
     /// A file could not be read.
     #[error("cannot read {path}: {source}")]
     Read {
+        /// The file that could not be read.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
     /// A scene file is malformed or holds a value out of range.
     #[error("{path}:{line}:{column}: {message}")]
     Scene {
+        /// The scene file (or a stand-in name such as `<inline>` for scene text).
         path: PathBuf,
+        /// Line of the offending value, counted from 1.
         line: usize,
+        /// Column of the offending value, counted from 1.
         column: usize,
+        /// What is wrong and, for a value out of range, what is allowed.
         message: String,
     },
     /// A `--set PATH=VALUE` argument is malformed, names no field of the scene, or sets a
     /// value the scene file could not hold (`arg` is `PATH=VALUE` as given).
     #[error("--set {arg}: {message}")]
-    Set { arg: String, message: String },
+    Set {
+        /// The argument as given, `PATH=VALUE`.
+        arg: String,
+        /// What is wrong and, for a value out of range, what is allowed.
+        message: String,
+    },
     /// An image named by a scene could not be decoded.
     #[error("{path}: cannot decode image: {message}")]
-    Image { path: PathBuf, message: String },
+    Image {
+        /// The image file.
+        path: PathBuf,
+        /// Why it was refused: the decoder's error, or a declared size over the limit.
+        message: String,
+    },
     /// A mesh named by a scene could not be loaded (unreadable, malformed, no triangles,
     /// non-finite vertices, too large).
     #[error("{path}: cannot load mesh: {message}")]
-    Mesh { path: PathBuf, message: String },
+    Mesh {
+        /// The mesh file.
+        path: PathBuf,
+        /// Why the mesh was refused.
+        message: String,
+    },
     /// No adapter matched the request.
     #[error("{0}")]
     NoAdapter(String),
@@ -43,7 +64,12 @@ pub enum Error {
     Gpu(String),
     /// Writing an output file failed; no partial file was left behind.
     #[error("cannot write {path}: {message}")]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// The file that was being written.
+        path: PathBuf,
+        /// Why the write failed.
+        message: String,
+    },
     /// The window cannot open (no display, the display refused it).
     #[error("{0}")]
     Window(String),

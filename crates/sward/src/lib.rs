@@ -1,7 +1,16 @@
-#![warn(missing_docs)]
 //! sward: a real-time grass renderer. Every blade is a quadratic Bézier curve simulated on
 //! the GPU (Jahrmann & Wimmer 2017), culled on the GPU and drawn with indirect draws; the
 //! same frames render headless to PNG on a software adapter.
+//!
+//! A wgpu program embeds the grass through [`GrassRenderer`] (module [`embed`]): created
+//! from the host's device, queue and target formats, [`GrassRenderer::prepare`] records a
+//! frame's simulation, cull and shadow maps into the host's encoder and
+//! [`GrassRenderer::render`] draws the blades into the host's render pass. The crate's
+//! `examples/embed.rs` is a whole host. The other modules are the layers the `sward`
+//! application is built on (scene, field, simulation, rendering, headless commands; see the
+//! repository's `docs/layers.md`); they are public for it and for tools, and documented,
+//! but [`embed`] is the interface meant for hosts.
+#![deny(missing_docs)]
 
 pub mod commands;
 pub mod compare;

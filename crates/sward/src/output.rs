@@ -165,6 +165,7 @@ pub struct Outputs {
 }
 
 impl Outputs {
+    /// An empty set of outputs: nothing planned, no inputs declared.
     pub fn new() -> Self {
         Self::default()
     }

@@ -15,7 +15,10 @@ pub const MAX_BLADES: usize = 50_000_000;
 
 /// A scene with its terrain and generated field.
 pub struct Session {
+    /// The scene, validated; with `--blades` its terrain is the flat square the blades
+    /// stand on.
     pub scene: Scene,
+    /// The ground's height field, built from `scene.terrain`.
     pub terrain: HeightField,
     /// The whole field, or for a streamed scene only the grass grown on mesh objects (the
     /// renderer's pool, filled on the GPU tile by tile around the camera, comes before it).

@@ -30,6 +30,8 @@ pub struct Blade {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct BladeState {
+    /// xyz: the rest position of the tip I_v2 (where recovery pulls it); w: the collision
+    /// strength η (Eq. 2).
     pub rest_eta: [f32; 4],
 }
 
@@ -38,7 +40,9 @@ pub struct BladeState {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct PatchBox {
+    /// The box's lowest corner (xyz); w: 1 for an empty patch, else 0.
     pub min: [f32; 4],
+    /// The box's highest corner (xyz); w: the smallest up.y of the patch's blades.
     pub max: [f32; 4],
 }
 

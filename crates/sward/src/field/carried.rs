@@ -21,6 +21,7 @@ pub struct CarriedBlade {
     pub object: u32,
     /// Rest tip at rest (`BladeState::rest_eta.xyz`).
     pub tip: [f32; 3],
+    /// Padding to 48 bytes, the size of the WGSL struct; always 0.
     pub _pad: u32,
 }
 
@@ -44,24 +45,31 @@ pub struct CarriedPatches {
 
 /// An object's grass as grown at rest, and where it sits in the field.
 pub struct Grown<'a> {
+    /// The object's blades, in field order.
     pub blades: &'a [Blade],
+    /// The blades' states, one per blade.
     pub states: &'a [BladeState],
     /// Its patches' boxes.
     pub boxes: &'a [PatchBox],
     /// Index of its first blade and first patch in the field (it fills whole patches).
     pub first_blade: usize,
+    /// Index of its first patch in the field.
     pub first_patch: usize,
+    /// Blades per patch.
     pub patch_size: usize,
 }
 
 /// Every carried blade and patch of a field (empty when nothing with grass moves).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Carried {
+    /// Every carried blade's rest values, object by object.
     pub blades: Vec<CarriedBlade>,
+    /// The patches of each moving object that carries grass.
     pub objects: Vec<CarriedPatches>,
 }
 
 impl Carried {
+    /// Whether no blade is carried.
     pub fn is_empty(&self) -> bool {
         self.blades.is_empty()
     }

@@ -47,6 +47,7 @@ pub struct FieldTraits {
     pub clumps: [f32; 4],
     /// Species count (at least 1), the seed, unused x2.
     pub info: [u32; 4],
+    /// The species, the first `info[0]` of them in use (the rest zero).
     pub species: [SpeciesGpu; MAX_SPECIES],
     /// Flowers: the share of blades (0: none), stem height min and span, head radius.
     pub flowers: [f32; 4],
@@ -122,6 +123,7 @@ impl FieldTraits {
         t
     }
 
+    /// Whether the field grows in clumps (a clump spacing above 0).
     pub fn has_clumps(&self) -> bool {
         self.clumps[0] > 0.0
     }
@@ -130,8 +132,12 @@ impl FieldTraits {
 /// The clump a root belongs to: its hash, direction (radians) and brightness draw in [0, 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Clump {
+    /// Hash of the clump's cell; the clump's species is drawn from it.
     pub hash: u32,
+    /// Direction the clump's blades turn towards, in radians, in [0, 2π).
     pub angle: f32,
+    /// The clump's brightness draw in [0, 1): its colour is scaled by
+    /// 1 + `clumps.color_variation` · (tint − 0.5).
     pub tint: f32,
 }
 

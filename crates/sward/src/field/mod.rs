@@ -48,6 +48,7 @@ pub struct GeneratedField {
 }
 
 impl GeneratedField {
+    /// Number of blades in the field (`blades.len()`).
     pub fn blade_count(&self) -> usize {
         self.blades.len()
     }

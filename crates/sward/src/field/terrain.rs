@@ -28,8 +28,11 @@ pub const MAX_RESOLUTION: u32 = 16385;
 /// `x = -size/2 + i·spacing`, `z = -size/2 + j·spacing`, `spacing = size / (resolution − 1)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HeightField {
+    /// Side of the square in metres.
     pub size: f32,
+    /// Grid vertices per side (at least 2).
     pub resolution: u32,
+    /// Height of each vertex in metres, `resolution²` of them, row-major with x fastest.
     pub heights: Vec<f32>,
     /// What lies between and beyond the grid vertices.
     pub surface: Surface,
@@ -52,9 +55,14 @@ pub enum Surface {
 /// octaves and scale 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NoiseSurface {
+    /// Seed of each octave (`octave_seeds`); empty for the flat plane.
     pub seeds: Vec<u32>,
+    /// Wavelength of the first octave in metres.
     pub wavelength: f64,
+    /// The fBm value that maps to height 0: the middle of its range over the grid.
     pub mid: f64,
+    /// Metres of height per unit of fBm (`amplitude` over the grid's fBm range); 0 for the
+    /// flat plane.
     pub scale: f64,
 }
 

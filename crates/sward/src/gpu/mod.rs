@@ -42,9 +42,13 @@ pub struct Gpu {
     /// The instance and adapter the device was opened on; `None` for a host's device
     /// ([`Gpu::from_host`]), which sward did not open.
     pub instance: Option<wgpu::Instance>,
+    /// The adapter the device was opened on; `None` for a host's device.
     pub adapter: Option<wgpu::Adapter>,
+    /// The open device.
     pub device: wgpu::Device,
+    /// The device's queue, which every submission goes to.
     pub queue: wgpu::Queue,
+    /// The adapter's name, backend, device type and driver.
     pub info: wgpu::AdapterInfo,
     /// Whether timestamp queries were enabled (per-pass GPU times).
     pub timestamps: bool,

@@ -82,13 +82,17 @@ impl std::ops::AddAssign for Work {
 /// (`None` when the frame ran none).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WorkFrame {
+    /// The work of each row of the counter, the sum of the stretches counted into it.
     pub rows: Vec<Work>,
+    /// Samples the coverage pass's occlusion query passed; `None` when the frame ran none.
     pub coverage_samples: Option<u64>,
 }
 
 /// A pass whose commands can be counted (render and compute passes).
 pub trait CountedPass {
+    /// Starts a pipeline-statistics query into `index` of `set`.
     fn begin_statistics(&mut self, set: &wgpu::QuerySet, index: u32);
+    /// Ends the open pipeline-statistics query.
     fn end_statistics(&mut self);
 }
 
@@ -373,6 +377,8 @@ impl<'a> PassQueries<'a> {
         work: None,
     };
 
+    /// Queries timed by the profiler scope `time` (if any) and counted into row `work.1` of
+    /// the counter `work.0` (if any).
     pub fn new(time: Option<&'a GpuProfilerQuery>, work: Option<(&'a WorkCounter, usize)>) -> Self {
         Self { time, work }
     }

@@ -19,7 +19,9 @@ pub const MAX_TRIANGLES: usize = 10_000_000;
 /// A triangle mesh in its file's units.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions, in the file's units.
     pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals, area-weighted, one per position.
     pub normals: Vec<[f32; 3]>,
     /// Three per triangle, counter-clockwise seen from outside.
     pub indices: Vec<u32>,
@@ -28,6 +30,7 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// Number of triangles (a third of `indices`).
     pub fn triangles(&self) -> usize {
         self.indices.len() / 3
     }

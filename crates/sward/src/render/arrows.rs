@@ -69,8 +69,11 @@ pub const OFF_COLOR: [f32; 4] = [0.35, 0.35, 0.38, 1.0];
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
 pub struct ArrowVertex {
+    /// World-space position in metres (`@location(0) position` in `arrows.wgsl`).
     pub position: [f32; 3],
+    /// Unit outward normal of the face this vertex belongs to (`@location(1) normal`).
     pub normal: [f32; 3],
+    /// Linear RGBA colour, alpha 1 (`@location(2) color`).
     pub color: [f32; 4],
 }
 
@@ -91,7 +94,9 @@ const _: () = assert!(std::mem::size_of::<ArrowUniforms>() == 80);
 /// front faces, outward normals).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ArrowMesh {
+    /// Vertices, each face with its own copies so that shading stays flat.
     pub vertices: Vec<ArrowVertex>,
+    /// Triangle-list indices into [`ArrowMesh::vertices`], three per triangle.
     pub indices: Vec<u32>,
 }
 
@@ -504,14 +509,15 @@ impl ArrowPass {
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
     }
 
-    /// Draws the prepared mesh into `color`, depth tested (LessEqual) against and writing
-    /// `depth`; both are loaded, never cleared. Records nothing when the mesh is empty.
     /// Whether the last prepared mesh has nothing to draw ([`ArrowPass::encode`] then
     /// records no pass).
     pub fn is_empty(&self) -> bool {
         self.index_count == 0
     }
 
+    /// Records a render pass that draws the prepared mesh over `color`, depth tested
+    /// (LessEqual) against `depth` and writing it; both are loaded, never cleared. Records
+    /// nothing when the mesh is empty.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,

@@ -6,11 +6,15 @@ use glam::{Mat4, Vec3};
 /// A perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraView {
+    /// World position of the camera (m).
     pub eye: Vec3,
+    /// World point the camera looks at (m); the view direction is `target − eye`.
     pub target: Vec3,
     /// Vertical field of view in degrees.
     pub fov_y: f32,
+    /// Distance to the near clip plane (m, > 0); maps to depth 0.
     pub near: f32,
+    /// Distance to the far clip plane (m); maps to depth 1.
     pub far: f32,
 }
 

@@ -78,6 +78,8 @@ fn bind_group(
 }
 
 impl CullPass {
+    /// Builds the cull pipelines, their uniform and indirect-argument buffers and the bind
+    /// groups over `buffers`; the occlusion test stays off until a depth pyramid is bound.
     pub fn new(gpu: &Gpu, buffers: &BladeBuffers) -> Self {
         let device = &gpu.device;
         let module = shaders::module(device, "cull.wgsl");

@@ -28,12 +28,14 @@ struct Mesh {
     count: u32,
 }
 
-/// Pipelines and buffers of the draw pass.
 /// Which of the uploaded collider spheres are drawn: all `count` but the `hidden` range
 /// (the spheres packed into mesh objects, which the mesh itself shows).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SphereDraw {
+    /// Spheres uploaded (instances available to the sphere draw).
     pub count: u32,
+    /// Instance indices not drawn because a mesh object shows them; may be empty, and is
+    /// clamped to `0..count`.
     pub hidden: std::ops::Range<u32>,
 }
 
@@ -45,11 +47,14 @@ impl SphereDraw {
         [0..start, end..self.count]
     }
 
+    /// Whether at least one sphere is left to draw once the hidden range is skipped.
     pub fn any_drawn(&self) -> bool {
         self.drawn().iter().any(|r| !r.is_empty())
     }
 }
 
+/// The draw pass: the frame uniforms, the sky, terrain, sphere, object and grass pipelines
+/// for one sample count, and their bind groups.
 pub struct DrawPass {
     frame: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
@@ -274,11 +279,12 @@ impl DrawPass {
             + self.terrain_pass.gpu_bytes()
     }
 
-    /// The sample count the pipelines draw with.
+    /// The layout of the grass draw's group 0 (blades, states, frame, traits).
     pub(super) fn grass_layout(&self) -> &wgpu::BindGroupLayout {
         &self.grass.layout
     }
 
+    /// MSAA samples per pixel the pipelines are built for (1 = no MSAA).
     pub fn samples(&self) -> u32 {
         self.pipelines.samples
     }

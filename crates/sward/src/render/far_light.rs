@@ -20,7 +20,10 @@ fn v3(a: [f32; 4]) -> Vec3 {
 /// is not shadowed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BladeLight {
+    /// Linear RGB light from the sky (ambient, scaled by ambient occlusion).
     pub ambient: Vec3,
+    /// Linear RGB light from the sun (diffuse, translucency and specular), to be scaled
+    /// by the shadow factor.
     pub sun: Vec3,
 }
 
@@ -111,9 +114,14 @@ pub fn far_grass_facings(
 /// One point of the probe: where, the ground's normal there, the albedo and the mean wave.
 #[derive(Clone, Copy, Debug)]
 pub struct FarPoint {
+    /// World position of the point (m).
     pub p: Vec3,
+    /// Unit normal of the ground at `p`.
     pub normal: Vec3,
+    /// The far grass's linear RGB albedo there.
     pub albedo: Vec3,
+    /// The blades' mean shading wave (`mean_wave`, 0 at rest): how far gusts turn the
+    /// grass towards its paler side.
     pub wave: f32,
 }
 

@@ -8,6 +8,8 @@ use crate::sim::update::{uniform_entry, whole, BladeBuffers};
 
 /// What the grass groups bind besides the model's buffers, kept to rebuild them.
 pub struct GrassBindings {
+    /// The grass bind group's layout (bindings 0 to 10), shared by the grass pipelines and
+    /// the deferred shading's compute passes.
     pub layout: wgpu::BindGroupLayout,
     frame: wgpu::Buffer,
     blades: wgpu::Buffer,
@@ -27,11 +29,16 @@ pub struct GrassBindings {
 pub struct ModelBuffers<'a> {
     /// The update's `SimParams` (the model, CWD-Sim's parameters, the wind's).
     pub sim_params: &'a wgpu::Buffer,
+    /// The wind solver's velocity grid (`vec2` per cell, m/s), for CWD-Sim's vertex bend.
     pub wind_grid: &'a wgpu::Buffer,
+    /// The Verlet blades' states (`VerletState` per blade), for the cubic blade model.
     pub verlet: &'a wgpu::Buffer,
 }
 
 impl GrassBindings {
+    /// Creates the layout and keeps the sources: the frame uniforms, the blade buffers, the
+    /// cull's uniforms and counts, one level uniform and visible-list region per group, and
+    /// the field's traits (uploaded here).
     pub fn new(
         device: &wgpu::Device,
         frame: &wgpu::Buffer,

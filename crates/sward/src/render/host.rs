@@ -11,8 +11,11 @@ use super::Renderer;
 /// What a host's pass holds, as the grass pipeline must match it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HostTarget {
+    /// The format of the host pass's colour attachment.
     pub color_format: wgpu::TextureFormat,
+    /// The format of the host pass's depth attachment (the grass tests and writes it).
     pub depth_format: wgpu::TextureFormat,
+    /// The host pass's samples per pixel.
     pub samples: u32,
     /// Display colour (tone-mapped) instead of linear radiance.
     pub display: bool,

@@ -10,7 +10,9 @@ use crate::sim::layout::{DRAW_BATCH, LOD_LEVELS};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct TerrainVertex {
+    /// World position (m): x, z on the grid centred on the origin, y the terrain height.
     pub position: [f32; 3],
+    /// Unit surface normal of the height field at that point.
     pub normal: [f32; 3],
 }
 
@@ -99,11 +101,14 @@ pub fn blade_indices(segments: u32, columns: u32) -> Vec<u32> {
 pub struct LodMeshes {
     /// Segments of each level: the scene's count, about half of it, and one.
     pub segments: [u32; LOD_LEVELS],
+    /// Indices of each level's mesh (all [`DRAW_BATCH`] copies of its blade).
     pub index_count: [u32; LOD_LEVELS],
+    /// Where each level's indices start in [`LodMeshes::indices`].
     pub first_index: [u32; LOD_LEVELS],
     /// The shadow casters' mesh after the levels: one triangle per blade, its root's two
     /// corners and its tip (3 vertices, [`CASTER_VERTICES`]), as (index count, first).
     pub caster: (u32, u32),
+    /// The index buffer: every level's mesh, then the casters' mesh.
     pub indices: Vec<u32>,
 }
 

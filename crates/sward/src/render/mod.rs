@@ -64,6 +64,7 @@ use timing::{timed, GpuTimer, Meters};
 /// What one frame did, read back from the GPU.
 #[derive(Clone, Debug, Default)]
 pub struct FrameStats {
+    /// The cull's indirect draws and counters (visible patches and blades per level).
     pub counters: CullCounters,
     /// GPU milliseconds of each pass of `timing::PASSES`, when timestamps exist.
     pub pass_ms: Option<[f64; timing::PASSES.len()]>,
@@ -82,12 +83,17 @@ pub struct FrameStats {
 /// the start.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TileStats {
+    /// Tiles resident now.
     pub resident: usize,
+    /// Tile slots in the pool: the most tiles that can be resident at once.
     pub slots: u32,
+    /// Tiles generated in the last frame.
     pub generated_last: usize,
+    /// Tiles generated since the start.
     pub generated_total: u64,
     /// Side of a tile in metres and blades per tile.
     pub tile_size: f32,
+    /// Blades generated into each tile.
     pub blades_per_tile: u32,
 }
 
@@ -103,15 +109,20 @@ pub fn fog_distance(terrain_size: f32, far: f32) -> f32 {
 /// collides with the grass and, as an obstacle, pushes the wind.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DynamicSphere {
+    /// World position of the centre (m).
     pub center: Vec3,
+    /// Radius (m).
     pub radius: f32,
+    /// Velocity (m/s), which the wind solver sees as the obstacle's motion.
     pub velocity: Vec3,
 }
 
 /// Everything on the GPU for one scene, and the clock of its simulation.
 pub struct Renderer {
+    /// The blades' GPU buffers (blades, states, patches, visible lists, spheres).
     pub buffers: BladeBuffers,
     update: UpdatePass,
+    /// The patch and blade cull passes and the indirect draws they write.
     pub cull: CullPass,
     draw: DrawPass,
     /// The wind solver, when the scene's wind source includes the fluid.
@@ -126,7 +137,9 @@ pub struct Renderer {
     coverage: coverage::Coverage,
     /// Bounds the frames submitted and not yet finished (see [`crate::gpu::FramePacer`]).
     pacer: crate::gpu::FramePacer,
+    /// The scene being rendered.
     pub scene: Scene,
+    /// The scene's terrain height field (CPU side).
     pub terrain: HeightField,
     /// Simulated seconds since the start.
     pub time: f32,

@@ -55,8 +55,11 @@ pub fn effective_samples(gpu: &Gpu, format: wgpu::TextureFormat, requested: u32)
 
 /// The multisampled colour and depth textures of the 3D passes at one size.
 pub struct MsaaTarget {
+    /// Samples per pixel of both textures (> 1).
     pub samples: u32,
+    /// Width and height in pixels.
     pub size: (u32, u32),
+    /// The colour texture's format (the depth is [`DEPTH_FORMAT`]).
     pub format: wgpu::TextureFormat,
     /// Drawn into, resolved into the caller's colour, then not needed: its contents are
     /// discarded after the resolve.

@@ -179,7 +179,6 @@ impl ObjectsPass {
         )
     }
 
-    /// Rebuilds the pipelines for another sample count.
     /// Places object i by `models[i]` from the next frame on (moving objects).
     pub fn set_transforms(&self, queue: &wgpu::Queue, models: &[glam::Mat4]) {
         for (object, model) in self.objects.iter().zip(models) {
@@ -188,6 +187,8 @@ impl ObjectsPass {
         }
     }
 
+    /// Rebuilds the colour and depth pipelines for targets of `samples` MSAA samples; does
+    /// nothing when the count is unchanged.
     pub fn set_samples(&mut self, device: &wgpu::Device, samples: u32) {
         if samples != self.samples {
             self.samples = samples;
@@ -195,6 +196,7 @@ impl ObjectsPass {
         }
     }
 
+    /// Whether the scene has no mesh objects to draw.
     pub fn is_empty(&self) -> bool {
         self.objects.is_empty()
     }

@@ -11,10 +11,16 @@ pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrg
 
 /// Off-screen colour and depth textures.
 pub struct Target {
+    /// The colour texture ([`COLOR_FORMAT`], single-sampled), copied out by
+    /// [`Target::read_image`].
     pub color: wgpu::Texture,
+    /// View of the whole colour texture, to render into.
     pub color_view: wgpu::TextureView,
+    /// View of the matching [`DEPTH_FORMAT`] depth texture ([`depth_view`]).
     pub depth_view: wgpu::TextureView,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 
@@ -41,7 +47,6 @@ pub fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textu
 }
 
 impl Target {
-    /// Checks the size against the device, then allocates.
     /// Checks, before anything is allocated, that frames of `size` fit the adapter with the
     /// samples it gives for `render.msaa` = `requested_msaa` (`flag` names what set the
     /// size in the error).
@@ -54,6 +59,8 @@ impl Target {
         gpu.check_frame_size(flag, size, samples)
     }
 
+    /// Allocates the colour and depth textures of `width` × `height` pixels; fails when the
+    /// device cannot hold a texture that size.
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Result<Self> {
         gpu.check_texture("an image", width, height)?;
         let color = gpu.device.create_texture(&wgpu::TextureDescriptor {

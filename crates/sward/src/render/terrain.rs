@@ -20,6 +20,8 @@ use crate::sim::update::uniform_entry;
 
 /// Buffers, texture and bind group of the terrain draw.
 pub struct TerrainPass {
+    /// The terrain's bind group layout: frame uniforms (0), terrain parameters (1), height
+    /// grid (2), density texture (3) and its sampler (4), shading waves (5).
     pub layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     grid: wgpu::Buffer,

@@ -41,15 +41,25 @@ pub const PASSES: [&str; 18] = [
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
+/// The depth pyramid built from the occluders' depth ("pyramid").
 pub const PYRAMID: usize = 1;
+/// The patch pass: patch boxes culled, indirect dispatches written ("patches").
 pub const PATCHES: usize = 2;
+/// The blade update (physics step) ("update").
 pub const UPDATE: usize = 3;
+/// The blade cull ("cull").
 pub const CULL: usize = 4;
+/// The main draw: sky, terrain, colliders and the grass ("draw").
 pub const DRAW: usize = 5;
+/// With grass occlusion, the pyramid rebuilt over the grass drawn early ("late pyramid").
 pub const LATE_PYRAMID: usize = 6;
+/// With grass occlusion, the late cull of the blades not seen last frame ("late cull").
 pub const LATE_CULL: usize = 7;
+/// With grass occlusion, the draw of the late cull's blades ("late draw").
 pub const LATE_DRAW: usize = 8;
+/// Generation of the tiles entering a streamed field ("tiles").
 pub const TILES: usize = 9;
+/// The billboards' cull ("billboards").
 pub const BILLBOARDS: usize = 10;
 /// The sun's shadow cascades (all of them, one scope).
 pub const SHADOWS: usize = 11;
@@ -243,7 +253,10 @@ pub(crate) fn timed<R>(
 
 /// One row of a trace: a name (a benchmark configuration, a run) and its frames' scopes.
 pub struct TraceTrack {
+    /// The track's thread name in the trace (a configuration or run label).
     pub name: String,
+    /// The profiler's scopes of every recorded frame, in frame order; nested scopes
+    /// become nested events, and scopes without a time are skipped.
     pub scopes: Vec<GpuTimerQueryResult>,
 }
 

@@ -24,9 +24,16 @@ pub const WORK_ROWS: [&str; PASSES.len() + 4] = {
     rows[GRASS_PIXELS] = "grass pixels";
     rows
 };
+/// Row of the wind solver's passes ("wind").
 pub const WIND: usize = PASSES.len();
+/// Row of the main draw's lit grass, counted apart from the rest of the draw pass
+/// ("lit grass").
 pub const LIT_GRASS: usize = PASSES.len() + 1;
+/// Row of the coverage pass that measures the pixels the grass covers; left out of the
+/// frame's work ("coverage").
 pub const COVERAGE: usize = PASSES.len() + 2;
+/// Row of the deferred shading's pixel list ("grass pixels"); its light counts in
+/// [`GRASS_LIGHT`]'s row.
 pub const GRASS_PIXELS: usize = PASSES.len() + 3;
 
 /// The work of a whole frame: every row but the coverage measurement.
@@ -74,19 +81,26 @@ pub fn lit_fragments_per_pixel(
 /// invocations and the lit grass's fragments per covered pixel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct WorkSummary {
+    /// Vertex-shader invocations of the whole frame ([`frame_work`]).
     pub vertex_invocations: u64,
+    /// Primitives the clipper let through to rasterisation, whole frame.
     pub primitives: u64,
+    /// Fragment-shader invocations (helper lanes included), whole frame.
     pub fragment_invocations: u64,
+    /// Compute-shader invocations, whole frame.
     pub compute_invocations: u64,
     /// The lit grass shading's invocations ([`lit_shading`]: forward, the main and late
     /// draws' grass fragments; deferred, the light's compute invocations).
     pub lit_fragments: u64,
     /// Pixels the grass covers in the finished frame.
     pub grass_pixels: u64,
+    /// [`lit_fragments_per_pixel`]: lit grass shading invocations per covered pixel;
+    /// `None` without a coverage count or with no grass on screen.
     pub lit_fragments_per_pixel: Option<f64>,
 }
 
 impl WorkSummary {
+    /// The summary of a counted `frame` drawn with `samples` MSAA samples per pixel.
     pub fn of(frame: &WorkFrame, samples: u32) -> Self {
         let all = frame_work(&frame.rows);
         let lit = lit_shading(&frame.rows).unwrap_or(0);
@@ -110,12 +124,15 @@ impl WorkSummary {
 /// did any work, by name.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct WorkReport {
+    /// The whole frame's figures, flattened into the report's top level when serialised.
     #[serde(flatten)]
     pub summary: WorkSummary,
+    /// The counts of every row of [`WORK_ROWS`] that did any work, by row name.
     pub passes: std::collections::BTreeMap<&'static str, Work>,
 }
 
 impl WorkReport {
+    /// The report of a counted `frame` drawn with `samples` MSAA samples per pixel.
     pub fn of(frame: &WorkFrame, samples: u32) -> Self {
         Self {
             summary: WorkSummary::of(frame, samples),

@@ -15,15 +15,28 @@ pub use wind::*;
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Scene {
+    /// The ground: its size, where its heights come from, the grass density map and whether
+    /// it runs on to the horizon.
     pub terrain: Terrain,
+    /// The grass: blade density, sizes, shapes, placement, species, clumps and flowers.
     pub field: Field,
+    /// Spheres that press the grass down where they rest or move (`center`, `radius`,
+    /// `motion`); empty by default.
     pub colliders: Vec<Sphere>,
     /// Meshes placed in the scene (OBJ or glTF), drawn lit and occluding the grass.
     pub objects: Vec<MeshObject>,
+    /// The wind the blades feel: the paper's analytic waves and point source, and the fluid
+    /// grid with its guides, global wind and downwash.
     pub wind: Wind,
+    /// The blade update: gravity, collisions and trails, time step and the blade model.
     pub physics: Physics,
+    /// Which blades are skipped before drawing (Section 6.2), the levels of detail, and how
+    /// often patches far from the camera update.
     pub culling: Culling,
+    /// The view the scene is rendered from: eye, target, field of view and clip planes.
     pub camera: Camera,
+    /// How the grass is drawn: sun direction, blade displacement and width correction,
+    /// self-shadow, debug colours, billboards and anti-aliasing.
     pub render: Render,
     /// The sun, the sky, shadows, tone mapping and the blade shading terms.
     pub light: Light,
@@ -38,8 +51,10 @@ pub struct Scene {
 #[serde(deny_unknown_fields)]
 pub enum HeightSource {
     /// Seeded fractal Brownian motion of value noise.
-    /// Fields left out take the default terrain's values (`Noise(amplitude: 3.0)`).
+    /// Fields left out take the default terrain's values (seed 7, amplitude 2 m, the
+    /// `noise_*` defaults below).
     Noise {
+        /// Seed of the noise (any u64, default 7): the same seed gives the same hills.
         #[serde(default = "noise_seed")]
         seed: u64,
         /// Peak-to-peak amplitude in metres.
@@ -48,11 +63,18 @@ pub enum HeightSource {
         /// Size of the largest hills in metres.
         #[serde(default = "noise_wavelength")]
         wavelength: f32,
+        /// Layers of noise summed, each finer and weaker than the last, 1 to 12 (default
+        /// 4).
         #[serde(default = "noise_octaves")]
         octaves: u32,
     },
     /// A grey PNG: black = 0 m, white = `scale` metres.
-    Png { path: String, scale: f32 },
+    Png {
+        /// The PNG file, relative to the scene file's directory.
+        path: String,
+        /// Height in metres of a white pixel, 0 to 1000 m.
+        scale: f32,
+    },
     /// A flat plane at height 0.
     Flat,
 }
@@ -66,6 +88,7 @@ pub struct Terrain {
     pub size: f32,
     /// Grid vertices per side of the height field and the terrain mesh.
     pub resolution: u32,
+    /// Where the heights come from: `Noise(..)` (the default), `Png(..)` or `Flat`.
     pub height: HeightSource,
     /// Optional grey PNG: white = full density, black = no grass.
     pub density_map: Option<String>,
@@ -108,11 +131,19 @@ impl Default for Terrain {
 /// The five blade shapes of the paper (Section 6.3).
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 pub enum Shape {
+    /// Full width from the base to the tip.
     Quad,
+    /// Narrows evenly from the full width at the base to a point at the tip.
     Triangle,
+    /// Narrows to a point at the tip with the square of the height: one edge straight, the
+    /// other curving in.
     Quadratic,
+    /// Full width up to `tip_threshold` of the height, then narrowing to a point at the tip
+    /// (the default).
     #[default]
     TriangleTip,
+    /// A toothed leaf like a dandelion's: narrowing to the tip, its width swinging between
+    /// teeth along the edges.
     Dandelion,
 }
 
@@ -133,11 +164,14 @@ impl Shape {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Range {
+    /// Smallest value a blade can get (inclusive).
     pub min: f32,
+    /// Largest value a blade can get (inclusive); must be at least `min`.
     pub max: f32,
 }
 
 impl Range {
+    /// The interval from `min` to `max`.
     pub const fn new(min: f32, max: f32) -> Self {
         Self { min, max }
     }
@@ -165,6 +199,8 @@ pub struct Field {
     pub tuft_fraction: f32,
     /// Radius of a tuft in metres.
     pub tuft_radius: f32,
+    /// Outline of the blades: `Quad`, `Triangle`, `Quadratic`, `TriangleTip` (the default)
+    /// or `Dandelion`.
     pub shape: Shape,
     /// Threshold τ of the triangle-tip shape.
     pub tip_threshold: f32,
@@ -172,6 +208,8 @@ pub struct Field {
     pub patch_size: u32,
     /// Segments along the blade's height in the drawn mesh.
     pub segments: u32,
+    /// Seed of the blades' placement and random attributes (any u64, default 1): the same
+    /// seed grows the same field.
     pub seed: u64,
     /// Side of the tiles the field is streamed in, in metres (rounded to whole patches):
     /// tiles within the blade radius (`culling.max_distance`) of the camera are generated
@@ -256,11 +294,15 @@ impl Default for Flowers {
 pub struct Species {
     /// Relative share of the blades (the shares are normalised).
     pub share: f32,
+    /// Blade height of this species in metres, each end 0.01 to 10 m.
     pub height: Range,
+    /// Blade width of this species at the base in metres, each end above 0 and at most 1 m.
     pub width: Range,
+    /// Stiffness s of Eq. 3 of this species, in 1/s, each end 0 to 1000.
     pub stiffness: Range,
     /// Base colour (linear RGB, 0..1) at mid-height.
     pub color: (f32, f32, f32),
+    /// Outline of this species' blades (see [`Shape`]).
     pub shape: Shape,
 }
 
@@ -338,8 +380,13 @@ pub enum Motion {
     /// Rolls over the terrain along a polyline of (x, z) points at `speed` m/s, resting on
     /// the ground; `looped` closes the path.
     Path {
+        /// The (x, z) points of the path in metres: at least 2, not all at one place, each
+        /// coordinate within ±100000 m.
         points: Vec<(f32, f32)>,
+        /// Speed along the path in m/s, 0 to 1000.
         speed: f32,
+        /// Whether the path runs on from the last point back to the first and repeats;
+        /// otherwise the mover stops at the last point.
         looped: bool,
     },
 }
@@ -350,7 +397,9 @@ pub enum Motion {
 pub struct Sphere {
     /// Centre at t = 0 (for `Path`, y is an offset above the ground and x/z are ignored).
     pub center: (f32, f32, f32),
+    /// Radius in metres, above 0 and at most 1000 m.
     pub radius: f32,
+    /// How the sphere moves; `Static` when left out.
     #[serde(default = "default_motion")]
     pub motion: Motion,
 }
@@ -389,6 +438,8 @@ pub struct Physics {
     pub stiffness_scale: f32,
     /// Largest time step the update takes; longer frames are clamped to it.
     pub max_dt: f32,
+    /// Whether colliders (spheres and mesh objects) press the blades at all; `false` turns
+    /// every collision off.
     pub collisions: bool,
     /// Qiu et al.'s hierarchy of the colliders (`sim::bvh`): each blade walks a tree of
     /// bounding spheres instead of its patch's list of nearby spheres.
@@ -460,6 +511,7 @@ pub enum BladeModel {
 }
 
 impl BladeModel {
+    /// Every blade model, in the order of their ids.
     pub const ALL: [BladeModel; 3] = [BladeModel::Jahrmann, BladeModel::Verlet, BladeModel::Cwd];
 
     /// The id the shaders switch on (`MODEL_*` in `common.wgsl`).
@@ -471,6 +523,7 @@ impl BladeModel {
         }
     }
 
+    /// The model's name as written in a scene file: `Jahrmann`, `Verlet` or `Cwd`.
     pub fn name(self) -> &'static str {
         match self {
             BladeModel::Jahrmann => "Jahrmann",
@@ -561,12 +614,17 @@ impl Default for Physics {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Culling {
+    /// Skip whole patches whose bounding box is outside the view (or, with `distance`,
+    /// beyond `max_distance`, or, with `occlusion`, hidden by the opaque objects) before
+    /// their blades are tested.
     pub patches: bool,
+    /// Skip blades seen edge-on (Eq. 17); see `orientation_threshold`.
     pub orientation: bool,
     /// Cull when |dir_c · dir_b| exceeds this. The paper uses 0.9; the default 0.94 keeps
     /// the nature view within the snapshot tolerance of the unculled frame (at 0.9
     /// edge-on blades still show 0.44 of their width, and 1.2 % of the pixels differ).
     pub orientation_threshold: f32,
+    /// Skip blades outside the view frustum (Eq. 18); see `frustum_tolerance`.
     pub frustum: bool,
     /// Tolerance t of Eq. 18, in clip-space units of w.
     pub frustum_tolerance: f32,
@@ -635,11 +693,16 @@ impl Default for Culling {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Camera {
+    /// Where the camera is, in metres (each component within ±100000 m).
     pub eye: (f32, f32, f32),
+    /// The point the camera looks at, in metres (each component within ±100000 m); must
+    /// differ from `eye`.
     pub target: (f32, f32, f32),
     /// Vertical field of view in degrees.
     pub fov_y: f32,
+    /// Distance of the near clip plane in metres, 0.001 to 1000 m.
     pub near: f32,
+    /// Distance of the far clip plane in metres: beyond `near` and at most 1000000 m.
     pub far: f32,
 }
 

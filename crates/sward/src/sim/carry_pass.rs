@@ -10,6 +10,8 @@ use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::shaders;
 
+/// The compute pass (`shaders/carry.wgsl`) that moves the carried blades to where their
+/// objects are this step, with its rest-copy and object-motion buffers.
 pub struct CarryPass {
     pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
@@ -109,6 +111,8 @@ impl CarryPass {
         }
     }
 
+    /// Records the carry dispatch (64 blades per workgroup) into `encoder`; records nothing
+    /// when there are no carried blades.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if self.count == 0 {
             return;

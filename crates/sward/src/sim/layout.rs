@@ -43,9 +43,14 @@ pub const SPHERES_ALL: u32 = u32::MAX;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct VerletState {
+    /// xyz: the control point P2 (world metres), w: Δt of the last step in seconds (0: never
+    /// stepped).
     pub p2_dt: [f32; 4],
+    /// xyz: P1 (the blade's v1) at the previous step, w: the owning root's x.
     pub o1_x: [f32; 4],
+    /// xyz: P2 at the previous step, w: the owning root's y.
     pub o2_y: [f32; 4],
+    /// xyz: P3 (the blade's v2) at the previous step, w: the owning root's z.
     pub o3_z: [f32; 4],
 }
 
@@ -65,12 +70,19 @@ pub struct SimParams {
     pub point_wind: [f32; 4],
     /// x: radius, y: pulse frequency.
     pub point_wind_shape: [f32; 4],
+    /// Δt of this step in seconds (already clamped).
     pub dt: f32,
+    /// Scene time in seconds; drives the analytic wind's gusts and the point source's pulse.
     pub time: f32,
+    /// Blade mass m of Eq. 4 (scales the gravity force).
     pub mass: f32,
+    /// Blend t of Eq. 4 between the gravity direction (0) and the gravity centre (1).
     pub gravity_blend: f32,
+    /// Decrease a of the collision strength η per second (Eq. 2).
     pub collision_decay: f32,
+    /// Blades in the blade buffer; invocations at or past it do nothing.
     pub blade_count: u32,
+    /// Collision spheres uploaded this step.
     pub sphere_count: u32,
     /// 1 = sphere collisions on.
     pub collisions: u32,
@@ -93,6 +105,7 @@ pub struct SimParams {
     pub patch_count: u32,
     /// Wind grid: thickness of a layer in metres (3D grids).
     pub fluid_layer_height: f32,
+    /// Padding to the next 16-byte boundary (`pad_c` in `common.wgsl`).
     pub _pad: u32,
     /// Collision hierarchy (`sim::bvh`): the camera's x, y, z and the distance within which
     /// the walk goes down to the colliders.
@@ -114,6 +127,7 @@ pub struct SimParams {
 
 /// Source-mask bits of `SimParams::fluid_info[1]`.
 pub const WIND_ANALYTIC: u32 = 1;
+/// Source-mask bit of `SimParams::fluid_info[1]`: the blades feel the fluid grid's wind.
 pub const WIND_FLUID: u32 = 2;
 
 /// Number of level-of-detail buckets the cull pass sorts visible blades into.
@@ -124,17 +138,27 @@ pub const LOD_LEVELS: usize = 3;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct CullParams {
+    /// View-projection matrix of the culling camera (world to clip, column-major).
     pub view_proj: [[f32; 4]; 4],
     /// xyz: camera position.
     pub camera_pos: [f32; 4],
+    /// Blades in the blade buffer; invocations at or past it do nothing.
     pub blade_count: u32,
+    /// Blades per patch (a multiple of 64, the workgroup size).
     pub patch_size: u32,
     /// `TEST_*` bits.
     pub tests: u32,
+    /// Number of distance levels n of Eq. 20 (the distance test's thinning steps).
     pub distance_levels: u32,
+    /// A blade is culled as edge-on when |view direction · width direction| exceeds this
+    /// (Eq. 17; 0 to 1).
     pub orientation_threshold: f32,
+    /// Tolerance t of Eq. 18, in clip-space units of w: how far outside the frustum a
+    /// blade's points may be and still count as inside.
     pub frustum_tolerance: f32,
+    /// d_max of Eq. 20 in metres: the distance test culls every blade beyond it.
     pub max_distance: f32,
+    /// Patches in the field (the patch pass's invocations).
     pub patch_count: u32,
     /// Indices of each level's blade mesh (near, middle, far).
     pub lod_index_count: [u32; 4],
@@ -170,10 +194,18 @@ pub struct CullParams {
     pub bvh: [f32; 4],
 }
 
+/// `CullParams::tests` bit: cull whole patches whose box is outside the frustum, beyond the
+/// distance test's reach (with [`TEST_DISTANCE`]) or hidden in the depth pyramid (with
+/// [`TEST_OCCLUSION`]).
 pub const TEST_PATCH: u32 = 1;
+/// `CullParams::tests` bit: cull blades seen edge-on (Eq. 17).
 pub const TEST_ORIENTATION: u32 = 2;
+/// `CullParams::tests` bit: cull blades outside the view frustum (Eq. 18).
 pub const TEST_FRUSTUM: u32 = 4;
+/// `CullParams::tests` bit: thin out blades with distance from the camera (Eq. 19–20).
 pub const TEST_DISTANCE: u32 = 8;
+/// `CullParams::tests` bit: cull blades hidden behind opaque objects (terrain, colliders)
+/// in the depth pyramid.
 pub const TEST_OCCLUSION: u32 = 16;
 /// Grass hides grass: blades not seen last frame wait for a late test against a pyramid
 /// that includes the grass drawn early (needs first-instance indirect draws).
@@ -193,8 +225,11 @@ pub const SEEN_CANDIDATE: u32 = 3;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct DispatchIndirect {
+    /// Workgroups along x.
     pub x: u32,
+    /// Workgroups along y.
     pub y: u32,
+    /// Workgroups along z.
     pub z: u32,
 }
 
@@ -217,10 +252,16 @@ pub struct CullCounters {
     pub updated_patches: u32,
     /// Of those, patches updated at the throttled rate.
     pub throttled_patches: u32,
+    /// Blades in patches outside the view frustum (the patch test).
     pub culled_patch: u32,
+    /// Blades culled as seen edge-on (the orientation test).
     pub culled_orientation: u32,
+    /// Blades culled by the per-blade frustum test.
     pub culled_frustum: u32,
+    /// Blades culled by the distance test, whole patches beyond its reach included.
     pub culled_distance: u32,
+    /// Blades culled as hidden: by opaque objects (whole patches or single blades) or by grass
+    /// drawn early.
     pub culled_occlusion: u32,
     /// Blades in patches culled by occlusion (part of `culled_occlusion`).
     pub culled_occlusion_patch: u32,
@@ -242,6 +283,7 @@ pub struct CullCounters {
     /// waves (`far_grass.wgsl`): the sum over the blades drawn early from half the blade
     /// radius out of `clamp(1.5 |v2 - rest tip| / h, 0, 1)` in 1/1024ths, and their count.
     pub wave_sum: u32,
+    /// Blades summed into `wave_sum`.
     pub wave_blades: u32,
 }
 
@@ -293,8 +335,11 @@ impl CullCounters {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct PatchDispatch {
+    /// Workgroups of the blade cull over the visible patches.
     pub cull: DispatchIndirect,
+    /// Workgroups of the blade update over the patches stepped this frame.
     pub update: DispatchIndirect,
+    /// Padding to 32 bytes.
     pub _pad: [u32; 2],
 }
 
@@ -302,8 +347,11 @@ pub struct PatchDispatch {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct FrameUniforms {
+    /// View-projection matrix of the camera (world to clip, column-major).
     pub view_proj: [[f32; 4]; 4],
+    /// Inverse of `view_proj` (clip to world).
     pub inv_view_proj: [[f32; 4]; 4],
+    /// xyz: camera position in world metres, w: 1.
     pub camera_pos: [f32; 4],
     /// xyz: direction towards the sun.
     pub sun_dir: [f32; 4],
@@ -333,16 +381,34 @@ pub struct FrameUniforms {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct LightUniforms {
+    /// Light-space view-projection of each shadow cascade (world to [-1, 1]² × [0, 1]).
     pub cascades: [[[f32; 4]; 4]; 4],
+    /// Far distance of each cascade from the camera, in metres.
     pub splits: [f32; 4],
+    /// World size in metres of one shadow-map texel of each cascade.
     pub texel_world: [f32; 4],
+    /// x: 1 = shadows on, y: cascade count, z: filter radius (texels), w: bias (texels).
     pub shadow: [f32; 4],
+    /// x: 1 / shadow-map resolution, y: the resolution, z: distance (m) where the shadows
+    /// start to fade, w: unused.
     pub shadow_map: [f32; 4],
+    /// rgb: the sun's radiance reaching the ground, w: the exposure multiplier 2^EV.
     pub sun: [f32; 4],
+    /// rgb: the sky's irradiance on a horizontal surface over π, w: the tone mapper (0 ACES,
+    /// 1 AgX, 2 clamp).
     pub ambient: [f32; 4],
+    /// x: sky model (0 Preetham, 1 gradient), y: turbidity, z: cosine of the sun disk's
+    /// radius, w: the sun disk's radiance over the sun's.
     pub sky: [f32; 4],
+    /// Perez coefficients A to E (`perez_a` .. `perez_e`), each for luminance Y (x) and
+    /// chromaticity x (y) and y (z).
     pub perez: [[f32; 4]; 5],
+    /// The zenith's Y, x and y, each over its Perez F(0, θ_s); w: θ_s, the sun's zenith
+    /// angle.
     pub zenith: [f32; 4],
+    /// Blade shading strengths (`shading_a`, `shading_b`): rounded normal, translucency,
+    /// specular, ambient occlusion; colour variation, wind waves, canopy leaf area (m²/m²),
+    /// the canopy's mean sunlit share.
     pub shading: [[f32; 4]; 2],
 }
 
@@ -350,10 +416,16 @@ pub struct LightUniforms {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct DrawIndexedIndirect {
+    /// Indices per instance: the level's mesh, which holds a batch of blade meshes.
     pub index_count: u32,
+    /// Instances to draw, one per batch of [`DRAW_BATCH`] blades.
     pub instance_count: u32,
+    /// First index of the level's mesh in the shared index buffer.
     pub first_index: u32,
+    /// Added to each index before the vertex is fetched (the cull pass writes 0).
     pub base_vertex: i32,
+    /// Instance index of the first batch (where the level's region starts; the late draws
+    /// start after the early batches).
     pub first_instance: u32,
 }
 

@@ -120,26 +120,37 @@ pub fn cull_tests(culling: &Culling) -> u32 {
 /// viewport, the field's layout, the level-of-detail meshes and the depth pyramid.
 #[derive(Clone, Copy, Debug)]
 pub struct CullInputs {
+    /// View-projection matrix of the culling camera (world to clip).
     pub view_proj: Mat4,
+    /// Position of the culling camera in world metres.
     pub camera: Vec3,
     /// Vertical field of view in degrees.
     pub fov_y: f32,
+    /// Near plane distance of the culling camera in metres.
     pub near: f32,
+    /// Far plane distance of the culling camera in metres.
     pub far: f32,
+    /// Viewport height in pixels (sets the pixels per metre of the level-of-detail test).
     pub viewport_height: u32,
+    /// Blades in the blade buffer.
     pub blade_count: u32,
+    /// Blades per patch.
     pub patch_size: u32,
+    /// Patches in the field.
     pub patch_count: u32,
     /// Segments of each level's blade mesh (near, middle, far).
     pub lod_segments: [u32; LOD_LEVELS],
     /// Index count and first index of each level's mesh in the shared index buffer.
     pub lod_index_count: [u32; LOD_LEVELS],
+    /// First index of each level's mesh in the shared index buffer.
     pub lod_first_index: [u32; LOD_LEVELS],
+    /// Frame number; picks which throttled patches update this frame.
     pub frame: u32,
     /// Depth pyramid: width, height, levels, 1 = built this frame (0 turns the test off).
     pub hiz: [u32; 4],
     /// Spheres uploaded this frame, and whether collisions are on (the broad phase).
     pub sphere_count: u32,
+    /// Whether sphere collisions are on.
     pub collisions: bool,
 }
 

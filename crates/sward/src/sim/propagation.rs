@@ -39,8 +39,11 @@ pub const UNREACHED: f32 = -1.0;
 /// The grid: corner, cell size and cells per side.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridSpec {
+    /// World x, z in metres of the grid's corner (cell (0, 0)'s corner).
     pub origin: Vec2,
+    /// Side of a cell in metres.
     pub cell: f32,
+    /// Cells per side (> 0; the grid has n² cells).
     pub n: u32,
 }
 
@@ -63,6 +66,7 @@ impl GridSpec {
             .then(|| g.y as usize * self.n as usize + g.x as usize)
     }
 
+    /// Number of cells in the grid, n².
     pub fn cells(&self) -> usize {
         self.n as usize * self.n as usize
     }
@@ -94,11 +98,15 @@ pub fn fixed(x: f32) -> i32 {
 /// The pushes of one step per cell: x, z (fixed point) and how many pushes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Splat {
+    /// The grid the pushes are summed on.
     pub spec: GridSpec,
+    /// Per cell, row-major with x fastest: summed push x and z in micrometres ([`SCALE`]),
+    /// and the number of pushes.
     pub sums: Vec<[i32; 3]>,
 }
 
 impl Splat {
+    /// An empty splat on `spec`'s grid: every cell's sums 0.
     pub fn new(spec: GridSpec) -> Self {
         Self {
             spec,

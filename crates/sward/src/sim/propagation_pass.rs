@@ -20,6 +20,8 @@ pub fn update_out_bytes(n: u32) -> u64 {
     SPLAT_OFFSET + 12 * (n as u64 * n as u64).max(1)
 }
 
+/// The propagation's compute passes (`shaders/propagate.wgsl`: init, one dispatch per
+/// generation, apply) and the force-field buffer they work on.
 pub struct PropagationPass {
     init: wgpu::ComputePipeline,
     generation: wgpu::ComputePipeline,
@@ -30,6 +32,8 @@ pub struct PropagationPass {
     pub n: u32,
     update_out: wgpu::Buffer,
     dispatch: wgpu::Buffer,
+    /// The force field, one `vec4<f32>` per cell: EF.x, EF.z, the generation (-1: not
+    /// reached), unused (as [`crate::sim::propagation::Field`]); STORAGE | COPY_SRC.
     pub field: wgpu::Buffer,
 }
 

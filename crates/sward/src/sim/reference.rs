@@ -142,6 +142,7 @@ fn push_out(c: Vec3, r: f32, v0: Vec3, v1: Vec3, v2: &mut Vec3, added: &mut f32,
 /// `update.wgsl`).
 #[derive(Clone, Copy, Debug)]
 pub struct Hierarchy<'a> {
+    /// The hierarchy's nodes, node 0 the root (empty: test every sphere in index order).
     pub nodes: &'a [BvhNode],
     /// The level the walk stops at ([`bvh::depth_limit`]).
     pub limit: u32,

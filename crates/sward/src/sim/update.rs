@@ -18,8 +18,13 @@ use crate::shaders;
 
 /// The per-blade data on the GPU, shared by the update, cull and draw passes.
 pub struct BladeBuffers {
+    /// One [`Blade`] per blade (control points, height, width, up, stiffness), `count`
+    /// elements; the update moves v1 and v2.
     pub blades: wgpu::Buffer,
+    /// One [`BladeState`] per blade: the rest tip and the collision strength η.
     pub states: wgpu::Buffer,
+    /// One [`PatchBox`] per patch: the box that holds every pose of its blades (`min.w` 1:
+    /// empty patch).
     pub patches: wgpu::Buffer,
     /// `vec4(centre, radius)` per collider, `MAX_SPHERES` slots, then from `BVH_NODE_BASE`
     /// the colliders' hierarchy (`sim::bvh::encode`), `2 · MAX_SPHERES` node slots.
@@ -47,8 +52,12 @@ pub struct BladeBuffers {
     pub verlet: wgpu::Buffer,
     /// Whether `verlet` holds a state per blade.
     pub has_verlet: bool,
+    /// Blades in `blades` and `states` (for a streamed field, the pool's slots plus the
+    /// objects' blades).
     pub count: u32,
+    /// Blades per patch (a multiple of [`WORKGROUP_SIZE`]).
     pub patch_size: u32,
+    /// Patches in `patches`.
     pub patch_count: u32,
     /// Slots per level-of-detail region of `visible`: the blade count plus one draw batch
     /// (the late list starts at a whole batch), rounded up to 64, so every region starts at

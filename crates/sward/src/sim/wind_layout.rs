@@ -23,6 +23,7 @@ pub struct ArrowGpu {
     /// How far the AGC sequence has switched the arrow on (0–1). The splat pass ignores
     /// it (`strength` is already scaled); the overlay draws off arrows grey.
     pub activation: f32,
+    /// Padding to 32 bytes (`pad` in the WGSL structs).
     pub _pad: f32,
 }
 
@@ -71,21 +72,28 @@ pub struct FluidParams {
     pub global_downwash: [f32; 4],
     /// Downwash centre x, z; unused ×2.
     pub downwash_pos: [f32; 4],
+    /// Cells per side of the grid.
     pub resolution: u32,
+    /// Δt of this step in seconds.
     pub dt: f32,
     /// Vorticity confinement ε in 1/s (the shader multiplies by h).
     pub vorticity: f32,
+    /// Velocity dissipation per second (v /= 1 + dissipation · Δt after advection).
     pub dissipation: f32,
     /// ν Δt / h² of the diffusion Jacobi step.
     pub diffusion_alpha: f32,
     /// 0 closed, 1 open, 2 periodic.
     pub boundary: u32,
+    /// AGC arrows in the arrow buffer this step (at most [`MAX_ARROWS`]).
     pub arrow_count: u32,
+    /// Obstacles in the obstacle buffer this step (at most [`MAX_OBSTACLES`]).
     pub obstacle_count: u32,
     /// dy (layer thickness, m), 1/dy, νΔt/dy² (0 on a 2D grid), ground drag (1/s, 0 on
     /// a 2D grid).
     pub layer: [f32; 4],
+    /// Layers of air (1 = a 2D grid).
     pub layers: u32,
+    /// Padding to a 16-byte multiple (`pad_a` .. `pad_c` in WGSL).
     pub _pad: [u32; 3],
 }
 
@@ -97,7 +105,10 @@ const _: () = assert!(std::mem::size_of::<MgParams>() == 32);
 /// Everything that pushes the air during one step, in world units.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluidForces {
+    /// The AGC arrows, strengths already scaled by their activation (the first
+    /// [`MAX_ARROWS`] are uploaded).
     pub arrows: Vec<ArrowGpu>,
+    /// The colliders' footprints (the first [`MAX_OBSTACLES`] are uploaded).
     pub obstacles: Vec<ObstacleGpu>,
     /// Constant acceleration (x, z) in m/s².
     pub global: [f32; 2],

@@ -145,8 +145,11 @@ pub fn tile_key(key: u32, tile: (i32, i32)) -> u32 {
 /// One tile's blades, their states and the boxes of its patches, in slot order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TileBlades {
+    /// The tile's blades in slot order; a removed blade has height 0.
     pub blades: Vec<Blade>,
+    /// Each blade's rest state (its rest tip, η = 0).
     pub states: Vec<BladeState>,
+    /// The bounding box of each of the tile's patches.
     pub patches: Vec<PatchBox>,
 }
 

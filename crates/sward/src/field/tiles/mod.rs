@@ -101,10 +101,12 @@ impl TileLayout {
         self.tile_q() as f32 / QUANTA_PER_METRE as f32
     }
 
+    /// Patches in one tile (`grid²`).
     pub fn patches_per_tile(&self) -> u32 {
         self.grid * self.grid
     }
 
+    /// Blades in one tile: its patches times `patch_size`.
     pub fn blades_per_tile(&self) -> u32 {
         self.patches_per_tile() * self.patch_size
     }

@@ -15,7 +15,9 @@ pub const MAX_RELEASES: usize = 2048;
 /// One slot's change: generate `tile` into `slot`, or free the slot (`tile: None`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct TileJob {
+    /// The pool slot that changes.
     pub slot: u32,
+    /// The tile (x, z index) to generate into the slot; `None` frees it.
     pub tile: Option<(i32, i32)>,
 }
 
@@ -43,6 +45,7 @@ impl TileResidency {
         }
     }
 
+    /// How the field is cut into tiles and how many slots the pool has.
     pub fn layout(&self) -> &TileLayout {
         &self.layout
     }

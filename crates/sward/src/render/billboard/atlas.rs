@@ -36,8 +36,12 @@ pub const FACINGS: usize = 4;
 /// One layer's linear RGB and coverage, row-major (row 0 at the top: the tips).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layer {
+    /// Texels per row ([`layer_size`]: a power of two from [`HEIGHT`] to [`MAX_WIDTH`]).
     pub width: u32,
+    /// Texel rows ([`HEIGHT`]).
     pub height: u32,
+    /// Per texel, linear RGB in `xyz` and coverage (0 bare to 1 fully covered) in `w`;
+    /// `width · height` entries.
     pub rgba: Vec<[f32; 4]>,
     /// Per texel, the share of its covered supersamples whose blade has each facing (sum 1
     /// where covered, 0 where not).

@@ -88,6 +88,7 @@ const _: () = assert!(std::mem::size_of::<BillboardParams>() == 112);
 /// The layout of the billboard grids for a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BillboardLayout {
+    /// How far from the camera billboards are drawn (`render.billboard_distance`, m).
     pub radius: f32,
     /// The base cell (level 0's) in quanta.
     pub cell_q: i32,
@@ -95,6 +96,7 @@ pub struct BillboardLayout {
     pub levels: u32,
     /// A level-0 card's width and height (m).
     pub card: (f32, f32),
+    /// Hash of the field's seed that keys the card placement (`BillboardParams::info[0]`).
     pub key: u32,
 }
 
@@ -133,6 +135,7 @@ impl BillboardLayout {
         })
     }
 
+    /// The base cell's side in metres ([`BillboardLayout::cell_q`] converted from quanta).
     pub fn cell_size(&self) -> f32 {
         self.cell_q as f32 / QUANTA_PER_METRE as f32
     }
@@ -176,15 +179,20 @@ impl BillboardLayout {
 /// One card as the placement gives it (the twin of `card_at` in `billboard_place.wgsl`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Card {
+    /// World position of the card's root (m): a hashed point in its cell, on the terrain.
     pub pos: Vec3,
     /// 0: outside the ring or outside its level (not drawn); else the fade factor in
     /// (0, 1].
     pub fade: f32,
     /// Its level: the card is 2^level base cards wide.
     pub level: u32,
+    /// Which atlas strip (layer) the card shows, below [`atlas::VARIANTS`].
     pub variant: u32,
+    /// Random size factor of the card, 0.8 to 1.2.
     pub scale: f32,
+    /// +1 or −1 at random: whether the strip is drawn mirrored (+1 is sent as mirrored).
     pub mirror: f32,
+    /// A value in [0, 1) that the density map must exceed at `pos` to keep the card.
     pub accept: f32,
 }
 

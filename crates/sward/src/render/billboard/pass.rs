@@ -29,6 +29,8 @@ pub struct DrawnCard {
     /// (rgb, unused), and the sun's part when the sun is not shadowed, for each of the
     /// atlas's blade facings (rgb, unused).
     pub light_ambient: [f32; 4],
+    /// The sun's part of the blades' light on the card, one rgb (w unused) per atlas
+    /// facing ([`atlas::FACINGS`]), per unit of the atlas's mean albedo.
     pub light_sun: [[f32; 4]; atlas::FACINGS],
 }
 
@@ -46,6 +48,7 @@ fn buf(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 
 /// The billboard pass: the atlas, the uniforms, the cull and the draw for one sample count.
 pub struct BillboardPass {
+    /// The grids the cards are placed on (radius, base cell, levels, card size).
     pub layout: BillboardLayout,
     params: wgpu::Buffer,
     /// The kept cards, and the draw's indirect arguments (six vertices per card).
@@ -67,17 +70,26 @@ pub struct BillboardPass {
 
 /// The buffers the billboards read from the rest of the frame.
 pub struct Inputs<'a> {
+    /// The draw pass's frame uniforms (`Frame`, binding 0).
     pub frame: &'a wgpu::Buffer,
+    /// The terrain's parameters (`TerrainParams` in `terrain_height.wgsl`, binding 1).
     pub terrain_params: &'a wgpu::Buffer,
+    /// The terrain's height grid (a dummy for analytic terrains; binding 2).
     pub terrain_grid: &'a wgpu::Buffer,
+    /// The collider spheres (`vec4`: centre xyz and radius, m) that bend the cards (binding 6).
     pub spheres: &'a wgpu::Buffer,
+    /// The simulation's uniforms (`SimParams`, binding 7).
     pub sim_params: &'a wgpu::Buffer,
+    /// The wind solver's velocity grid (`vec2` per cell, m/s along x, z; binding 8).
     pub wind_grid: &'a wgpu::Buffer,
     /// The gusts' bend at the edge of the blades' reach (the far levels' shading waves).
     pub waves: &'a wgpu::Buffer,
 }
 
 impl BillboardPass {
+    /// Renders the atlas for `field` on the CPU and uploads it, then builds the cull and the
+    /// draw for colour `format` and `samples` MSAA samples, bound to `inputs` and to the
+    /// density map when there is one.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,

@@ -16,7 +16,10 @@ use crate::sim::update::{compute_storage_entry, uniform_entry};
 /// its height.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Probed {
+    /// The card as `card_at` placed it on the GPU (the twin of [`super::place_card`]).
     pub card: Card,
+    /// The offset of the card's top (m) from `top_offset` for a card `scale` times the
+    /// card height tall (the twin of [`super::top_offset`]).
     pub top: glam::Vec3,
 }
 

@@ -16,12 +16,17 @@ pub const CASTER_REACH: f32 = 150.0;
 /// One cascade: its sun view-projection, far distance from the camera and texel size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cascade {
+    /// The sun's orthographic view-projection for this slice, world to clip (depth 0..1).
     pub view_proj: Mat4,
+    /// Far end of the slice: distance from the camera along its axis (m).
     pub far: f32,
+    /// Side of one shadow-map texel in the world (m): the sphere's diameter over the
+    /// resolution.
     pub texel: f32,
     /// The slice's bounding sphere (before snapping): where the map is centred and how far
     /// it reaches.
     pub centre: Vec3,
+    /// Radius of the slice's bounding sphere (m), rounded up to 1/16 m.
     pub radius: f32,
 }
 

@@ -177,6 +177,8 @@ pub fn check_shadow_map(gpu: &Gpu, scene: &Scene) -> Result<()> {
 }
 
 impl LightPass {
+    /// Allocates the light uniform, the shadow map and the cascades' frames for `scene`'s
+    /// light; fails when the adapter cannot hold the shadow map it asks for.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self> {
         check_shadow_map(gpu, scene)?;
         let device = &gpu.device;

@@ -21,7 +21,9 @@ pub const DRIFT: f32 = 0.1;
 /// What a cascade was last drawn with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drawn {
+    /// The cascade's view-projection it was drawn with, which the receivers keep using.
     pub view_proj: Mat4,
+    /// Its texel size in the world at the time (m).
     pub texel: f32,
     centre: Vec3,
     radius: f32,

@@ -99,7 +99,10 @@ pub fn xyy_to_rgb(x: f32, y: f32, big_y: f32) -> Vec3 {
 /// carries.
 #[derive(Clone, Copy, Debug)]
 pub struct PreethamSky {
+    /// Unit direction towards the sun (may be below the horizon).
     pub sun: Vec3,
+    /// The Perez coefficients A..E for (Y, x, y) at the sky's turbidity
+    /// ([`perez_coefficients`]).
     pub coefficients: [Vec3; 5],
     /// The zenith's (Y in scene units, x, y), each over its F(0, theta_s).
     pub zenith: Vec3,

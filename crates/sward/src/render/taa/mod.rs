@@ -117,6 +117,7 @@ pub struct FrameViews {
     pub view_proj: Mat4,
     /// The jitter applied after it.
     pub jitter: Mat4,
+    /// The camera's world position this frame (m), the origin of `view_proj`.
     pub eye: Vec3,
     /// The colliders this frame (centre and radius, world), in the renderer's order.
     pub spheres: Vec<[f32; 4]>,

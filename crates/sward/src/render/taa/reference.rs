@@ -15,14 +15,20 @@ use crate::sim::layout::Blade;
 /// One TAA frame's inputs and outputs as the GPU held them (row-major texels).
 #[derive(Clone, Debug)]
 pub struct TaaFrame {
+    /// Width and height of every image here, in pixels.
     pub size: (u32, u32),
+    /// The uniforms the pass was run with.
     pub uniforms: TaaUniforms,
     /// This frame's radiance (before the pass).
     pub scene: Vec<[f32; 4]>,
+    /// This frame's depth buffer (device depth, 0 near to 1 far), one value per pixel.
     pub depth: Vec<f32>,
     /// The visibility buffer, where the grass was deferred.
     pub vis: Option<Vec<[u32; 4]>>,
+    /// The blade buffer the pass read (this frame's blade positions).
     pub blades: Vec<Blade>,
+    /// The blades' control points at the last frame, slot for slot with `blades`
+    /// (`up_stiffness` zeroed: not kept).
     pub prev_blades: Vec<Blade>,
     /// The history the pass read.
     pub history: Vec<[f32; 4]>,

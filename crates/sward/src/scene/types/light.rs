@@ -103,6 +103,7 @@ impl ToneMapping {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Shadows {
+    /// Whether the sun casts shadows (on by default); `false` draws no shadow maps.
     pub enabled: bool,
     /// 1 to 4 cascades.
     pub cascades: u32,

@@ -13,6 +13,8 @@ pub struct Render {
     pub displacement: bool,
     /// Width correction (Eq. 24): w_min and w_span in pixels; w_span = 0 switches it off.
     pub width_min_px: f32,
+    /// w_span of Eq. 24 in pixels, 0 to 1024 px (w_min's range too); 0 switches the
+    /// correction off.
     pub width_span_px: f32,
     /// What the blade colour shows.
     pub color_mode: ColorMode,
@@ -54,9 +56,13 @@ pub enum SelfShadow {
     /// 1 pressed flat) times `c1`, plus `c2`, clamped to [`min`, `max`]: a blade pressed
     /// down by the wind or a ball sinks into the shade of the others.
     Cwd {
+        /// Darkest brightness a vertex can get, 0 to 2.
         min: f32,
+        /// Brightest a vertex can get, from `min` to 2.
         max: f32,
+        /// How much the blade's bend darkens it, 0 to 10.
         c1: f32,
+        /// Brightness added to every vertex, -2 to 2.
         c2: f32,
     },
     /// No self-shadow (Figure 7 (a) of the paper).
@@ -86,6 +92,7 @@ impl SelfShadow {
 /// What the blades' colour shows: their natural colour, or a debugging view.
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 pub enum ColorMode {
+    /// The blades' own colour, lit (the default).
     #[default]
     Natural,
     /// The level of detail each blade is drawn at, with its morph towards the next (green

@@ -37,6 +37,7 @@ impl Default for DirectionalWind {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct PointWind {
+    /// Where the source is, in metres (each component within ±100000 m).
     pub position: (f32, f32, f32),
     /// Force at the source in m/s².
     pub strength: f32,
@@ -128,7 +129,10 @@ pub struct Fluid {
     pub viscosity: f32,
     /// Jacobi iterations of the viscous diffusion.
     pub diffusion_iterations: u32,
+    /// How the grid's border treats the air: `Closed`, `Open` (the default) or `Periodic`.
     pub boundary: Boundary,
+    /// How the velocity is carried along itself: `SemiLagrangian` (the default) or
+    /// `MacCormack`.
     pub advection: Advection,
     /// Wind force on a blade per m/s of air speed (1/s): w_i = response · velocity.
     pub response: f32,
@@ -207,6 +211,7 @@ pub struct Guide {
     pub strength: f32,
     /// Half-width of the band each arrow pushes, in metres.
     pub radius: f32,
+    /// The tree's points, root first: at least one, and every parent before its children.
     pub points: Vec<GuidePoint>,
     /// Scene time in seconds at which this guide's sequence starts (see `sim::agc`): 0 for
     /// a guide loaded with the scene, the time of creation for one added in the editor, the
@@ -246,6 +251,7 @@ pub struct Downwash {
     pub radius: f32,
     /// Outward acceleration in m/s² at half the radius.
     pub strength: f32,
+    /// How the source moves; `Static` when left out.
     #[serde(default = "default_motion")]
     pub motion: Motion,
 }
@@ -267,12 +273,22 @@ impl Default for Downwash {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Wind {
+    /// Which wind the blades feel: `Analytic` (the default), `Fluid` or `Both`.
     pub source: WindSource,
+    /// The analytic directional wind waves, felt with `source: Analytic` or `Both`; on by
+    /// default, `None` turns them off.
     pub directional: Option<DirectionalWind>,
+    /// An analytic point source, felt with `source: Analytic` or `Both`; `None` (the
+    /// default): none.
     pub point: Option<PointWind>,
+    /// The fluid grid's settings, used with `source: Fluid` or `Both`.
     pub fluid: Fluid,
+    /// AGC guides whose arrows push the fluid's air along them; empty by default.
     pub guides: Vec<Guide>,
+    /// A constant push on the whole fluid grid; `None` (the default): none.
     pub global: Option<GlobalWind>,
+    /// Radial outflow of the fluid's air under a (moving) point; `None` (the default):
+    /// none.
     pub downwash: Option<Downwash>,
 }
 

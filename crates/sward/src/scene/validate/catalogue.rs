@@ -7,7 +7,9 @@ use super::allowed::{Allowed, Rule};
 /// One field (a dotted path; `[]` stands for any element of a list) and what it may hold.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FieldRule {
+    /// The field's dotted path in a scene, e.g. `field.height` or `colliders[].radius`.
     pub path: &'static str,
+    /// What the field may hold.
     pub kind: RuleKind,
 }
 
@@ -17,26 +19,35 @@ pub struct FieldRule {
 pub enum RuleKind {
     /// A float in `low ..= high` (an end may be open).
     Real {
+        /// Lower end of the interval.
         low: f32,
+        /// Upper end of the interval.
         high: f32,
     },
     /// A `(min: .., max: ..)` range with both ends in `low ..= high` and `min <= max`.
     Range {
+        /// Lowest value either end of the range may take.
         low: f32,
+        /// Highest value either end of the range may take.
         high: f32,
     },
     /// An unsigned integer in `low ..= high`.
     Integer {
+        /// Smallest allowed value (inclusive).
         low: u64,
+        /// Largest allowed value (inclusive).
         high: u64,
     },
     /// A point or velocity `(x, y, z)` with every component in `low ..= high`.
     Vector {
+        /// Lower end of every component's interval.
         low: f32,
+        /// Upper end of every component's interval.
         high: f32,
     },
     /// A direction: finite components, not all zero.
     Direction,
+    /// `true` or `false`.
     Bool,
     /// One of these variants or values, as written in a scene (`Jahrmann`, `4`); variants
     /// with fields are left out.

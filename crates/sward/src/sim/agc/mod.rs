@@ -66,47 +66,102 @@ pub type PointId = usize;
 /// Why an edit of the guides was refused. The guides are unchanged after an error.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum AgcError {
+    /// The guide id is not in the set.
     #[error("no guide {guide}: there are {count} guide(s)")]
-    NoGuide { guide: GuideId, count: usize },
-    #[error("guide {guide} has no point {point}: it has {count} point(s)")]
-    NoPoint {
+    NoGuide {
+        /// The requested guide id.
         guide: GuideId,
-        point: PointId,
+        /// How many guides the set has.
         count: usize,
     },
+    /// The guide exists but has no point with that id.
+    #[error("guide {guide} has no point {point}: it has {count} point(s)")]
+    NoPoint {
+        /// The guide that was asked.
+        guide: GuideId,
+        /// The requested point id.
+        point: PointId,
+        /// How many points the guide has.
+        count: usize,
+    },
+    /// A value given to an edit (position, strength or radius) is NaN or infinite.
     #[error("{what} = {value} is not a finite number")]
-    NotFinite { what: &'static str, value: f32 },
+    NotFinite {
+        /// Which value it was: `"position.x"`, `"position.z"`, `"strength"` or `"radius"`.
+        what: &'static str,
+        /// The offending value.
+        value: f32,
+    },
+    /// A position lies beyond the edge of the terrain.
     #[error("position ({x}, {z}) is outside the terrain: allowed -{half} ..= {half} on x and z")]
-    OutsideTerrain { x: f32, z: f32, half: f32 },
+    OutsideTerrain {
+        /// World x of the position in metres.
+        x: f32,
+        /// World z of the position in metres.
+        z: f32,
+        /// Half the terrain size in metres: the largest allowed `|x|` and `|z|`.
+        half: f32,
+    },
+    /// A point would lie within [`MIN_ARROW_LENGTH`] of its parent or a child, making a
+    /// zero-length arrow.
     #[error(
         "point {point} at ({x}, {z}) would be within {MIN_ARROW_LENGTH} m of point {other}: \
          an arrow needs a length > 0"
     )]
     ZeroLength {
+        /// The point that would be too close (a new point: the id it would get; a deletion:
+        /// the child being re-attached).
         point: PointId,
+        /// The point it would coincide with: its parent or one of its children.
         other: PointId,
+        /// World x of the rejected position in metres.
         x: f32,
+        /// World z of the rejected position in metres.
         z: f32,
     },
+    /// A radius is not in `(0, terrain size]`.
     #[error("radius = {value} is out of range: allowed 0 < radius <= {max} m (the terrain size)")]
-    Radius { value: f32, max: f32 },
+    Radius {
+        /// The rejected radius in metres.
+        value: f32,
+        /// The largest allowed radius: the terrain size in metres.
+        max: f32,
+    },
+    /// A strength is not in `[0, MAX_STRENGTH]`.
     #[error("strength = {value} is out of range: allowed 0 <= strength <= {MAX_STRENGTH} m/s²")]
-    Strength { value: f32 },
+    Strength {
+        /// The rejected strength in m/s².
+        value: f32,
+    },
+    /// A strength or radius override was set on the root, which ends no arrow.
     #[error(
         "point 0 is the root: no arrow ends at it, so it has no strength or radius of its own"
     )]
     RootHasNoArrow,
+    /// The terrain size given to [`GuideSet::new`] is not finite or not > 0.
     #[error("terrain size = {value} is out of range: allowed a finite size > 0 m")]
-    TerrainSize { value: f32 },
+    TerrainSize {
+        /// The rejected size in metres.
+        value: f32,
+    },
+    /// A guide has an empty point list (no root).
     #[error("guide {guide} has no points: a guide needs at least its root")]
-    Empty { guide: GuideId },
+    Empty {
+        /// The empty guide.
+        guide: GuideId,
+    },
+    /// A point's parent breaks the parents-before-children rule: the root has a parent, or
+    /// another point has none or one with an index not smaller than its own.
     #[error(
         "guide {guide} point {point}: parent {parent:?} is invalid: the root (point 0) has none, \
          every other point names a parent with a smaller index"
     )]
     Parent {
+        /// The guide holding the point.
         guide: GuideId,
+        /// The point with the bad parent.
         point: PointId,
+        /// The parent it names (`None`: no parent).
         parent: Option<usize>,
     },
 }
@@ -119,6 +174,7 @@ pub enum AgcError {
 /// edits it directly should call [`GuideSet::check`] afterwards.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GuideSet {
+    /// The guides, indexed by [`GuideId`].
     pub guides: Vec<Guide>,
     terrain_size: f32,
     /// Scene time in seconds: a guide added now starts its sequence at this time.
@@ -506,11 +562,15 @@ fn check_length(
 /// One arrow of a guide: the edge from point `start_point` to point `end_point`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arrow {
+    /// The guide the arrow belongs to.
     pub guide: GuideId,
+    /// The point the arrow starts at (the end point's parent).
     pub start_point: PointId,
+    /// The point the arrow ends at; its overrides give the arrow's strength and radius.
     pub end_point: PointId,
     /// (x, z) in world metres.
     pub start: Vec2,
+    /// (x, z) of the arrow's end in world metres.
     pub end: Vec2,
     /// Full strength in m/s² (the end point's override, else the guide's).
     pub strength: f32,

@@ -27,6 +27,7 @@ pub struct FluidConfig {
     pub cell_size: f32,
     /// World x, z of the grid's outer corner (cell (0, 0)'s corner).
     pub origin: [f32; 2],
+    /// How the pressure Poisson equation is solved: Jacobi iterations or multigrid V-cycles.
     pub pressure_solver: PressureSolver,
     /// Jacobi iterations (`PressureSolver::Jacobi`).
     pub pressure_iterations: u32,
@@ -40,8 +41,11 @@ pub struct FluidConfig {
     pub dissipation: f32,
     /// Kinematic viscosity ν in m²/s (0 = no diffusion pass work).
     pub viscosity: f32,
+    /// Jacobi iterations of the viscous diffusion (none run while `viscosity` is 0).
     pub diffusion_iterations: u32,
+    /// What happens at the grid's border: closed walls, open, or periodic.
     pub boundary: Boundary,
+    /// How the velocity is carried along itself: semi-Lagrangian or MacCormack.
     pub advection: Advection,
     /// The grid follows the camera ([`super::FluidSolver::follow`]): `origin` is only
     /// where it starts.
@@ -299,12 +303,15 @@ pub fn boundary_id(boundary: Boundary) -> u32 {
 /// x fastest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FluidState {
+    /// Cells per side n.
     pub resolution: u32,
     /// Layers of air (1 = a 2D grid).
     pub layers: u32,
+    /// Cell side h in metres.
     pub cell_size: f32,
     /// Thickness of a layer in metres.
     pub layer_height: f32,
+    /// World x, z in metres of the grid's outer corner (cell (0, 0)'s corner) at this step.
     pub origin: [f32; 2],
     /// Cell-centred (u, v) in m/s: what the blades read.
     pub velocity: Vec<[f32; 2]>,

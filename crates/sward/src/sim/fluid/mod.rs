@@ -396,6 +396,8 @@ impl FluidSolver {
         &self.velocity
     }
 
+    /// The settings the solver runs with: those it was created with, as last changed by
+    /// [`Self::apply_settings`].
     pub fn config(&self) -> &FluidConfig {
         &self.config
     }

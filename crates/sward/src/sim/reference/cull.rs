@@ -17,11 +17,18 @@ use super::{blade_frame, hiz, v4};
 /// shader's outcome.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CullOutcome {
+    /// Survives every test; drawn at this level of detail (0 nearest; `cull_patch` gives 0
+    /// for a visible patch).
     Drawn(u32),
+    /// The patch test: the blade's patch box is outside the view frustum.
     Patch,
+    /// The orientation test: the blade is seen edge-on (Eq. 17).
     Orientation,
+    /// The blade's root, midpoint and tip are all outside the frustum (Eq. 18).
     Frustum,
+    /// Thinned by the distance test (Eq. 19–20), alone or with its whole patch.
     Distance,
+    /// Hidden in the depth pyramid of the opaque objects, alone or with its whole patch.
     Occlusion,
     /// Nothing there: a blade the tile generation removed (height 0), or an empty patch
     /// (`tiles::EMPTY_PATCH`). Not counted by any test.
@@ -32,8 +39,12 @@ pub enum CullOutcome {
 /// (`hiz::build_pyramid`), of a `width` × `height` target.
 #[derive(Clone, Copy, Debug)]
 pub struct Pyramid<'a> {
+    /// Depth per texel of each level, level 0 the depth buffer, each level above the
+    /// farthest (largest) depth of the texels it covers.
     pub levels: &'a [Vec<f32>],
+    /// Width of level 0 in pixels.
     pub width: u32,
+    /// Height of level 0 in pixels.
     pub height: u32,
 }
 
@@ -148,7 +159,10 @@ pub enum Late {
     /// Not the late pass's business (culled early, or in a patch not visited).
     Untouched,
     /// Drawn early; it stays in next frame's early set only if it is not hidden now.
-    Rechecked { seen: bool },
+    Rechecked {
+        /// Whether it was visible now, so that it is drawn early next frame.
+        seen: bool,
+    },
     /// A candidate the grass hides: culled by occlusion.
     Hidden,
     /// A candidate nothing hides: drawn late.

@@ -105,9 +105,13 @@ pub fn sample_velocity(state: &FluidState, x: f32, z: f32) -> [f32; 2] {
 /// in every layer); what falls outside the old grid takes its nearest edge value. The twin
 /// of `scroll_grid` in `fluid_scroll.wgsl`.
 pub struct Scrolled {
+    /// u (m/s) on the faces normal to x, (n + 1) · n per layer, x fastest.
     pub u: Vec<f32>,
+    /// v (m/s) on the faces normal to z, n · (n + 1) per layer, x fastest.
     pub v: Vec<f32>,
+    /// w (m/s, up) on the n² faces of each horizontal plane (layers + 1 of them).
     pub w: Vec<f32>,
+    /// Pressure per cell, n² per layer.
     pub pressure: Vec<f32>,
 }
 
@@ -213,6 +217,7 @@ impl FluidCpu {
         }
     }
 
+    /// The settings the solver was created with.
     pub fn config(&self) -> &FluidConfig {
         &self.config
     }

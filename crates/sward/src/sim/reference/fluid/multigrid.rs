@@ -83,7 +83,9 @@ pub fn coarsest_sweeps(m: u32) -> u32 {
 /// One level of the hierarchy.
 #[derive(Clone, Debug)]
 pub struct Level {
+    /// Cells per side of this level (the finest grid's side halved once per level).
     pub size: u32,
+    /// Layers of air, the same on every level (the hierarchy coarsens only horizontally).
     pub layers: u32,
     /// H² in m².
     pub h2: f32,
