@@ -24,20 +24,32 @@ const SCENE: &str = r#"(
     field: (density: 90.0, height: (min: 0.3, max: 0.7), seed: 2),
     wind: (directional: Some((direction: (1.0, 0.3), strength: 2.0, gust: 0.8, wavelength: 8.0, speed: 3.0))),
     render: (billboard_distance: 0.0),
+    light: (time_of_day: Some(16.5)),
 )"#;
 
-/// The host's own shader: coloured vertices, one sun, its own view-projection.
+/// The host's own shader: coloured vertices, one sun, its own view-projection, and sward's
+/// sun shadows received through `GrassRenderer::shadow_receiver_wgsl` (group 1).
 const HOST_WGSL: &str = r#"
-struct Frame { view_proj: mat4x4<f32>, sun: vec4<f32> }
+struct Frame { view_proj: mat4x4<f32>, sun: vec4<f32>, eye: vec4<f32> }
 @group(0) @binding(0) var<uniform> frame: Frame;
-struct Out { @builtin(position) clip: vec4<f32>, @location(0) color: vec3<f32>, @location(1) normal: vec3<f32> }
+struct Out {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) color: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) world: vec3<f32>,
+}
 @vertex
 fn vs(@location(0) pos: vec3<f32>, @location(1) normal: vec3<f32>, @location(2) color: vec3<f32>) -> Out {
-    return Out(frame.view_proj * vec4<f32>(pos, 1.0), color, normal);
+    return Out(frame.view_proj * vec4<f32>(pos, 1.0), color, normal, pos);
 }
 @fragment
 fn fs(in: Out) -> @location(0) vec4<f32> {
-    let lit = 0.35 + 0.65 * max(dot(normalize(in.normal), frame.sun.xyz), 0.0);
+    // frame.sun.w: 1 to receive sward's shadows.
+    var shadow = 1.0;
+    if frame.sun.w > 0.5 {
+        shadow = sward_sun_visibility(in.world, frame.eye.xyz, frame.sun.xyz);
+    }
+    let lit = 0.35 + 0.65 * max(dot(normalize(in.normal), frame.sun.xyz), 0.0) * shadow;
     return vec4<f32>(in.color * lit, 1.0);
 }
 "#;
@@ -59,6 +71,10 @@ pub struct Host {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
+    /// The host's ball, rewritten each frame where it rolls (sward's collider).
+    ball_vertices: wgpu::Buffer,
+    ball_indices: wgpu::Buffer,
+    ball_index_count: u32,
     depth: wgpu::TextureView,
     size: (u32, u32),
     time: f32,
@@ -66,6 +82,8 @@ pub struct Host {
     pub occlusion: bool,
     /// Whether the grass is drawn at all (the host's world alone, for comparison).
     pub grass_on: bool,
+    /// Whether the host's world receives sward's sun shadows.
+    pub shadows: bool,
 }
 
 impl Host {
@@ -88,10 +106,13 @@ impl Host {
             },
         )?;
         let (vertices, indices) = world(&grass);
+        // The host's shader with sward's shadow lookup at its group 1.
+        let source = format!("{HOST_WGSL}{}", GrassRenderer::shadow_receiver_wgsl(1));
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("host.shader"),
-            source: wgpu::ShaderSource::Wgsl(HOST_WGSL.into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
+        let receiver = grass.shadow_receiver();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("host.frame_layout"),
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -107,7 +128,7 @@ impl Host {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("host.pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&layout), Some(receiver.layout)],
             immediate_size: 0,
         });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -143,7 +164,7 @@ impl Host {
         });
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("host.frame"),
-            size: 80,
+            size: 96,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -166,7 +187,21 @@ impl Host {
             contents: bytemuck::cast_slice(&indices),
             usage: wgpu::BufferUsages::INDEX,
         });
+        let (ball, ball_index) = sphere(Vec3::ZERO, BALL_RADIUS);
+        let ball_vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("host.ball_vertices"),
+            contents: bytemuck::cast_slice(&ball),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        });
+        let ball_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("host.ball_indices"),
+            contents: bytemuck::cast_slice(&ball_index),
+            usage: wgpu::BufferUsages::INDEX,
+        });
         Ok(Self {
+            ball_vertices,
+            ball_indices,
+            ball_index_count: ball_index.len() as u32,
             depth: depth_view(device, size),
             grass,
             pipeline,
@@ -179,6 +214,7 @@ impl Host {
             time: 0.0,
             occlusion: true,
             grass_on: true,
+            shadows: true,
         })
     }
 
@@ -199,10 +235,22 @@ impl Host {
             far: 200.0,
         };
         let view_proj = camera.view_proj(self.size.0 as f32 / self.size.1 as f32);
-        let sun = Vec3::new(0.4, 0.8, 0.3).normalize();
+        // The host lights its world with sward's sun, so the shadows fall where it shines.
+        let sun = self.grass.shadow_receiver().sun_direction;
+        let receive = if self.shadows { 1.0 } else { 0.0 };
         let mut frame = view_proj.to_cols_array().to_vec();
-        frame.extend([sun.x, sun.y, sun.z, 0.0]);
+        frame.extend([sun.x, sun.y, sun.z, receive]);
+        frame.extend([camera.eye.x, camera.eye.y, camera.eye.z, 1.0]);
         queue.write_buffer(&self.uniforms, 0, bytemuck::cast_slice(&frame));
+        // A ball of the host's rolls through the grass and presses it.
+        let x = -4.0 + 1.2 * self.time;
+        let ball = Collider {
+            center: Vec3::new(x, self.grass.ground_height(x, 1.5) + BALL_RADIUS, 1.5),
+            radius: BALL_RADIUS,
+            velocity: Vec3::new(1.2, 0.0, 0.0),
+        };
+        let (moved, _) = sphere(ball.center, BALL_RADIUS);
+        queue.write_buffer(&self.ball_vertices, 0, bytemuck::cast_slice(&moved));
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("host.frame"),
         });
@@ -215,17 +263,16 @@ impl Host {
             });
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.group, &[]);
+            // The shadow maps of the last `prepare`: the host's opaque pass comes before this
+            // frame's (which reads its depth), so its shadows are one frame old.
+            pass.set_bind_group(1, self.grass.shadow_receiver().group, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
+            pass.set_vertex_buffer(0, self.ball_vertices.slice(..));
+            pass.set_index_buffer(self.ball_indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..self.ball_index_count, 0, 0..1);
         }
-        // A ball of the host's rolls through the grass and presses it.
-        let x = -3.0 + 1.5 * self.time;
-        let ball = Collider {
-            center: Vec3::new(x, self.grass.ground_height(x, 2.0) + 0.4, 2.0),
-            radius: 0.4,
-            velocity: Vec3::new(1.5, 0.0, 0.0),
-        };
         let inputs = FrameInputs {
             camera,
             size: self.size,
@@ -364,6 +411,39 @@ fn world(grass: &GrassRenderer) -> (Vec<Vertex>, Vec<u32>) {
             });
         }
         i.extend([first, first + 1, first + 2, first, first + 2, first + 3]);
+    }
+    (v, i)
+}
+
+const BALL_RADIUS: f32 = 0.45;
+
+/// A yellow sphere of `radius` at `centre` (latitude-longitude).
+fn sphere(centre: Vec3, radius: f32) -> (Vec<Vertex>, Vec<u32>) {
+    let (rings, segments) = (12u32, 24u32);
+    let mut v = Vec::new();
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for k in 0..=segments {
+            let phi = std::f32::consts::TAU * k as f32 / segments as f32;
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            v.push(Vertex {
+                pos: (centre + radius * n).into(),
+                normal: n.into(),
+                color: [0.95, 0.75, 0.1],
+            });
+        }
+    }
+    let mut i = Vec::new();
+    for r in 0..rings {
+        for k in 0..segments {
+            let a = r * (segments + 1) + k;
+            let b = a + segments + 1;
+            i.extend([a, a + 1, b, a + 1, b + 1, b]);
+        }
     }
     (v, i)
 }

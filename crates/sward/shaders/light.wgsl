@@ -4,6 +4,7 @@
 // and exposure with the filmic tone mappers. `LightUniforms` is `sim::layout::LightUniforms`;
 // `render::light` holds the CPU twins of the sky, the tone mappers and the cascades.
 
+// sward:receiver begin
 struct LightUniforms {
     // Light-space view-projection of each cascade (world -> [-1, 1]² x [0, 1]).
     cascades: array<mat4x4<f32>, 4>,
@@ -38,6 +39,7 @@ struct LightUniforms {
     shading_a: vec4<f32>,
     shading_b: vec4<f32>,
 }
+// sward:receiver end
 
 @group(1) @binding(0) var<uniform> light: LightUniforms;
 @group(1) @binding(1) var shadow_map: texture_depth_2d_array;
@@ -188,11 +190,19 @@ fn tonemap(c: vec3<f32>) -> vec3<f32> {
 // (a percentage-closer filter; `shadow.z` spreads the taps), pushed `shadow.w` texels
 // towards the sun against acne, and faded out at the shadows' end.
 fn sun_visibility(world: vec3<f32>) -> f32 {
+    return sun_visibility_from(world, frame.camera_pos.xyz, frame.sun_dir.xyz);
+}
+
+// `sun_visibility` seen from `camera` with the sun towards `sun_dir`: the part a host's
+// shader includes to receive sward's shadows (`render::light::receiver_wgsl`, with its
+// names prefixed `sward_`).
+// sward:receiver begin
+fn sun_visibility_from(world: vec3<f32>, camera: vec3<f32>, sun_dir: vec3<f32>) -> f32 {
     if light.shadow.x < 0.5 {
         return 1.0;
     }
     let count = u32(light.shadow.y);
-    let d = distance(world, frame.camera_pos.xyz);
+    let d = distance(world, camera);
     let last = light.splits[count - 1u];
     if d >= last {
         return 1.0;
@@ -208,7 +218,7 @@ fn sun_visibility(world: vec3<f32>) -> f32 {
     var c = vec4<f32>(0.0);
     var uv = vec2<f32>(-1.0);
     for (; k < count; k++) {
-        let p = world + frame.sun_dir.xyz * (light.shadow.w * light.texel_world[k]);
+        let p = world + sun_dir * (light.shadow.w * light.texel_world[k]);
         c = light.cascades[k] * vec4<f32>(p, 1.0);
         uv = c.xy * vec2<f32>(0.5, -0.5) + 0.5;
         if all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0)) && c.z <= 1.0 {
@@ -230,3 +240,4 @@ fn sun_visibility(world: vec3<f32>) -> f32 {
     let fade = smoothstep(light.shadow_map.z, last, d);
     return mix(lit / 4.0, 1.0, fade);
 }
+// sward:receiver end

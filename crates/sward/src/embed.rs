@@ -50,6 +50,11 @@
 //! that the depths agree). The grass is sward's near level: every blade simulated, culled
 //! by orientation, distance, frustum and the host's depth. Billboards, the far ground,
 //! sward's terrain and sky stay the application's: the host has its own ground.
+//!
+//! Shadows: the grass receives the sun's shadows of the blades, of sward's terrain and of
+//! the host's colliders (drawn into sward's shadow maps as spheres); the host's shaders
+//! receive the same shadows through [`GrassRenderer::shadow_receiver`]. The host's own
+//! meshes do not cast into sward's maps.
 
 use std::path::Path;
 
@@ -171,11 +176,25 @@ pub struct FrameInputs<'a> {
     pub wind: Option<WindInput>,
 }
 
+/// What a host binds to receive sward's sun shadows ([`GrassRenderer::shadow_receiver`]).
+pub struct ShadowReceiver<'a> {
+    /// The layout of the light's group (uniforms, the cascades' depth array, the comparison
+    /// sampler), for the host's pipeline layout.
+    pub layout: &'a wgpu::BindGroupLayout,
+    /// sward's light group; bind it at the group the shader's receiver WGSL names.
+    pub group: &'a wgpu::BindGroup,
+    /// The direction towards the sun (unit, world space): the scene's sun, which sward's
+    /// shadow maps are drawn from.
+    pub sun_direction: Vec3,
+}
+
 /// sward's grass in a host's frame. See the module's example.
 pub struct GrassRenderer {
     gpu: Gpu,
     renderer: Renderer,
     host: HostPipelines,
+    /// The layout of the light's group, for hosts that receive the shadows (made once).
+    light_layout: wgpu::BindGroupLayout,
     /// The last prepared frame's size (the draw's lists were culled for it).
     prepared: Option<(u32, u32)>,
 }
@@ -238,6 +257,7 @@ impl GrassRenderer {
             )));
         }
         Ok(Self {
+            light_layout: crate::render::light::layout(&gpu.device),
             gpu,
             renderer,
             host,
@@ -328,6 +348,29 @@ impl GrassRenderer {
     /// proposes, the terrain's size, the light).
     pub fn scene(&self) -> &Scene {
         &self.renderer.scene
+    }
+
+    /// The hook for the host's shaders to receive sward's sun shadows (the blades', the
+    /// colliders' and sward's terrain's, from the shadow maps `prepare` drew): bind
+    /// [`ShadowReceiver::group`] at a group of the host's pipeline made with
+    /// [`ShadowReceiver::layout`], include [`GrassRenderer::shadow_receiver_wgsl`] for that
+    /// group in the shader, and multiply the sun's light by
+    /// `sward_sun_visibility(world, camera_eye, sun_direction)`.
+    pub fn shadow_receiver(&self) -> ShadowReceiver<'_> {
+        ShadowReceiver {
+            layout: &self.light_layout,
+            group: self.renderer.light().group(),
+            sun_direction: crate::render::light::sun::scene_sun(&self.renderer.scene),
+        }
+    }
+
+    /// The WGSL a host's shader includes to receive sward's shadows with the bindings at
+    /// `@group(group)`: `SwardLightUniforms`, `sward_light`, `sward_shadow_map`,
+    /// `sward_shadow_sampler` and
+    /// `fn sward_sun_visibility(world: vec3<f32>, camera: vec3<f32>, sun_dir: vec3<f32>) -> f32`
+    /// (1 lit, 0 in shadow) — the lookup sward's own passes run.
+    pub fn shadow_receiver_wgsl(group: u32) -> String {
+        crate::render::light::receiver::receiver_wgsl(group)
     }
 
     /// The height of sward's ground at (x, z): where the host should put its own ground so

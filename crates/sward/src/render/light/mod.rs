@@ -11,6 +11,7 @@
 
 pub mod cascades;
 mod caster_levels;
+pub mod receiver;
 pub mod schedule;
 pub mod sky;
 pub mod sun;
