@@ -160,6 +160,13 @@ enum Command {
         #[command(flatten)]
         wind: WindArgs,
     },
+    /// Write sward's walking figure (a rigged figure of boxes, nine joints, a looped
+    /// one-second "walk") as one glTF 2.0 file with its buffer embedded.
+    Figure {
+        /// Output glTF file.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Time the paper's three configurations (all features, collisions off, culling off)
     /// on the same frames and print its table: FPS, frame time, blades drawn / culled per
     /// test, GPU ms of physics / visibility / rendering, colliders, memory.
@@ -343,6 +350,16 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// `sward figure --out FILE`: the walker through a temporary file renamed into place.
+fn write_figure(out: &std::path::Path) -> sward::Result<()> {
+    let mut outputs = sward::output::Outputs::new();
+    outputs.add("--out", out)?;
+    sward::mesh::figure::write_walker(&mut outputs, out)?;
+    outputs.commit()?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
 fn main() -> ExitCode {
     sward_app::runtime_env::ensure_runtime_dir();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
@@ -420,6 +437,7 @@ fn main() -> ExitCode {
             pressure_iterations: wind.pressure_iterations,
             wind_resolution: wind.wind_resolution,
         }),
+        Some(Command::Figure { out }) => write_figure(&out),
         // The values come in as text (negative numbers too) and are checked by the
         // library, so that a bad value ends like every other error: the flag, the allowed
         // range, exit status 1.

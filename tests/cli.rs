@@ -486,3 +486,28 @@ fn trace_holds_every_frame_s_passes() {
         "{events:?}"
     );
 }
+
+/// `sward figure` writes the walking figure that `assets/models/walker.gltf` is, loadable as
+/// a skinned mesh; a target that is not a regular file is refused and left alone.
+#[test]
+fn figure_writes_the_walker() {
+    let dir = std::env::temp_dir().join(format!("sward-cli-figure-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("walker.gltf");
+    let o = sward(&["figure", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m = sward::mesh::skin::SkinnedMesh::load(&out).expect("the walker loads");
+    assert_eq!(m.joints.len(), 9);
+    assert_eq!(m.animations[0].name, "walk");
+    // The shipped asset is this command's output.
+    let shipped = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/models/walker.gltf"),
+    )
+    .unwrap();
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), shipped);
+    let e = fails(&["figure", "--out", dir.to_str().unwrap()]);
+    assert!(
+        e.contains("not a regular file") || e.contains("directory"),
+        "{e}"
+    );
+}

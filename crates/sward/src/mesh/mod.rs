@@ -11,7 +11,9 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 
+pub mod figure;
 pub mod pack;
+pub mod skin;
 
 /// Most triangles a mesh may hold (10 M: 120 MB of indices, far past any grass prop).
 pub const MAX_TRIANGLES: usize = 10_000_000;
@@ -217,7 +219,7 @@ fn read_gltf(path: &Path) -> Result<(Vec<[f32; 3]>, Vec<u32>)> {
 
 /// The document's buffers: the GLB's binary chunk, embedded data and external files, each
 /// external file checked first so that a missing one is named (not the `.gltf`).
-fn read_gltf_buffers(
+pub(super) fn read_gltf_buffers(
     path: &Path,
     base: &Path,
     doc: &gltf::Document,
@@ -284,7 +286,7 @@ fn percent_decode(uri: &str) -> String {
 /// node without a parent), after checking that the node graph is a forest: no node is the
 /// child of two nodes or its own ancestor. glTF requires this, and a file that breaks it
 /// would otherwise make the walk loop or expand without bound.
-fn gltf_roots<'a>(path: &Path, doc: &'a gltf::Document) -> Result<Vec<gltf::Node<'a>>> {
+pub(super) fn gltf_roots<'a>(path: &Path, doc: &'a gltf::Document) -> Result<Vec<gltf::Node<'a>>> {
     let n = doc.nodes().len();
     let mut parent: Vec<Option<usize>> = vec![None; n];
     for node in doc.nodes() {
