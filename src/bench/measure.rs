@@ -52,6 +52,7 @@ pub(super) fn fresh_renderer(gpu: &Gpu, session: &Session, scene: Scene) -> Resu
         COLOR_FORMAT,
     )?;
     renderer.set_objects(gpu, &session.meshes, &session.packings);
+    renderer.set_skins(gpu, &session.skins);
     gpu.check_errors()?;
     Ok(renderer)
 }

@@ -30,6 +30,9 @@ pub struct Session {
     pub tiles: Option<TileLayout>,
     /// The meshes of `scene.objects`, in order, read and checked.
     pub meshes: Vec<crate::mesh::Mesh>,
+    /// The skinned mesh and the index of the animation it plays, of each object with an
+    /// `animation` (`None` for the others), in order.
+    pub skins: Vec<Option<(crate::mesh::skin::SkinnedMesh, usize)>>,
     /// The sphere packing of each object whose `collider` asks for one (in its mesh's
     /// units; `None` for the others), computed once at load.
     pub packings: Vec<Option<Packing>>,
@@ -130,12 +133,47 @@ fn pack_objects(scene: &Scene, meshes: &[crate::mesh::Mesh]) -> Vec<Option<Packi
 
 /// Reads every object's mesh (errors name the scene line of its `mesh`) and checks that
 /// each fits the adapter's vertex and index buffers, before anything is allocated.
-fn load_meshes(scene: &Scene, gpu: Option<&Gpu>) -> Result<Vec<crate::mesh::Mesh>> {
+/// An animated object's mesh is its skinned mesh at the bind pose (what its packing, its
+/// grass and its first frame use).
+type Skins = Vec<Option<(crate::mesh::skin::SkinnedMesh, usize)>>;
+
+fn load_meshes(scene: &Scene, gpu: Option<&Gpu>) -> Result<(Vec<crate::mesh::Mesh>, Skins)> {
     let mut meshes = Vec::with_capacity(scene.objects.len());
+    let mut skins = Vec::with_capacity(scene.objects.len());
     for (i, object) in scene.objects.iter().enumerate() {
         let field = format!("objects[{i}].mesh");
-        let mesh = crate::mesh::load(std::path::Path::new(&object.mesh))
-            .map_err(|e| scene.image_error(&field, e))?;
+        let path = std::path::Path::new(&object.mesh);
+        let mesh = match &object.animation {
+            None => {
+                skins.push(None);
+                crate::mesh::load(path).map_err(|e| scene.image_error(&field, e))?
+            }
+            Some(name) => {
+                let skinned = crate::mesh::skin::SkinnedMesh::load(path)
+                    .map_err(|e| scene.image_error(&field, e))?;
+                let Some(k) = skinned.animations.iter().position(|a| &a.name == name) else {
+                    let names: Vec<&str> =
+                        skinned.animations.iter().map(|a| a.name.as_str()).collect();
+                    let at = format!("objects[{i}].animation");
+                    return Err(scene.image_error(
+                        &at,
+                        Error::Invalid(format!(
+                            "{at} = {name:?}: {} has no animation of that name (it has \
+                             {names:?})",
+                            object.mesh
+                        )),
+                    ));
+                };
+                let mesh = crate::mesh::Mesh {
+                    positions: skinned.positions.clone(),
+                    normals: skinned.normals.clone(),
+                    indices: skinned.indices.clone(),
+                    degenerate: 0,
+                };
+                skins.push(Some((skinned, k)));
+                mesh
+            }
+        };
         if let Some(gpu) = gpu {
             let limits = gpu.device.limits();
             let vertex_bytes = mesh.positions.len() as u64 * 24;
@@ -154,7 +192,7 @@ fn load_meshes(scene: &Scene, gpu: Option<&Gpu>) -> Result<Vec<crate::mesh::Mesh
         }
         meshes.push(mesh);
     }
-    Ok(meshes)
+    Ok((meshes, skins))
 }
 
 /// The number of blades a scene asks for (before rounding to whole patches).
@@ -277,7 +315,7 @@ impl Session {
                 scene.terrain.height = crate::scene::HeightSource::Flat;
                 // `--blades N` is a whole field of N blades, never a streamed one.
                 scene.field.tile_size = 0.0;
-                let meshes = load_meshes(&scene, gpu)?;
+                let (meshes, skins) = load_meshes(&scene, gpu)?;
                 let packings = pack_objects(&scene, &meshes);
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
@@ -291,6 +329,7 @@ impl Session {
                     object_grass: GeneratedField::default(),
                     tiles: None,
                     meshes,
+                    skins,
                     packings,
                 })
             }
@@ -307,7 +346,7 @@ impl Session {
                     },
                     None => generate(&scene.field, &terrain, density.as_ref()),
                 };
-                let meshes = load_meshes(&scene, gpu)?;
+                let (meshes, skins) = load_meshes(&scene, gpu)?;
                 let packings = pack_objects(&scene, &meshes);
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
@@ -327,6 +366,7 @@ impl Session {
                     object_grass,
                     tiles,
                     meshes,
+                    skins,
                     packings,
                 })
             }

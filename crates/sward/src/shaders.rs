@@ -105,6 +105,7 @@ const FILES: &[(&str, &str)] = &[
     ("tonemap.wgsl", include_str!("../shaders/tonemap.wgsl")),
     ("taa.wgsl", include_str!("../shaders/taa.wgsl")),
     ("taa_prev.wgsl", include_str!("../shaders/taa_prev.wgsl")),
+    ("skin.wgsl", include_str!("../shaders/skin.wgsl")),
     (
         "fluid_common.wgsl",
         include_str!("../shaders/fluid_common.wgsl"),
@@ -180,6 +181,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "tonemap.wgsl",
     "taa.wgsl",
     "taa_prev.wgsl",
+    "skin.wgsl",
     "fluid_splat.wgsl",
     "fluid_vorticity.wgsl",
     "fluid_diffuse.wgsl",

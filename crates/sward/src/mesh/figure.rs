@@ -1,6 +1,6 @@
-//! A walking figure sward builds itself (issue 29, point 1): a 1.7 m figure of boxes — pelvis,
-//! torso, head, thighs, shins with feet, arms — each bound rigidly to one joint of a nine-joint
-//! skeleton, and a looped one-second walk cycle ("walk": thighs and arms swinging in
+//! A walking figure sward builds itself (issue 29, point 1): a 1.8 m figure of boxes — pelvis,
+//! torso, head, thighs, shins with feet, arms — each bound to one joint of a nine-joint
+//! skeleton (the corners at a joint's pivot 60/40 with its parent, so it bends there), and a looped one-second walk cycle ("walk": thighs and arms swinging in
 //! opposition, knees bending in the swing, the hips bobbing twice a cycle), written as one
 //! glTF 2.0 file with its buffer embedded. `sward figure --out FILE` writes it;
 //! `assets/models/walker.gltf` is its output. It is read back like any other file by
@@ -62,6 +62,7 @@ pub fn walker_gltf() -> String {
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut normals: Vec<[f32; 3]> = Vec::new();
     let mut joints: Vec<[u16; 4]> = Vec::new();
+    let mut weights: Vec<[f32; 4]> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
     for (joint, centre, size) in BOXES {
         let c = Vec3::from(centre);
@@ -79,9 +80,22 @@ pub fn walker_gltf() -> String {
             let w = axis.cross(u);
             let first = positions.len() as u32;
             for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                positions.push((c + h * (axis + a * u + b * w)).to_array());
+                let p = c + h * (axis + a * u + b * w);
+                positions.push(p.to_array());
                 normals.push(axis.to_array());
-                joints.push([joint as u16, 0, 0, 0]);
+                // A corner at the joint's own pivot follows its parent partly, so the
+                // figure bends there instead of breaking apart.
+                let at_pivot = (p.y - JOINTS[joint].2[1]).abs() < 0.03;
+                match JOINTS[joint].1.filter(|_| at_pivot) {
+                    Some(parent) => {
+                        joints.push([joint as u16, parent as u16, 0, 0]);
+                        weights.push([0.6, 0.4, 0.0, 0.0]);
+                    }
+                    None => {
+                        joints.push([joint as u16, 0, 0, 0]);
+                        weights.push([1.0, 0.0, 0.0, 0.0]);
+                    }
+                }
             }
             indices.extend([first, first + 1, first + 2, first, first + 2, first + 3]);
         }
@@ -108,7 +122,7 @@ pub fn walker_gltf() -> String {
         .for_each(|j| bin.extend(j.iter().flat_map(|x| x.to_le_bytes())));
     let v_jnt = view(&bin, start);
     let start = bin.len();
-    (0..n).for_each(|_| push_f32(&mut bin, &[1.0, 0.0, 0.0, 0.0]));
+    weights.iter().for_each(|w| push_f32(&mut bin, w));
     let v_wgt = view(&bin, start);
     let start = bin.len();
     indices.iter().for_each(|i| bin.extend(i.to_le_bytes()));

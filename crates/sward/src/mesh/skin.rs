@@ -409,6 +409,26 @@ impl SkinnedMesh {
             })
             .collect()
     }
+
+    /// The normals skinned by `joints`: each turned by its vertex's weighted matrix's
+    /// linear part, renormalised (kept where that sum vanishes) — `skin.wgsl`'s twin.
+    pub fn skin_normals(&self, joints: &[Mat4]) -> Vec<[f32; 3]> {
+        self.normals
+            .iter()
+            .zip(self.joint_indices.iter().zip(&self.weights))
+            .map(|(n, (j, w))| {
+                let n = Vec3::from(*n);
+                let mut m = Mat4::ZERO;
+                for k in 0..4 {
+                    let joint = joints.get(usize::from(j[k])).copied().unwrap_or_default();
+                    m += joint * w[k];
+                }
+                let turned = m.transform_vector3(n);
+                let len = turned.length();
+                if len > 1e-8 { turned / len } else { n }.to_array()
+            })
+            .collect()
+    }
 }
 
 /// The skin's inverse bind matrices (identity when the file gives none), each invertible.

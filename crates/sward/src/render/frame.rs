@@ -295,6 +295,13 @@ impl Renderer {
         }
         let dt = self.advance(gpu, dt);
         self.frame_count = self.frame_count.wrapping_add(1);
+        // The animated objects take this frame's pose before anything draws them.
+        if let Some(s) = &self.skinning {
+            s.prepare(&gpu.queue, self.time);
+            timed(self.meters(), encoder, timing::SKINNING, |e, q| {
+                s.encode(e, q)
+            });
+        }
         // A frozen culling camera sees other depths than the drawn view: no occlusion then.
         // Occlusion needs a depth to build the pyramid from (a host may give none).
         let occlusion = self.scene.culling.occlusion && self.cull_camera.is_none();

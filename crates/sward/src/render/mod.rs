@@ -28,6 +28,7 @@ pub mod objects;
 pub mod overlay;
 pub mod pipelines;
 pub mod post;
+pub mod skinning;
 pub mod taa;
 pub mod target;
 pub mod terrain;
@@ -209,6 +210,8 @@ pub struct Renderer {
     light: light::LightPass,
     /// Temporal anti-aliasing and its history, while `render.taa` is on.
     taa: Option<taa::TaaPass>,
+    /// The animated mesh objects' skinning (`objects[].animation`), when any plays.
+    skinning: Option<skinning::SkinningPass>,
     /// The colliders of the last upload (`frame_spheres` at this frame's time): TAA moves
     /// the pixels on a moving ball with its centre.
     uploaded_spheres: Vec<[f32; 4]>,
@@ -238,6 +241,7 @@ impl Renderer {
             format,
         )?;
         r.set_objects(gpu, &session.meshes, &session.packings);
+        r.set_skins(gpu, &session.skins);
         Ok(r)
     }
 
@@ -261,6 +265,30 @@ impl Renderer {
                 self.draw.samples(),
             )
         });
+    }
+
+    /// Builds the skinning of the objects that play an animation (`skins`, the session's,
+    /// in the order of the scene's objects); call after [`Renderer::set_objects`].
+    pub fn set_skins(
+        &mut self,
+        gpu: &Gpu,
+        skins: &[Option<(crate::mesh::skin::SkinnedMesh, usize)>],
+    ) {
+        self.skinning = self
+            .draw
+            .objects
+            .as_ref()
+            .and_then(|o| skinning::SkinningPass::new(&gpu.device, skins, o));
+    }
+
+    /// Object `i`'s vertices as the last frame posed them (position, normal; blocks):
+    /// the skinning pass's output, for its twin test.
+    pub fn read_object_vertices(&self, gpu: &Gpu, i: usize) -> Result<Vec<[f32; 6]>> {
+        let Some(buffer) = self.draw.objects.as_ref().and_then(|o| o.vertex_buffer(i)) else {
+            return Ok(Vec::new());
+        };
+        let bytes = crate::gpu::read_buffer(gpu, buffer, buffer.size())?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
     /// Uploads the field and builds every pass for colour targets of `format`.
@@ -395,6 +423,7 @@ impl Renderer {
             light,
             post,
             taa: None,
+            skinning: None,
             taa_settings: taa::TaaSettings::default(),
             taa_allowed: true,
             uploaded_spheres: Vec::new(),

@@ -106,7 +106,11 @@ impl ObjectsPass {
                     vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some(&format!("sward.objects.{i}.vertices")),
                         contents: bytemuck::cast_slice(&vertices),
-                        usage: wgpu::BufferUsages::VERTEX,
+                        // STORAGE: an animated object's skinning pass writes its pose here;
+                        // COPY_SRC: its twin test reads it back.
+                        usage: wgpu::BufferUsages::VERTEX
+                            | wgpu::BufferUsages::STORAGE
+                            | wgpu::BufferUsages::COPY_SRC,
                     }),
                     indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some(&format!("sward.objects.{i}.indices")),
@@ -194,6 +198,11 @@ impl ObjectsPass {
             self.samples = samples;
             (self.colour, self.depth) = Self::pipelines(device, &self.layout, self.format, samples);
         }
+    }
+
+    /// Object `i`'s vertex buffer (position, normal: six floats a vertex).
+    pub fn vertex_buffer(&self, i: usize) -> Option<&wgpu::Buffer> {
+        self.objects.get(i).map(|o| &o.vertices)
     }
 
     /// Whether the scene has no mesh objects to draw.

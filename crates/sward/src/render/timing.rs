@@ -16,10 +16,10 @@ use crate::gpu::{Gpu, MAX_FRAMES_IN_FLIGHT};
 /// occlusion, the pyramid again, the late cull and the late draw; and the generation of the
 /// tiles entering a streamed field, the billboards' cull, the sun's shadow maps, the
 /// tone mapping, the overlays and the window's upscale; the deferred grass shading (its
-/// pixel list and its light, one scope); the window's panel (egui); and the temporal
-/// anti-aliasing. A pass that did not
+/// pixel list and its light, one scope); the window's panel (egui); the temporal
+/// anti-aliasing; and the animated objects' skinning. A pass that did not
 /// run in a frame reads 0.
-pub const PASSES: [&str; 18] = [
+pub const PASSES: [&str; 19] = [
     "occluders",
     "pyramid",
     "patches",
@@ -38,6 +38,7 @@ pub const PASSES: [&str; 18] = [
     "grass light",
     "ui",
     "taa",
+    "skinning",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -76,6 +77,8 @@ pub const GRASS_LIGHT: usize = 15;
 pub const UI: usize = 16;
 /// Temporal anti-aliasing: the frame blended with its history (`render::taa`).
 pub const TAA: usize = 17;
+/// The animated mesh objects' skinning (`render::skinning`).
+pub const SKINNING: usize = 18;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

@@ -750,6 +750,10 @@ pub struct MeshObject {
     /// patch size, segments and tile size are the scene field's, one draw for all blades).
     /// Grown where the object stands at rest; it does not move with a moving object.
     pub grass: Option<Field>,
+    /// The glTF animation the object plays, looped, by name (`Some("walk")`): the file is
+    /// then read as a skinned mesh (`crate::mesh::skin`) and its vertices are posed by its
+    /// joints on the GPU every frame. `None`: the mesh as the file places it.
+    pub animation: Option<String>,
 }
 
 /// A mesh object's collision shape.
@@ -819,6 +823,7 @@ impl Default for MeshObject {
             motion: Motion::Static,
             rolls: false,
             grass: None,
+            animation: None,
         }
     }
 }

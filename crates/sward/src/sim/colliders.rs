@@ -101,6 +101,21 @@ pub fn object_transform(object: &MeshObject, terrain: &HeightField, time: f32) -
         return rest;
     };
     let radius = object.translation.1;
+    if object.animation.is_some() && !object.rolls {
+        // A character walks facing its way: its +z turned to the path's heading.
+        let s = speed * time;
+        let ahead = along_path(points, *looped, s + 0.01);
+        let behind = along_path(points, *looped, s - 0.01);
+        let heading = ahead - behind;
+        if heading.length_squared() < 1e-12 {
+            return rest;
+        }
+        let yaw = glam::Quat::from_rotation_y(heading.x.atan2(heading.y));
+        return glam::Mat4::from_translation(origin)
+            * glam::Mat4::from_quat(yaw)
+            * glam::Mat4::from_translation(-origin)
+            * rest;
+    }
     if !object.rolls || radius <= 0.0 {
         return rest;
     }

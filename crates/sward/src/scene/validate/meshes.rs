@@ -53,6 +53,10 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         Rule::Text("None or Some((density: .., height: (min: .., max: ..), ..)), as field"),
     ),
     ("objects[].collider.resolution", Rule::Integer(VOXELS)),
+    (
+        "objects[].animation",
+        Rule::Text("None or Some(\"name\"): an animation of the object's .gltf or .glb file"),
+    ),
     m[0],
     m[1],
     m[2],
@@ -73,6 +77,14 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
         return Err(check.error(&name, message));
     }
     check.file_path(&name, &mut object.mesh, "a .obj, .gltf or .glb file")?;
+    if object.animation.is_some() && lower.ends_with(".obj") {
+        let field = at("animation");
+        let message = format!(
+            "{field} = {:?} needs a skinned .gltf or .glb mesh, but {name} is an .obj file",
+            object.animation
+        );
+        return Err(check.error(&field, message));
+    }
     check.vector(&at("translation"), &tuple3(object.translation), POSITION)?;
     if object.rolls && matches!(object.motion, crate::scene::Motion::Path { .. }) {
         let field = at("translation");

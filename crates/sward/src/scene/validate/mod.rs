@@ -33,7 +33,7 @@
 //! | `field.tile_size` | 0 (whole field at start) or 0.5 ≤ tile_size ≤ 1000 m |
 //! | positions: `colliders[i].center`, `wind.point.position`, `wind.downwash.position`, `physics.gravity_center`, `camera.eye`, `camera.target`, path points | every component in −100000 ..= 100000 m |
 //! | `colliders[i]` | 0 < radius ≤ 1000 m |
-//! | `objects[i]` | mesh a .obj, .gltf or .glb file; translation in −100000 ..= 100000 m, rotation in −360 ..= 360 degrees, 0.001 ≤ scale ≤ 1000, colour components in 0 ..= 1 |
+//! | `objects[i]` | mesh a .obj, .gltf or .glb file; translation in −100000 ..= 100000 m, rotation in −360 ..= 360 degrees, 0.001 ≤ scale ≤ 1000, colour components in 0 ..= 1; animation None or the name of an animation of a skinned .gltf / .glb (checked when the session loads the file) |
 //! | `colliders[i].motion: Velocity` | every component in −1000 ..= 1000 m/s |
 //! | `colliders[i].motion: Path` | ≥ 2 points, total length > 0, 0 ≤ speed ≤ 1000 m/s |
 //! | `wind.directional` | direction non-zero, 0 ≤ strength ≤ 1000 m/s², 0 ≤ gust ≤ 4, 0.1 ≤ wavelength ≤ 100000 m, 0 ≤ speed ≤ 1000 m/s |
