@@ -7,6 +7,7 @@
 
 mod common;
 
+use glam::Vec3;
 use sward::mesh::skin::SkinnedMesh;
 use sward::render::camera::CameraView;
 use sward::render::target::{Target, COLOR_FORMAT};
@@ -91,4 +92,55 @@ fn an_animation_the_file_lacks_is_named() {
     );
     // Read as a skinned mesh the file itself is fine.
     assert!(SkinnedMesh::load(std::path::Path::new(&walker())).is_ok());
+}
+
+/// The walker's collider spheres follow its joints (`mesh::pack::SphereRig`): the lowest
+/// spheres, on the feet, swing forward and back with the walk, so the legs push the grass.
+#[test]
+fn the_collider_spheres_swing_with_the_legs() {
+    let sets = vec![format!(
+        "objects=[(mesh: {:?}, animation: Some(\"walk\"), collider: Spheres((count: 48)))]",
+        walker()
+    )];
+    let scene = sward::commands::load(None, &sets).expect("scene");
+    let session = Session::new(scene, None, None).expect("session");
+    let rig = session.packings[0]
+        .as_ref()
+        .and_then(|p| p.rig.as_ref())
+        .expect("the packing is rigged");
+    assert_eq!(
+        rig.joint_of.len(),
+        session.packings[0].as_ref().unwrap().spheres.len()
+    );
+    let at = |t: f32| {
+        sward::sim::colliders::object_spheres_at(
+            &session.scene.objects,
+            &session.packings,
+            &session.terrain,
+            t,
+        )
+    };
+    let (a, b) = (at(0.25), at(0.75));
+    // The spheres low on the legs (centre below 0.3 m above the figure's origin).
+    let ground = session.terrain.height(0.0, 0.0);
+    let swing: Vec<f32> = a
+        .iter()
+        .zip(&b)
+        .filter(|(s, _)| s[1] - ground < 0.3)
+        .map(|(s, t)| (s[2] - t[2]).abs())
+        .collect();
+    let most = swing.iter().copied().fold(0.0, f32::max);
+    eprintln!(
+        "{} low spheres; the most a foot's sphere moves in z: {most:.3} m",
+        swing.len()
+    );
+    assert!(!swing.is_empty() && most > 0.3, "{swing:?}");
+    // The head's spheres stay (within the hips' bob).
+    let high = a
+        .iter()
+        .zip(&b)
+        .filter(|(s, _)| s[1] - ground > 1.6)
+        .map(|(s, t)| (Vec3::from_slice(&s[..3]) - Vec3::from_slice(&t[..3])).length())
+        .fold(0.0, f32::max);
+    assert!(high < 0.1, "the head moved {high} m");
 }

@@ -133,6 +133,28 @@ fn pack_objects(scene: &Scene, meshes: &[crate::mesh::Mesh]) -> Vec<Option<Packi
 
 /// Reads every object's mesh (errors name the scene line of its `mesh`) and checks that
 /// each fits the adapter's vertex and index buffers, before anything is allocated.
+/// Ties the packings of animated objects to their skeletons (`mesh::pack::SphereRig`).
+fn rig_packings(
+    packings: Vec<Option<crate::mesh::pack::Packing>>,
+    skins: &Skins,
+) -> Vec<Option<crate::mesh::pack::Packing>> {
+    packings
+        .into_iter()
+        .zip(skins)
+        .map(|(packing, skin)| {
+            let mut packing = packing?;
+            if let Some((mesh, animation)) = skin {
+                packing.rig = Some(Box::new(crate::mesh::pack::SphereRig::new(
+                    mesh,
+                    *animation,
+                    &packing.spheres,
+                )));
+            }
+            Some(packing)
+        })
+        .collect()
+}
+
 /// An animated object's mesh is its skinned mesh at the bind pose (what its packing, its
 /// grass and its first frame use).
 type Skins = Vec<Option<(crate::mesh::skin::SkinnedMesh, usize)>>;
@@ -316,7 +338,7 @@ impl Session {
                 // `--blades N` is a whole field of N blades, never a streamed one.
                 scene.field.tile_size = 0.0;
                 let (meshes, skins) = load_meshes(&scene, gpu)?;
-                let packings = pack_objects(&scene, &meshes);
+                let packings = rig_packings(pack_objects(&scene, &meshes), &skins);
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
                 if let Some(gpu) = gpu {
@@ -347,7 +369,7 @@ impl Session {
                     None => generate(&scene.field, &terrain, density.as_ref()),
                 };
                 let (meshes, skins) = load_meshes(&scene, gpu)?;
-                let packings = pack_objects(&scene, &meshes);
+                let packings = rig_packings(pack_objects(&scene, &meshes), &skins);
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
                 if let Some(gpu) = gpu {

@@ -36,6 +36,67 @@ pub struct Packing {
     pub inside_voxels: usize,
     /// Side of a voxel.
     pub voxel: f32,
+    /// For an animated object, what moves the spheres with its pose (`None`: they stay
+    /// where the mesh's rest places them).
+    pub rig: Option<Box<SphereRig>>,
+}
+
+/// The spheres of an animated object's packing tied to its skeleton: each follows the joint
+/// that weighs most on the mesh vertex nearest its centre, so a figure's legs push the
+/// grass as they swing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SphereRig {
+    /// The skinned mesh and its skeleton.
+    pub mesh: super::skin::SkinnedMesh,
+    /// The animation it plays.
+    pub animation: usize,
+    /// Per sphere, the joint it follows (an index into `mesh.joints`).
+    pub joint_of: Vec<usize>,
+}
+
+impl SphereRig {
+    /// Ties each sphere of `spheres` (in the mesh's bind space) to a joint of `mesh`.
+    pub fn new(mesh: &super::skin::SkinnedMesh, animation: usize, spheres: &[[f32; 4]]) -> Self {
+        let joint_of = spheres
+            .iter()
+            .map(|s| {
+                let c = Vec3::new(s[0], s[1], s[2]);
+                let nearest = mesh
+                    .positions
+                    .iter()
+                    .enumerate()
+                    .min_by(|(_, a), (_, b)| {
+                        let da = Vec3::from(**a).distance_squared(c);
+                        let db = Vec3::from(**b).distance_squared(c);
+                        da.total_cmp(&db)
+                    })
+                    .map_or(0, |(i, _)| i);
+                let (j, w) = (mesh.joint_indices[nearest], mesh.weights[nearest]);
+                let k = (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b])).unwrap_or(0);
+                usize::from(j[k])
+            })
+            .collect();
+        Self {
+            mesh: mesh.clone(),
+            animation,
+            joint_of,
+        }
+    }
+
+    /// The spheres at `time`, in the mesh's space (each moved by its joint's skinning
+    /// matrix; radii unchanged: a skeleton's joints do not scale).
+    pub fn posed(&self, spheres: &[[f32; 4]], time: f32) -> Vec<[f32; 4]> {
+        let joints = self.mesh.joint_matrices(Some(self.animation), time);
+        spheres
+            .iter()
+            .zip(&self.joint_of)
+            .map(|(s, &j)| {
+                let m = joints.get(j).copied().unwrap_or(glam::Mat4::IDENTITY);
+                let c = m.transform_point3(Vec3::new(s[0], s[1], s[2]));
+                [c.x, c.y, c.z, s[3]]
+            })
+            .collect()
+    }
 }
 
 /// The voxel grid of a mesh: inside flags, x fastest.
@@ -324,6 +385,7 @@ pub fn pack(mesh: &Mesh, count: usize, resolution: u32) -> Packing {
         },
         inside_voxels,
         voxel: grid.size,
+        rig: None,
     }
 }
 

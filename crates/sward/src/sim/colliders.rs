@@ -165,7 +165,12 @@ pub fn object_spheres_at(
     for (object, packing) in objects.iter().zip(packings) {
         let Some(packing) = packing else { continue };
         let m = object_transform(object, terrain, time);
-        for s in &packing.spheres {
+        // An animated object's spheres take its pose first (its legs' spheres swing).
+        let posed = packing
+            .rig
+            .as_ref()
+            .map(|r| r.posed(&packing.spheres, time));
+        for s in posed.as_deref().unwrap_or(&packing.spheres) {
             let c = m.transform_point3(Vec3::new(s[0], s[1], s[2]));
             out.push([c.x, c.y, c.z, s[3] * object.scale]);
         }
