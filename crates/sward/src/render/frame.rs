@@ -297,7 +297,7 @@ impl Renderer {
         self.frame_count = self.frame_count.wrapping_add(1);
         // The animated objects take this frame's pose before anything draws them.
         if let Some(s) = &self.skinning {
-            s.prepare(&gpu.queue, self.time);
+            s.prepare(&gpu.queue, &self.scene.objects, self.time);
             timed(self.meters(), encoder, timing::SKINNING, |e, q| {
                 s.encode(e, q)
             });

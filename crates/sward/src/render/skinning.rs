@@ -16,6 +16,8 @@ const GROUP: u32 = 64;
 
 /// One animated object on the GPU.
 struct Skinned {
+    /// The scene object it is (an index into `objects`).
+    object: usize,
     mesh: SkinnedMesh,
     /// The animation it plays (index into `mesh.animations`).
     animation: usize,
@@ -102,6 +104,7 @@ impl SkinningPass {
                     ],
                 });
                 Some(Skinned {
+                    object: i,
                     vertices: mesh.positions.len() as u32,
                     mesh: mesh.clone(),
                     animation: *animation,
@@ -113,10 +116,16 @@ impl SkinningPass {
         Some(Self { pipeline, objects })
     }
 
-    /// Uploads each object's skinning matrices at `time` seconds (its animation looped).
-    pub fn prepare(&self, queue: &wgpu::Queue, time: f32) {
+    /// Uploads each object's skinning matrices at `time` seconds into the scene (its
+    /// animation looped, at the pace of its path with a `stride`:
+    /// `sim::colliders::animation_time`); `objects` are the scene's.
+    pub fn prepare(&self, queue: &wgpu::Queue, objects: &[crate::scene::MeshObject], time: f32) {
         for o in &self.objects {
-            let joints = o.mesh.joint_matrices(Some(o.animation), time);
+            let duration = o.mesh.animations[o.animation].duration;
+            let t = objects.get(o.object).map_or(time, |object| {
+                crate::sim::colliders::animation_time(object, duration, time)
+            });
+            let joints = o.mesh.joint_matrices(Some(o.animation), t);
             let data: Vec<[f32; 16]> = joints.iter().map(|m| m.to_cols_array()).collect();
             queue.write_buffer(&o.joints, 0, bytemuck::cast_slice(&data));
         }

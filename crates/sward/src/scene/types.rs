@@ -754,6 +754,10 @@ pub struct MeshObject {
     /// then read as a skinned mesh (`crate::mesh::skin`) and its vertices are posed by its
     /// joints on the GPU every frame. `None`: the mesh as the file places it.
     pub animation: Option<String>,
+    /// With `animation` and `motion: Path`: the metres the object travels in one cycle of
+    /// its animation, so that the animation plays at the pace of the ground it covers
+    /// (a walk's feet do not slide). 0: the animation plays at the scene's clock.
+    pub stride: f32,
 }
 
 /// A mesh object's collision shape.
@@ -824,6 +828,7 @@ impl Default for MeshObject {
             rolls: false,
             grass: None,
             animation: None,
+            stride: 0.0,
         }
     }
 }

@@ -153,6 +153,22 @@ fn path_distance(points: &[(f32, f32)], looped: bool, s: f32) -> f32 {
     s.clamp(0.0, total)
 }
 
+/// The time into its animation an animated object is at `time` seconds into the scene: on
+/// a `Path` with a `stride`, the distance travelled over the stride in cycles of the
+/// animation's `duration` (a walk keeps pace with the ground); otherwise `time`.
+pub fn animation_time(object: &MeshObject, duration: f32, time: f32) -> f32 {
+    match &object.motion {
+        Motion::Path {
+            points,
+            speed,
+            looped,
+        } if object.stride > 0.0 => {
+            path_distance(points, *looped, speed * time) / object.stride * duration
+        }
+        _ => time,
+    }
+}
+
 /// The spheres of every packed object at `time` (`packings[i]` is object i's packing in
 /// its mesh's units, `None` without a collider), as `vec4(centre, radius)` in the world.
 pub fn object_spheres_at(
@@ -166,10 +182,10 @@ pub fn object_spheres_at(
         let Some(packing) = packing else { continue };
         let m = object_transform(object, terrain, time);
         // An animated object's spheres take its pose first (its legs' spheres swing).
-        let posed = packing
-            .rig
-            .as_ref()
-            .map(|r| r.posed(&packing.spheres, time));
+        let posed = packing.rig.as_ref().map(|r| {
+            let duration = r.mesh.animations[r.animation].duration;
+            r.posed(&packing.spheres, animation_time(object, duration, time))
+        });
         for s in posed.as_deref().unwrap_or(&packing.spheres) {
             let c = m.transform_point3(Vec3::new(s[0], s[1], s[2]));
             out.push([c.x, c.y, c.z, s[3] * object.scale]);

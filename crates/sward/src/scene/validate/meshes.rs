@@ -22,6 +22,8 @@ const ROLL_RADIUS: Allowed = Allowed::closed(0.001, 100000.0, "m");
 /// Spheres of one packing: all the update pass takes.
 const PACKED: Integers = Integers::new(1, MAX_SPHERES as u64, "spheres");
 /// Voxels along the box: 8 resolve a blob, 256 (16 M voxels) any prop.
+/// Metres per animation cycle: 0 (the scene's clock) up to a giant's 100 m.
+const STRIDE: Allowed = Allowed::closed(0.0, 100.0, "m");
 const VOXELS: Integers = Integers::new(8, 256, "voxels");
 
 /// The rules of every object value.
@@ -53,6 +55,7 @@ pub(super) const RULES: &[(&str, Rule)] = &{
         Rule::Text("None or Some((density: .., height: (min: .., max: ..), ..)), as field"),
     ),
     ("objects[].collider.resolution", Rule::Integer(VOXELS)),
+    ("objects[].stride", Rule::Real(STRIDE)),
     (
         "objects[].animation",
         Rule::Text("None or Some(\"name\"): an animation of the object's .gltf or .glb file"),
