@@ -511,3 +511,30 @@ fn figure_writes_the_walker() {
         "{e}"
     );
 }
+
+/// A scene whose animated object's skin is bad fails with the mesh file and what is wrong:
+/// the walker with its skin cut to eight joints while its right arm still names joint 8.
+#[test]
+fn a_bad_skin_is_named_from_the_command_line() {
+    let tmp = Tmp::new("bad-skin");
+    let walker = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/models/walker.gltf"),
+    )
+    .unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&walker).unwrap();
+    doc["skins"][0]["joints"].as_array_mut().unwrap().pop();
+    tmp.file("cut.gltf", &doc.to_string());
+    let scene = tmp.file(
+        "scene.ron",
+        "(terrain: (size: 8.0, height: Flat), field: (density: 10.0), \
+         objects: [(mesh: \"cut.gltf\", animation: Some(\"walk\"))])",
+    );
+    let out = tmp.path("out.png");
+    let e = fails(&render_args(scene.to_str().unwrap(), out.to_str().unwrap()));
+    assert!(e.contains("cut.gltf"), "{e}");
+    assert!(
+        e.contains("names joint 8, but the skin has 8 joints"),
+        "{e}"
+    );
+    tmp.assert_only(&["cut.gltf", "scene.ron"]);
+}
