@@ -131,17 +131,25 @@ fn pack_objects(scene: &Scene, meshes: &[crate::mesh::Mesh]) -> Vec<Option<Packi
         .collect()
 }
 
-/// Reads every object's mesh (errors name the scene line of its `mesh`) and checks that
-/// each fits the adapter's vertex and index buffers, before anything is allocated.
-/// Ties the packings of animated objects to their skeletons (`mesh::pack::SphereRig`).
+/// Ties the packings of animated objects to their skeletons (`mesh::pack::SphereRig`);
+/// an object whose collider is `Joints` gets one sphere per joint.
 fn rig_packings(
+    scene: &Scene,
     packings: Vec<Option<crate::mesh::pack::Packing>>,
     skins: &Skins,
 ) -> Vec<Option<crate::mesh::pack::Packing>> {
     packings
         .into_iter()
         .zip(skins)
-        .map(|(packing, skin)| {
+        .zip(&scene.objects)
+        .map(|((packing, skin), object)| {
+            if let (crate::scene::MeshCollider::Joints, Some((mesh, animation))) =
+                (&object.collider, skin)
+            {
+                return Some(crate::mesh::pack::SphereRig::joint_spheres(
+                    mesh, *animation,
+                ));
+            }
             let mut packing = packing?;
             if let Some((mesh, animation)) = skin {
                 packing.rig = Some(Box::new(crate::mesh::pack::SphereRig::new(
@@ -159,6 +167,8 @@ fn rig_packings(
 /// grass and its first frame use).
 type Skins = Vec<Option<(crate::mesh::skin::SkinnedMesh, usize)>>;
 
+/// Reads every object's mesh (errors name the scene line of its `mesh`) and checks that
+/// each fits the adapter's vertex and index buffers, before anything is allocated.
 fn load_meshes(scene: &Scene, gpu: Option<&Gpu>) -> Result<(Vec<crate::mesh::Mesh>, Skins)> {
     let mut meshes = Vec::with_capacity(scene.objects.len());
     let mut skins = Vec::with_capacity(scene.objects.len());
@@ -338,7 +348,7 @@ impl Session {
                 // `--blades N` is a whole field of N blades, never a streamed one.
                 scene.field.tile_size = 0.0;
                 let (meshes, skins) = load_meshes(&scene, gpu)?;
-                let packings = rig_packings(pack_objects(&scene, &meshes), &skins);
+                let packings = rig_packings(&scene, pack_objects(&scene, &meshes), &skins);
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
                 if let Some(gpu) = gpu {
@@ -369,7 +379,7 @@ impl Session {
                     None => generate(&scene.field, &terrain, density.as_ref()),
                 };
                 let (meshes, skins) = load_meshes(&scene, gpu)?;
-                let packings = rig_packings(pack_objects(&scene, &meshes), &skins);
+                let packings = rig_packings(&scene, pack_objects(&scene, &meshes), &skins);
                 let mut field = field;
                 grow_on_objects(&scene, &meshes, &mut field)?;
                 if let Some(gpu) = gpu {

@@ -83,6 +83,50 @@ impl SphereRig {
         }
     }
 
+    /// One sphere per joint of `mesh` around the vertices it moves most (centroid; radius
+    /// the root-mean-square distance from it, at least 2 cm), tied to that joint: the
+    /// packing of `MeshCollider::Joints`. A joint that moves no vertex most has no sphere.
+    pub fn joint_spheres(mesh: &super::skin::SkinnedMesh, animation: usize) -> Packing {
+        let mut sums = vec![(Vec3::ZERO, 0usize); mesh.joints.len()];
+        let dominant = |v: usize| {
+            let (j, w) = (mesh.joint_indices[v], mesh.weights[v]);
+            let k = (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b])).unwrap_or(0);
+            usize::from(j[k])
+        };
+        for (v, p) in mesh.positions.iter().enumerate() {
+            let s = &mut sums[dominant(v)];
+            s.0 += Vec3::from(*p);
+            s.1 += 1;
+        }
+        let mut spread = vec![0.0f32; mesh.joints.len()];
+        for (v, p) in mesh.positions.iter().enumerate() {
+            let j = dominant(v);
+            let c = sums[j].0 / sums[j].1 as f32;
+            spread[j] += Vec3::from(*p).distance_squared(c);
+        }
+        let (mut spheres, mut joint_of) = (Vec::new(), Vec::new());
+        for (j, (sum, n)) in sums.iter().enumerate() {
+            if *n == 0 {
+                continue;
+            }
+            let c = *sum / *n as f32;
+            let r = (spread[j] / *n as f32).sqrt().max(0.02);
+            spheres.push([c.x, c.y, c.z, r]);
+            joint_of.push(j);
+        }
+        Packing {
+            spheres,
+            coverage: 1.0,
+            inside_voxels: 0,
+            voxel: 0.0,
+            rig: Some(Box::new(SphereRig {
+                mesh: mesh.clone(),
+                animation,
+                joint_of,
+            })),
+        }
+    }
+
     /// The spheres at `time`, in the mesh's space (each moved by its joint's skinning
     /// matrix; radii unchanged: a skeleton's joints do not scale).
     pub fn posed(&self, spheres: &[[f32; 4]], time: f32) -> Vec<[f32; 4]> {

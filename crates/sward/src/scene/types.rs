@@ -772,13 +772,18 @@ pub enum MeshCollider {
     /// `physics.collision_hierarchy` on for the whole scene (the hierarchy holds every
     /// collider).
     Bvh(SpherePacking),
+    /// For an object with an `animation`: one sphere per joint of its skeleton, around the
+    /// vertices that joint moves most (their centroid; radius their root-mean-square
+    /// distance from it), posed with the joint every frame — the prairie thesis's
+    /// interaction spheres: the feet, legs and body press the grass as they move.
+    Joints,
 }
 
 impl MeshCollider {
     /// The packing asked for, if any.
     pub fn packing(&self) -> Option<&SpherePacking> {
         match self {
-            MeshCollider::None => None,
+            MeshCollider::None | MeshCollider::Joints => None,
             MeshCollider::Spheres(p) | MeshCollider::Bvh(p) => Some(p),
         }
     }

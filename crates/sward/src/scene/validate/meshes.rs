@@ -46,7 +46,8 @@ pub(super) const RULES: &[(&str, Rule)] = &{
     (
         "objects[].collider",
         Rule::Choice(
-            "None, Spheres((count: .., resolution: ..)) or Bvh((count: .., resolution: ..))",
+            "None, Spheres((count: .., resolution: ..)), Bvh((count: .., resolution: ..)) or \
+             Joints (with an animation)",
         ),
     ),
     ("objects[].collider.count", Rule::Integer(PACKED)),
@@ -80,6 +81,14 @@ pub(super) fn object(check: &Checker, i: usize, object: &mut MeshObject) -> Resu
         return Err(check.error(&name, message));
     }
     check.file_path(&name, &mut object.mesh, "a .obj, .gltf or .glb file")?;
+    if object.collider == crate::scene::MeshCollider::Joints && object.animation.is_none() {
+        let field = at("collider");
+        let message = format!(
+            "{field} = Joints needs a skeleton: give the object an animation of its skinned \
+             .gltf or .glb (objects[{i}].animation = Some(\"name\"))"
+        );
+        return Err(check.error(&field, message));
+    }
     if object.animation.is_some() && lower.ends_with(".obj") {
         let field = at("animation");
         let message = format!(
