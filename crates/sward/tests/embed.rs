@@ -195,3 +195,128 @@ fn the_hosts_world_receives_swards_shadows() {
     assert!(darker > 20, "{darker} pixels in shadow");
     assert_eq!(brighter, 0);
 }
+
+/// A host that draws with 4x MSAA: the grass pipeline is built for its sample count, the
+/// occlusion pyramid reads its multisampled depth, and a frame records, submits and
+/// resolves without a device error (wgpu's default handler would panic on one).
+#[test]
+fn a_multisampled_host_draws_the_grass() {
+    let (device, queue) = example::open().expect("device");
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let depth_format = wgpu::TextureFormat::Depth32Float;
+    let mut grass = GrassRenderer::new(
+        &device,
+        &queue,
+        GrassRendererDescriptor {
+            color_format: format,
+            depth_format,
+            sample_count: 4,
+            output: ColorOutput::ToneMapped,
+            scene: SceneSource::Ron(
+                "(terrain: (size: 8.0, height: Flat), field: (density: 60.0))".into(),
+            ),
+        },
+    )
+    .expect("a 4x host");
+    let size = (96u32, 54u32);
+    let target = |format, samples, usage| {
+        device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("msaa-host.target"),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+            .create_view(&Default::default())
+    };
+    let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+    let color = target(format, 4, attach);
+    let resolved = target(format, 1, attach | wgpu::TextureUsages::COPY_SRC);
+    let depth = target(
+        depth_format,
+        4,
+        attach | wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let camera = sward::CameraView {
+        eye: glam::Vec3::new(0.0, 1.5, 4.0),
+        target: glam::Vec3::ZERO,
+        fov_y: 60.0,
+        near: 0.05,
+        far: 100.0,
+    };
+    for _ in 0..3 {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        // The host's opaque pass: clears colour and depth.
+        drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("msaa-host.world"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLUE),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        }));
+        let inputs = FrameInputs {
+            camera,
+            size,
+            dt: 1.0 / 30.0,
+            colliders: &[],
+            depth: Some(&depth),
+            wind: None,
+        };
+        grass
+            .prepare(&device, &queue, &mut encoder, &inputs)
+            .expect("prepare");
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("msaa-host.grass"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &color,
+                    depth_slice: None,
+                    resolve_target: Some(&resolved),
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            grass.render(&mut pass);
+        }
+        queue.submit([encoder.finish()]);
+    }
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("idle");
+    let drawn = grass.drawn_blades().expect("counters");
+    eprintln!("4x MSAA host: {drawn} blades drawn");
+    assert!(drawn > 100, "{drawn} blades drawn");
+}
