@@ -354,7 +354,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 fn write_figure(out: &std::path::Path) -> sward::Result<()> {
     let mut outputs = sward::output::Outputs::new();
     outputs.add("--out", out)?;
-    sward::mesh::figure::write_walker(&mut outputs, out)?;
+    outputs.write(out, sward::mesh::figure::walker_gltf().as_bytes())?;
     outputs.commit()?;
     println!("wrote {}", out.display());
     Ok(())

@@ -9,8 +9,6 @@
 use glam::{Mat4, Quat, Vec3};
 use serde_json::json;
 
-use crate::error::Result;
-
 /// The skeleton: name, parent, global position at rest (m). Joint k is node k.
 const JOINTS: [(&str, Option<usize>, [f32; 3]); 9] = [
     ("hips", None, [0.0, 0.95, 0.0]),
@@ -222,11 +220,6 @@ pub fn walker_gltf() -> String {
                      "uri": format!("data:application/octet-stream;base64,{}", base64(&bin))}],
     });
     serde_json::to_string_pretty(&doc).unwrap_or_default()
-}
-
-/// Writes the figure to `path` through `outputs` (a temporary file renamed into place).
-pub fn write_walker(outputs: &mut crate::output::Outputs, path: &std::path::Path) -> Result<()> {
-    outputs.write(path, walker_gltf().as_bytes())
 }
 
 /// Standard base64 with padding (RFC 4648), for the embedded buffer.
