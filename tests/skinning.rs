@@ -14,6 +14,21 @@ use sward::render::target::{Target, COLOR_FORMAT};
 use sward::render::Renderer;
 use sward::session::Session;
 
+/// A session, renderer, small target and the scene's camera for `sets` over the default
+/// scene.
+fn setup(
+    gpu: &sward::gpu::Gpu,
+    sets: &[String],
+    size: (u32, u32),
+) -> (Session, Renderer, Target, CameraView) {
+    let scene = sward::commands::load(None, sets).expect("scene");
+    let session = Session::new(scene, None, Some(gpu)).expect("session");
+    let r = Renderer::from_session(gpu, &session, COLOR_FORMAT).expect("renderer");
+    let target = Target::new(gpu, size.0, size.1).expect("target");
+    let camera = CameraView::from_scene(&session.scene.camera);
+    (session, r, target, camera)
+}
+
 fn walker() -> String {
     format!("{}/assets/models/walker.gltf", env!("CARGO_MANIFEST_DIR"))
 }
@@ -29,12 +44,8 @@ fn the_gpu_poses_the_walker_as_its_cpu_twin() {
             walker()
         ),
     ];
-    let scene = sward::commands::load(None, &sets).expect("scene");
-    let session = Session::new(scene, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
     let size = (64, 36);
-    let target = Target::new(&gpu, size.0, size.1).expect("target");
-    let camera = CameraView::from_scene(&session.scene.camera);
+    let (session, mut r, target, camera) = setup(&gpu, &sets, size);
     for _ in 0..7 {
         r.frame(
             &gpu,
@@ -222,12 +233,8 @@ fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
             walker()
         ),
     ];
-    let scene = sward::commands::load(None, &sets).expect("scene");
-    let session = Session::new(scene, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
     let size = (32, 18);
-    let target = Target::new(&gpu, size.0, size.1).expect("target");
-    let camera = CameraView::from_scene(&session.scene.camera);
+    let (_session, mut r, target, camera) = setup(&gpu, &sets, size);
     // 5 s: the walker covers 7 m, from x = -5 to x = 2.
     let mut most_eta: Vec<f32> = Vec::new();
     for f in 0..150 {

@@ -489,7 +489,7 @@ mod tests {
         // A minimal glTF 2.0 file: one triangle, positions in an embedded base64 buffer.
         let positions: Vec<f32> = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
         let bytes: Vec<u8> = positions.iter().flat_map(|f| f.to_le_bytes()).collect();
-        let b64 = base64_encode(&bytes);
+        let b64 = super::figure::base64(&bytes);
         let text = format!(
             r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
             "nodes":[{{"mesh":0,"translation":[0,0,2]}}],
@@ -504,23 +504,5 @@ mod tests {
         // The node's translation is applied.
         assert_eq!(m.positions[1], [1.0, 0.0, 2.0]);
         assert_eq!(m.normals[0], [0.0, 0.0, 1.0]);
-    }
-
-    fn base64_encode(bytes: &[u8]) -> String {
-        const T: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        let mut out = String::new();
-        for c in bytes.chunks(3) {
-            let n = (u32::from(c[0]) << 16)
-                | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
-                | u32::from(*c.get(2).unwrap_or(&0));
-            for k in 0..4 {
-                if k <= c.len() {
-                    out.push(T[((n >> (18 - 6 * k)) & 63) as usize] as char);
-                } else {
-                    out.push('=');
-                }
-            }
-        }
-        out
     }
 }
