@@ -235,6 +235,13 @@ fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
     ];
     let size = (32, 18);
     let (_session, mut r, target, camera) = setup(&gpu, &sets, size);
+    // The embedding's sphere budget counts what the frame places (the rigged joints and the
+    // scene's colliders) without placing them.
+    assert_eq!(
+        r.scene_sphere_count(),
+        r.frame_spheres().len() - r.dynamic_spheres.len()
+    );
+    assert!(r.scene_sphere_count() >= 9, "one sphere per joint");
     // 5 s: the walker covers 7 m, from x = -5 to x = 2.
     let mut most_eta: Vec<f32> = Vec::new();
     for f in 0..150 {

@@ -289,8 +289,8 @@ impl GrassRenderer {
         }
         check_inputs(inputs, &self.gpu)?;
         let r = &mut self.renderer;
-        // The scene's colliders and its objects' packed spheres, without last frame's.
-        let scene_spheres = r.frame_spheres().len() - r.dynamic_spheres.len();
+        // The scene's colliders and its objects' packed spheres (counted, not posed).
+        let scene_spheres = r.scene_sphere_count();
         let max = crate::scene::limits::MAX_SPHERES;
         if scene_spheres + inputs.colliders.len() > max {
             return Err(Error::Invalid(format!(

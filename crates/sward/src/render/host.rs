@@ -75,6 +75,19 @@ impl HostPipelines {
 }
 
 impl Renderer {
+    /// The spheres the scene itself collides with every frame: its colliders and its
+    /// objects' packed spheres (what [`Renderer::frame_spheres`] holds before the dynamic
+    /// ones), counted without placing or posing them.
+    pub fn scene_sphere_count(&self) -> usize {
+        let packed: usize = self
+            .packings
+            .iter()
+            .flatten()
+            .map(|p| p.spheres.len())
+            .sum();
+        self.scene.colliders.len() + packed
+    }
+
     /// What `encode_scene` brings up to date before a frame that a host's pass draws: the
     /// grass's specialisation for the scene as it now is.
     pub fn sync_for_host(&mut self, gpu: &crate::gpu::Gpu) {
