@@ -308,3 +308,99 @@ fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
     );
     assert!(widest < 1.0, "a blade {widest} m from the path was pressed");
 }
+
+/// Walk mode's steering reaches the grass (issue 29, point 2): the window's [`Walker`]
+/// takes over the figure standing at (0, −4) facing +z, W walks it 5 s (accelerating to
+/// 1.4 m/s: 6.8 m), and each frame its pose goes to the renderer as the window hands it
+/// over (`Renderer::pose_object`). The blades it pressed lie along its walk (x = 0), none
+/// beyond 1 m of it, and none more than 0.6 m ahead of where it stopped (its reach).
+/// Measured on lavapipe: 500 blades pressed, 90 % within 0.28 m of x = 0, the farthest
+/// 0.48 m; the walker ended at z = 2.83, the farthest pressed blade at z = 3.32.
+#[test]
+fn a_steered_walker_presses_the_grass_where_it_walks() {
+    use sward_app::app::walker::{WalkInput, Walker};
+    let gpu = common::gpu();
+    let sets = vec![
+        "terrain.height=Flat".to_string(),
+        "terrain.size=12".to_string(),
+        "field.tile_size=0".to_string(),
+        "field.density=120".to_string(),
+        "field.height=(min: 0.4, max: 0.6)".to_string(),
+        "colliders=[]".to_string(),
+        "wind.directional=None".to_string(),
+        format!(
+            "objects=[(mesh: {:?}, animation: Some(\"walk\"), stride: 1.76, collider: Joints, \
+             translation: (0.0, 0.0, -4.0))]",
+            walker()
+        ),
+    ];
+    let size = (32, 18);
+    let (_session, mut r, target, camera) = setup(&gpu, &sets, size);
+    let mut w = Walker::take(&r.scene, &r.terrain, r.time, |i| r.animation_duration(i))
+        .expect("the figure is animated");
+    assert!((w.facing() - glam::Vec2::Y).length() < 1e-4);
+    let walk = WalkInput {
+        forward: 1.0,
+        ..WalkInput::default()
+    };
+    let mut most_eta: Vec<f32> = Vec::new();
+    for f in 0..150 {
+        w.step(walk, 1.0 / 30.0);
+        r.pose_object(w.object, Some(w.pose(&r.terrain)))
+            .expect("pose");
+        r.frame(
+            &gpu,
+            1.0 / 30.0,
+            &camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+        if f % 3 == 2 {
+            let (_, states) = r.buffers.read(&gpu).expect("blades");
+            most_eta.resize(states.len(), 0.0);
+            for (m, s) in most_eta.iter_mut().zip(&states) {
+                *m = m.max(s.rest_eta[3]);
+            }
+        }
+    }
+    gpu.check_errors().expect("no GPU error");
+    // A pose past the scene's objects, or with a NaN, is refused.
+    assert!(r.pose_object(1, Some(w.pose(&r.terrain))).is_err());
+    let mut bad = w.pose(&r.terrain);
+    bad.origin.x = f32::NAN;
+    assert!(r.pose_object(0, Some(bad)).is_err());
+    let (blades, _) = r.buffers.read(&gpu).expect("blades");
+    let pressed: Vec<[f32; 2]> = blades
+        .iter()
+        .zip(&most_eta)
+        .filter(|(_, &eta)| eta > 0.02)
+        .map(|(b, _)| [b.v0_dir[0], b.v0_dir[2]])
+        .collect();
+    let mut off: Vec<f32> = pressed.iter().map(|p| p[0].abs()).collect();
+    off.sort_by(f32::total_cmp);
+    let half = off.get(off.len() * 9 / 10).copied().unwrap_or(f32::MAX);
+    let farthest_ahead = pressed.iter().map(|p| p[1]).fold(f32::MIN, f32::max);
+    eprintln!(
+        "{} blades pressed, 90 % within {half:.2} m of x = 0, the farthest {:.2} m; the \
+         walker ended at z = {:.2}, the farthest pressed blade at z = {farthest_ahead:.2}",
+        pressed.len(),
+        off.last().copied().unwrap_or(0.0),
+        w.position.y
+    );
+    assert!(pressed.len() > 100, "{} blades pressed", pressed.len());
+    assert!(
+        (0.05..=0.5).contains(&half),
+        "the trail's half-width is {half}"
+    );
+    assert!(off.last().copied().unwrap_or(0.0) < 1.0, "{off:?}");
+    assert!(
+        (w.position.y - 2.8).abs() < 0.1,
+        "the walker ended at {}",
+        w.position
+    );
+    assert!(
+        farthest_ahead < w.position.y + 0.6,
+        "grass ahead of it was pressed"
+    );
+}

@@ -451,3 +451,91 @@ fn the_window_keeps_its_memory_over_a_replay() {
         last - third
     );
 }
+
+/// Walk mode through the real window (issue 29, point 2): `walk.ron` with a thinner field,
+/// G at frame 2 takes the figure over from its path and puts the camera behind it, W walks
+/// it to the end of the run and D turns it for 15 frames (0.5 s at the replay's 1/30 s).
+/// The exit summary says how far it walked and where it faces: 86 frames of W at 1.4 m/s
+/// after a 0.28 s start are 3.82 m, and it faces its path's first heading turned right by
+/// a quarter turn per second for 0.5 s. The screenshot shows the figure in the middle of
+/// the window, not a ball. Measured on lavapipe: 3.84 m, heading 52.1°.
+#[test]
+fn walk_mode_steers_the_character_with_the_camera_behind_it() {
+    let _window = one_window();
+    let dir = tempdir("window_walk");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/walk.ron");
+    let steps = vec![
+        step(2, Event::Key(Key::G, true)),
+        step(3, Event::Key(Key::G, false)),
+        step(4, Event::Key(Key::W, true)),
+        step(40, Event::Key(Key::D, true)),
+        step(55, Event::Key(Key::D, false)),
+    ];
+    let script_path = dir.join("walk.ron");
+    Script { steps }
+        .save(&script_path)
+        .expect("write the script");
+    let shot = dir.join("walk.png");
+    let display = display();
+    let out = sward(
+        &display,
+        &[
+            "--scene",
+            scene.to_str().unwrap(),
+            "--set",
+            "field.density=40",
+            "--replay",
+            script_path.to_str().unwrap(),
+            "--size",
+            "480x270",
+            "--exit-after-frames",
+            "90",
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--adapter",
+            "software",
+        ],
+    );
+    assert!(out.status.success(), "sward exited with {}", out.status);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("walk mode: the character walked "))
+        .expect("the exit summary reports the walk");
+    let walked: f32 = line.split(' ').next().unwrap().parse().expect("metres");
+    let heading: f32 = line
+        .rsplit("heading ")
+        .next()
+        .and_then(|h| h.trim_end_matches('°').parse().ok())
+        .expect("heading");
+    let expected = 86.0 / 30.0 * 1.4 - 0.5 * 1.4 * 1.4 / 5.0;
+    assert!(
+        (walked - expected).abs() < 0.1,
+        "walked {walked} m, expected {expected}"
+    );
+    // The path's first leg runs from (-4, -3) to (4, -4).
+    let path = 8.0f32.atan2(-1.0).to_degrees();
+    assert!(
+        (heading - (path - 45.0)).abs() < 1.0,
+        "heading {heading}°, expected {}°",
+        path - 45.0
+    );
+    // The figure (a skin colour, red over green) where the camera looks: the middle of the
+    // view beside the panel (the panel covers the window's left 345 pixels), not under it.
+    let img = image::open(&shot).expect("screenshot").to_rgba8();
+    let red = |x0: u32, x1: u32| {
+        (x0..x1)
+            .flat_map(|x| (60..240).map(move |y| (x, y)))
+            .filter(|&(x, y)| {
+                let p = img.get_pixel(x, y);
+                p[0] as i32 > p[1] as i32 + 30
+            })
+            .count()
+    };
+    let figure = red(370, 450);
+    assert!(
+        figure > 200,
+        "{figure} figure pixels in the middle of the view"
+    );
+    assert_eq!(red(0, 340), 0, "the panel shows no figure");
+}

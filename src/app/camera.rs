@@ -1,6 +1,6 @@
 //! The interactive camera controller: a fly camera (WASD + QE, right-drag to look), an
 //! orbit camera around a point, and a follow camera that orbits a moving object (the
-//! steered ball). It turns one frame of input into a [`CameraView`] for the renderer.
+//! steered ball), and a camera behind the walking character (walk mode). It turns one frame of input into a [`CameraView`] for the renderer.
 //!
 //! The state is yaw/pitch angles rather than a target point so that looking around is a
 //! plain addition and the pitch clamp keeps `look_at` away from its singularity. Every
@@ -8,7 +8,7 @@
 //! camera under the ground shows nothing but the underside of the field. The controller
 //! is pure logic (no window), so it is unit-tested here.
 
-use std::f32::consts::TAU;
+use std::f32::consts::{PI, TAU};
 
 use glam::{Vec2, Vec3};
 
@@ -54,7 +54,17 @@ pub enum CameraMode {
     Orbit,
     /// Orbit a moving point (the steered ball); the centre trails it smoothly.
     Follow,
+    /// Behind the walking character at `orbit_distance`, turning with it (`track_heading`):
+    /// the prairie thesis's camera. Right-drag tilts it, the wheel moves it nearer.
+    Behind,
 }
+
+/// Time constant with which the camera behind the walker swings round after it turns, in
+/// seconds: slower than the walker itself, so a turn reads on screen.
+pub const BEHIND_TIME_CONSTANT: f32 = 0.35;
+/// Distance and tilt the camera takes behind the walker when walk mode starts.
+pub const BEHIND_DISTANCE: f32 = 4.5;
+pub const BEHIND_PITCH: f32 = -0.3;
 
 /// One frame of camera input, already mapped from keys and mouse by the window code.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -92,6 +102,13 @@ pub struct CameraController {
     pub far: f32,
     /// Smallest height of the eye above the terrain, in metres.
     pub min_clearance: f32,
+    /// The heading the walker faces (its +z towards (sin h, 0, cos h)), which the camera
+    /// behind it turns to.
+    pub walker_heading: f32,
+    /// Radians the view turns left of the followed point in the follow and walk modes, so
+    /// that the point shows in the middle of the 3D view beside the panel rather than in the
+    /// middle of the window, under the panel (`centre_offset`).
+    pub view_offset: f32,
 }
 
 impl CameraController {
@@ -126,14 +143,23 @@ impl CameraController {
             near: view.near,
             far: view.far,
             min_clearance: DEFAULT_CLEARANCE,
+            walker_heading: 0.0,
+            view_offset: 0.0,
         }
     }
 
-    /// The view for the renderer: the target is one metre along [`Self::forward`].
+    /// The view for the renderer: the target is one metre along [`Self::forward`] (turned
+    /// by `view_offset` in the follow and walk modes).
     pub fn view(&self) -> CameraView {
+        let forward = match self.mode {
+            CameraMode::Follow | CameraMode::Behind if self.view_offset.is_finite() => {
+                direction(self.yaw - self.view_offset, self.pitch)
+            }
+            _ => self.forward(),
+        };
         CameraView {
             eye: self.eye,
-            target: self.eye + self.forward(),
+            target: self.eye + forward,
             fov_y: self.fov_y,
             near: self.near,
             far: self.far,
@@ -142,9 +168,7 @@ impl CameraController {
 
     /// Unit view direction from yaw and pitch.
     pub fn forward(&self) -> Vec3 {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        Vec3::new(sy * cp, sp, -cy * cp)
+        direction(self.yaw, self.pitch)
     }
 
     /// Unit horizontal vector to the right of the view (what D moves along).
@@ -222,6 +246,21 @@ impl CameraController {
                 }
                 self.eye = self.orbit_center - self.forward() * self.orbit_distance;
             }
+            CameraMode::Behind => {
+                self.zoom(scroll);
+                // WASD walks the character; the camera trails its chest and swings round
+                // to its back, both with frame-rate independent exponentials.
+                if let Some(target) = follow.filter(|t| t.is_finite()) {
+                    let blend = 1.0 - (-dt / FOLLOW_TIME_CONSTANT).exp();
+                    self.orbit_center += (target - self.orbit_center) * blend;
+                }
+                let turn = (yaw_behind(self.walker_heading) - self.yaw + PI).rem_euclid(TAU) - PI;
+                let blend = 1.0 - (-dt / BEHIND_TIME_CONSTANT).exp();
+                if turn.is_finite() {
+                    self.yaw = (self.yaw + turn * blend).rem_euclid(TAU);
+                }
+                self.eye = self.orbit_center - self.forward() * self.orbit_distance;
+            }
         }
 
         self.keep_above_ground(terrain);
@@ -246,7 +285,24 @@ impl CameraController {
                 self.mode = mode;
                 self.aim_at(center);
             }
-            (CameraMode::Follow, None) => self.mode = CameraMode::Fly,
+            (CameraMode::Follow | CameraMode::Behind, None) => self.mode = CameraMode::Fly,
+            (CameraMode::Behind, Some(center)) => {
+                // Straight behind the walker at once; it swings round with it after.
+                self.mode = mode;
+                self.yaw = yaw_behind(self.walker_heading);
+                self.pitch = BEHIND_PITCH;
+                self.orbit_distance = BEHIND_DISTANCE;
+                self.orbit_center = center;
+                self.eye = center - self.forward() * self.orbit_distance;
+            }
+        }
+    }
+
+    /// Tells the camera which way the walker faces now (read in [`CameraMode::Behind`]).
+    /// A non-finite heading is ignored.
+    pub fn track_heading(&mut self, heading: f32) {
+        if heading.is_finite() {
+            self.walker_heading = heading.rem_euclid(TAU);
         }
     }
 
@@ -324,6 +380,36 @@ fn ground(terrain: &HeightField, p: Vec3) -> f32 {
         return terrain.height(p.x, p.z);
     }
     terrain.height(p.x.clamp(-half, half), p.z.clamp(-half, half))
+}
+
+/// The unit direction of a yaw and pitch (yaw 0 along −z, π/2 along +x).
+fn direction(yaw: f32, pitch: f32) -> Vec3 {
+    let (sy, cy) = yaw.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    Vec3::new(sy * cp, sp, -cy * cp)
+}
+
+/// How far left (radians) a view of `size` pixels, whose 3D part starts `left` pixels from
+/// the window's left edge, must turn for what it looks at to show in the middle of that
+/// part: the angle of the part's centre off the window's centre, at vertical field of view
+/// `fov_y` degrees.
+pub fn centre_offset(size: (u32, u32), left: u32, fov_y: f32) -> f32 {
+    let (w, h) = (size.0.max(1) as f32, size.1.max(1) as f32);
+    // The part's centre in normalised x (−1 left, 1 right).
+    let centre = left.min(size.0) as f32 / w;
+    let half_width = (w / h) * (0.5 * fov_y.to_radians()).tan();
+    let angle = (centre * half_width).atan();
+    if angle.is_finite() {
+        angle
+    } else {
+        0.0
+    }
+}
+
+/// The camera yaw that looks along a walker's heading `h` (facing (sin h, 0, cos h)):
+/// the camera's forward is (sin yaw, ·, −cos yaw).
+pub fn yaw_behind(h: f32) -> f32 {
+    (PI - h).rem_euclid(TAU)
 }
 
 fn finite_or_zero(v: f32) -> f32 {
@@ -708,5 +794,61 @@ mod tests {
         let orbit_view = cam.view();
         cam.set_mode(CameraMode::Fly, None);
         assert_eq!(cam.view(), orbit_view);
+    }
+
+    #[test]
+    fn behind_swings_round_to_the_walkers_back_and_shows_it_beside_the_panel() {
+        let flat = HeightField::flat(400.0, 3);
+        let mut cam =
+            CameraController::from_view(&view(Vec3::new(0.0, 8.0, 12.0), Vec3::new(0.0, 0.0, 0.0)));
+        let chest = Vec3::new(1.0, 1.2, 2.0);
+        // Facing +x: the camera goes straight behind it, at −x, looking along +x.
+        cam.track_heading(std::f32::consts::FRAC_PI_2);
+        cam.set_mode(CameraMode::Behind, Some(chest));
+        assert_eq!(cam.mode, CameraMode::Behind);
+        let flat_dir = |c: &CameraController| {
+            let f = c.forward();
+            Vec2::new(f.x, f.z).normalize()
+        };
+        assert!(
+            (flat_dir(&cam) - Vec2::X).length() < 1e-5,
+            "{:?}",
+            cam.forward()
+        );
+        assert!(((cam.eye - chest).length() - BEHIND_DISTANCE).abs() < 1e-3);
+        // It turns to face −z (heading π): the camera follows within a few time constants,
+        // the short way round, and never ends up in front of it.
+        cam.track_heading(std::f32::consts::PI);
+        for _ in 0..(3.0 / DT) as usize {
+            cam.update(&CameraInput::default(), DT, &flat, Some(chest));
+            assert!((cam.eye - chest).dot(Vec3::new(0.0, 0.0, 1.0)) > -0.5);
+        }
+        assert!(
+            (flat_dir(&cam) - Vec2::NEG_Y).length() < 0.02,
+            "{:?}",
+            flat_dir(&cam)
+        );
+        // WASD does not move it (they walk the character).
+        let before = cam;
+        let keys = CameraInput {
+            forward: 1.0,
+            right: 1.0,
+            ..Default::default()
+        };
+        cam.update(&keys, DT, &flat, Some(chest));
+        assert!((cam.eye - before.eye).length() < 1e-4);
+
+        // A panel over the left half of a square 90° view: the chest shows at the middle of
+        // the right half (normalised x = 0.5), not at the window's centre (exactly at a
+        // level view; the camera's tilt of 0.3 rad moves it by 0.027).
+        cam.fov_y = 90.0;
+        cam.view_offset = centre_offset((400, 400), 200, 90.0);
+        assert!((cam.view_offset - 0.5f32.atan()).abs() < 1e-6);
+        let clip = cam.view().view_proj(1.0) * chest.extend(1.0);
+        assert!((clip.x / clip.w - 0.5).abs() < 0.04, "{}", clip.x / clip.w);
+        cam.pitch = 0.0;
+        let clip = cam.view().view_proj(1.0) * (cam.eye + cam.forward()).extend(1.0);
+        assert!((clip.x / clip.w - 0.5).abs() < 1e-4, "{}", clip.x / clip.w);
+        assert_eq!(centre_offset((400, 400), 0, 90.0), 0.0);
     }
 }

@@ -7,6 +7,7 @@ use glam::Vec2;
 
 use super::camera::CameraInput;
 use super::replay::{Button, Event, Key};
+use super::walker::WalkInput;
 
 /// Held keys and buttons, the cursor, and the look/scroll deltas since the last frame.
 #[derive(Debug, Default)]
@@ -85,6 +86,20 @@ impl InputState {
         Vec2::new(axis(Key::Right, Key::Left), axis(Key::Up, Key::Down))
     }
 
+    /// The walker's controls (walk mode): W/S or ↑/↓ walk, A/D or ←/→ turn, Shift runs;
+    /// nothing while Ctrl is down.
+    pub fn walk(&self) -> WalkInput {
+        if self.ctrl() {
+            return WalkInput::default();
+        }
+        let axis = |pos: Key, neg: Key| self.held(pos) as i32 as f32 - self.held(neg) as i32 as f32;
+        WalkInput {
+            forward: (axis(Key::W, Key::S) + axis(Key::Up, Key::Down)).clamp(-1.0, 1.0),
+            turn: (axis(Key::D, Key::A) + axis(Key::Right, Key::Left)).clamp(-1.0, 1.0),
+            fast: self.held(Key::Shift),
+        }
+    }
+
     /// The camera's input for this frame; resets the look and scroll deltas. Held keys are
     /// ignored while Ctrl is down (Ctrl+S saves, it does not fly backwards).
     pub fn take_camera(&mut self) -> CameraInput {
@@ -146,6 +161,21 @@ mod tests {
         assert_eq!((c.forward, c.right, c.up), (0.0, 0.0, 0.0));
         s.release_all();
         assert!(!s.held(Key::W) && !s.ctrl());
+    }
+
+    #[test]
+    fn walking_reads_wasd_and_the_arrows_but_not_under_ctrl() {
+        let mut s = InputState::default();
+        s.apply(Event::Key(Key::W, true));
+        s.apply(Event::Key(Key::Left, true));
+        s.apply(Event::Key(Key::Shift, true));
+        let w = s.walk();
+        assert_eq!((w.forward, w.turn, w.fast), (1.0, -1.0, true));
+        // W and ↑ together are no faster than one of them.
+        s.apply(Event::Key(Key::Up, true));
+        assert_eq!(s.walk().forward, 1.0);
+        s.apply(Event::Key(Key::Ctrl, true));
+        assert_eq!(s.walk(), WalkInput::default());
     }
 
     #[test]

@@ -17,6 +17,7 @@ pub mod replay;
 pub mod state;
 pub mod surface;
 pub mod ui_cache;
+pub mod walker;
 pub mod window;
 
 use std::path::PathBuf;

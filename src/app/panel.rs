@@ -27,6 +27,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Wheel", "fly speed (orbit / follow: distance)"),
     ("O", "orbit camera on / off"),
     ("F", "follow the character ball on / off"),
+    (
+        "G",
+        "walk mode on / off: the camera behind the animated character, W/S walk, A/D turn",
+    ),
     ("Tab", "switch Play / Edit mode"),
     ("Space", "throw a ball where the camera looks"),
     ("Left click (Play)", "throw a ball at the cursor"),
@@ -659,7 +663,28 @@ fn camera_section(ui: &mut Ui, app: &mut AppState) {
                     app.camera.set_mode(m, follow);
                 }
             }
+            // Walk mode: behind the scene's animated character, W/S/A/D steer it.
+            let walking = app.camera.mode == CameraMode::Behind;
+            if ui
+                .selectable_label(walking, "walk (G)")
+                .on_hover_text(
+                    "the camera behind the scene's animated character: W/S walk, A/D turn, \
+                     Shift runs",
+                )
+                .clicked()
+            {
+                app.toggle_walk();
+            }
         });
+        if let Some(w) = &app.walker {
+            ui.label(format!(
+                "walker at ({:.1}, {:.1}), {:.1} m/s, heading {:.0}°",
+                w.position.x,
+                w.position.y,
+                w.speed,
+                w.heading.to_degrees()
+            ));
+        }
         ui.add(
             egui::Slider::new(&mut app.camera.speed, 0.5..=200.0)
                 .logarithmic(true)

@@ -11,11 +11,12 @@ use glam::{Vec2, Vec3};
 
 use super::adaptive::FrameBudget;
 use super::balls::Balls;
-use super::camera::{CameraController, CameraMode};
+use super::camera::{centre_offset, CameraController, CameraMode};
 use super::editor::{Editor, Selection};
 use super::input::InputState;
 use super::picking::{pick_point, pick_terrain, screen_ray};
 use super::replay::{Button, Event, Key};
+use super::walker::Walker;
 use sward::error::{Error, Result};
 use sward::gpu::Gpu;
 use sward::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
@@ -49,6 +50,9 @@ pub const THROW_SPEED: f32 = 14.0;
 pub const BALL_RADIUS: f32 = 0.35;
 /// Radius of the steered character ball.
 pub const CHARACTER_RADIUS: f32 = 0.45;
+/// Height above its origin (its feet) of the walker's chest, which the camera behind it
+/// looks at, in the object's units (times its scale); the figure's hips are at 0.95.
+pub const WALKER_CHEST: f32 = 1.2;
 /// How close (pixels) the cursor must be to a guide point to pick it.
 pub const PICK_RADIUS_PX: f32 = 14.0;
 /// Wind grid the first guide switches to on a CPU adapter.
@@ -84,6 +88,9 @@ pub struct AppState {
     pub editor: Editor,
     applied_revision: u64,
     pub balls: Balls,
+    /// The scene's animated character while the user steers it (walk mode, `G`); it keeps
+    /// standing where it was left when the camera leaves walk mode.
+    pub walker: Option<Walker>,
     pub budget: FrameBudget,
     pub mode: Mode,
     pub input: InputState,
@@ -128,6 +135,11 @@ pub struct AppState {
     last_frame: Option<Instant>,
     /// The adapter is a CPU one (lavapipe): the defaults favour frame time.
     pub software: bool,
+}
+
+/// Whether `scene` has an animated object for walk mode (then no character ball is spawned).
+fn has_character(scene: &Scene) -> bool {
+    scene.objects.iter().any(|o| o.animation.is_some())
 }
 
 /// The default meadow, parsed from the built-in scene.
@@ -181,9 +193,12 @@ impl AppState {
             .with_grass_shadow_step(true)
             .with_billboard_step(true);
         let mut balls = Balls::new();
-        // The scene camera's target point, kept as the orbit centre.
+        // The scene camera's target point, kept as the orbit centre. A scene with an
+        // animated character has it walk (G) instead of a ball in its way.
         let target = camera.orbit_center;
-        balls.spawn_character((target.x, target.z), CHARACTER_RADIUS, &renderer.terrain);
+        if !has_character(&renderer.scene) {
+            balls.spawn_character((target.x, target.z), CHARACTER_RADIUS, &renderer.terrain);
+        }
         let applied_revision = editor.revision();
         let field_draft = renderer.scene.field.clone();
         Ok(Self {
@@ -194,6 +209,7 @@ impl AppState {
             editor,
             applied_revision,
             balls,
+            walker: None,
             budget,
             mode: Mode::Play,
             input: InputState::default(),
@@ -347,6 +363,7 @@ impl AppState {
             Key::Escape => self.editor.select(None),
             Key::O => self.toggle_camera(CameraMode::Orbit),
             Key::F => self.toggle_camera(CameraMode::Follow),
+            Key::G => self.toggle_walk(),
             Key::C if !ctrl => self.balls.clear(),
             Key::H | Key::F1 => self.show_help = !self.show_help,
             _ => {}
@@ -370,6 +387,51 @@ impl AppState {
         };
         let follow = self.followed();
         self.camera.set_mode(next, follow);
+    }
+
+    /// Walk mode on or off: the camera goes behind the scene's animated character and W/S/A/D
+    /// steer it (taken over where its path has it now), or back to flying, the character
+    /// standing where it was left. A scene without an animated object says so instead.
+    pub fn toggle_walk(&mut self) {
+        if self.camera.mode == CameraMode::Behind {
+            self.camera.set_mode(CameraMode::Fly, None);
+            return;
+        }
+        if self.walker.is_none() {
+            let r = &self.renderer;
+            self.walker = Walker::take(&r.scene, &r.terrain, r.time, |i| r.animation_duration(i));
+        }
+        let Some(w) = self.walker else {
+            self.status = Some(Status::Info(
+                "walk mode needs an animated character: this scene has no object with an \
+                 `animation` (assets/scenes/walk.ron has one)"
+                    .into(),
+            ));
+            return;
+        };
+        self.pose_walker();
+        self.camera.track_heading(w.heading);
+        let chest = self.walker_chest();
+        self.camera.set_mode(CameraMode::Behind, chest);
+    }
+
+    /// The point the camera behind the walker looks at: its chest.
+    fn walker_chest(&self) -> Option<Vec3> {
+        let w = self.walker.as_ref()?;
+        let scale = self.renderer.scene.objects.get(w.object)?.scale;
+        Some(w.pose(&self.renderer.terrain).origin + Vec3::Y * WALKER_CHEST * scale)
+    }
+
+    /// Hands the renderer the walker's pose (again each frame: a scene edited in the panel
+    /// is a new scene without it).
+    fn pose_walker(&mut self) {
+        let Some(w) = self.walker else { return };
+        let pose = w.pose(&self.renderer.terrain);
+        if let Err(e) = self.renderer.pose_object(w.object, Some(pose)) {
+            // The scene lost the object (it cannot, short of a new scene): stop steering.
+            self.status = Some(Status::Error(format!("walk mode stopped: {e}")));
+            self.walker = None;
+        }
     }
 
     /// The scene as it is now (guides from the editor, camera from the controller), for
@@ -450,12 +512,17 @@ impl AppState {
             .with_grass_shadow_step(true)
             .with_billboard_step(true);
         self.balls.thrown.clear();
+        // A new scene has its own objects: walk mode starts over on it.
+        self.walker = None;
         let target = self.camera.orbit_center;
-        self.balls.spawn_character(
-            (target.x, target.z),
-            CHARACTER_RADIUS,
-            &self.renderer.terrain,
-        );
+        self.balls.character = None;
+        if !has_character(&self.renderer.scene) {
+            self.balls.spawn_character(
+                (target.x, target.z),
+                CHARACTER_RADIUS,
+                &self.renderer.terrain,
+            );
+        }
         Ok(())
     }
 
@@ -524,13 +591,32 @@ impl AppState {
 
         // New guides and "replay the sequence" start at the simulation's clock.
         self.editor.set_clock(self.renderer.time);
+        let sim_dt = if self.paused { 0.0 } else { dt };
+        let walking = self.camera.mode == CameraMode::Behind;
+        if walking {
+            if let Some(w) = &mut self.walker {
+                w.step(self.input.walk(), sim_dt);
+                self.camera.track_heading(w.heading);
+            }
+        }
+        self.pose_walker();
         let camera_input = self.input.take_camera();
-        let follow = self.followed();
+        let follow = if walking {
+            self.walker_chest()
+        } else {
+            self.followed()
+        };
         self.camera
             .update(&camera_input, dt, &self.renderer.terrain, follow);
+        self.camera.view_offset =
+            centre_offset(self.size, self.view_region()[0], self.camera.fov_y);
 
-        let sim_dt = if self.paused { 0.0 } else { dt };
-        let steer = self.steer_direction();
+        // In walk mode the arrow keys walk the character, not the ball.
+        let steer = if walking {
+            Vec2::ZERO
+        } else {
+            self.steer_direction()
+        };
         self.balls.step(
             sim_dt,
             self.renderer.scene.physics.gravity_acceleration,

@@ -214,6 +214,16 @@ impl WindowApp {
                     r.app.budget.status()
                 );
             }
+            if let Some(w) = &r.app.walker {
+                eprintln!(
+                    "walk mode: the character walked {:.2} m and stands at ({:.2}, {:.2}), \
+                     heading {:.1}°",
+                    w.walked,
+                    w.position.x,
+                    w.position.y,
+                    w.heading.to_degrees()
+                );
+            }
         }
         if let Err(e) = self.write_outputs() {
             self.error.get_or_insert(e);

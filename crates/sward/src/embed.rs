@@ -65,7 +65,7 @@ use crate::gpu::Gpu;
 use crate::render::camera::CameraView;
 use crate::render::host::{HostPipelines, HostTarget};
 use crate::render::{DynamicSphere, Renderer};
-use crate::scene::{DirectionalWind, Scene, WindSource};
+use crate::scene::{DirectionalWind, ObjectPose, Scene, WindSource};
 use crate::session::Session;
 
 /// The features sward cannot work without: none beyond WebGPU's core (compute, storage
@@ -377,6 +377,15 @@ impl GrassRenderer {
     /// that the blades stand on it.
     pub fn ground_height(&self, x: f32, z: f32) -> f32 {
         self.renderer.terrain.height(x, z)
+    }
+
+    /// Steers the scene's object `index` (a character the host moves): from the next
+    /// `prepare` on it stands at `pose` — drawn there, posed at `pose.animation_time`, its
+    /// colliders pressing the grass there — instead of following its scene `motion`; `None`
+    /// hands it back. An index past the scene's objects or a non-finite pose is an error and
+    /// changes nothing.
+    pub fn pose_object(&mut self, index: usize, pose: Option<ObjectPose>) -> Result<()> {
+        self.renderer.pose_object(index, pose)
     }
 
     /// The blades the last prepared frame drew, read back (blocks until the GPU is done;

@@ -33,3 +33,4 @@ pub use embed::{
 };
 pub use error::{Error, Result};
 pub use render::camera::CameraView;
+pub use scene::ObjectPose;

@@ -500,12 +500,44 @@ impl Renderer {
         dt
     }
 
+    /// The length in seconds of the animation the scene's object `index` plays (`None`: it
+    /// has no animation).
+    pub fn animation_duration(&self, index: usize) -> Option<f32> {
+        self.skinning.as_ref()?.duration(index)
+    }
+
+    /// Puts the scene's object `index` where a program steering it wants it from the next
+    /// step on (`Some`), or hands it back to its scene `motion` (`None`). Refused, changing
+    /// nothing, for an index past the scene's objects or a pose with a non-finite number.
+    pub fn pose_object(
+        &mut self,
+        index: usize,
+        pose: Option<crate::scene::ObjectPose>,
+    ) -> Result<()> {
+        let count = self.scene.objects.len();
+        let Some(object) = self.scene.objects.get_mut(index) else {
+            return Err(crate::error::Error::Invalid(format!(
+                "object {index} cannot be posed: the scene has {count} objects (0 to {})",
+                count.saturating_sub(1)
+            )));
+        };
+        if let Some(p) = &pose {
+            if !p.is_finite() {
+                return Err(crate::error::Error::Invalid(format!(
+                    "object {index} cannot be posed at {p:?}: every number must be finite"
+                )));
+            }
+        }
+        object.pose = pose;
+        Ok(())
+    }
+
     /// Moves the mesh objects that have a motion to where they are now.
     fn place_objects(&self, gpu: &Gpu) {
         let objects = &self.scene.objects;
         if objects
             .iter()
-            .all(|o| o.motion == crate::scene::Motion::Static)
+            .all(|o| o.motion == crate::scene::Motion::Static && o.pose.is_none())
         {
             return;
         }

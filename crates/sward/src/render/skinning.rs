@@ -116,6 +116,15 @@ impl SkinningPass {
         Some(Self { pipeline, objects })
     }
 
+    /// The length in seconds of the animation scene object `object` plays, if it is one of
+    /// the skinned ones.
+    pub fn duration(&self, object: usize) -> Option<f32> {
+        self.objects
+            .iter()
+            .find(|o| o.object == object)
+            .map(|o| o.mesh.animations[o.animation].duration)
+    }
+
     /// Uploads each object's skinning matrices at `time` seconds into the scene (its
     /// animation looped, at the pace of its path with a `stride`:
     /// `sim::colliders::animation_time`); `objects` are the scene's.

@@ -758,6 +758,38 @@ pub struct MeshObject {
     /// its animation, so that the animation plays at the pace of the ground it covers
     /// (a walk's feet do not slide). 0: the animation plays at the scene's clock.
     pub stride: f32,
+    /// Where a program steering the object has put it this frame (the window's walk mode,
+    /// an embedding host): it replaces `motion` and the animation's clock while set. Not
+    /// part of the scene file: it is state of the running program.
+    #[serde(skip)]
+    pub pose: Option<ObjectPose>,
+}
+
+/// A steered object's place and pose, set each frame by the program that steers it
+/// (`Renderer::pose_object`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectPose {
+    /// Where the object's origin is in the world, in metres (a walker's origin between its
+    /// feet: on the ground under it plus its `translation.y`).
+    pub origin: glam::Vec3,
+    /// Its turn about the vertical in radians, on top of its `rotation`: its +z then faces
+    /// (sin yaw, 0, cos yaw), as a path walker faces its heading.
+    pub yaw: f32,
+    /// Seconds into its animation (a walk's phase: the distance walked over the stride,
+    /// in cycles of the animation).
+    pub animation_time: f32,
+    /// Its velocity in m/s: the wind's obstacles move with it.
+    pub velocity: glam::Vec3,
+}
+
+impl ObjectPose {
+    /// Whether every number is finite (a pose with a NaN is refused, not drawn).
+    pub fn is_finite(&self) -> bool {
+        self.origin.is_finite()
+            && self.yaw.is_finite()
+            && self.animation_time.is_finite()
+            && self.velocity.is_finite()
+    }
 }
 
 /// A mesh object's collision shape.
@@ -834,6 +866,7 @@ impl Default for MeshObject {
             grass: None,
             animation: None,
             stride: 0.0,
+            pose: None,
         }
     }
 }

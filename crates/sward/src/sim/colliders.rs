@@ -71,6 +71,9 @@ pub fn along_path(points: &[(f32, f32)], looped: bool, s: f32) -> Vec2 {
 /// Where a mesh object's origin is at `time`: at its translation, moved by its velocity,
 /// or along its path with `translation.y` above the ground under it.
 pub fn object_origin(object: &MeshObject, terrain: &HeightField, time: f32) -> Vec3 {
+    if let Some(pose) = &object.pose {
+        return pose.origin;
+    }
     let t = Vec3::from(object.translation);
     match &object.motion {
         Motion::Static => t,
@@ -92,6 +95,9 @@ pub fn object_origin(object: &MeshObject, terrain: &HeightField, time: f32) -> V
 pub fn object_transform(object: &MeshObject, terrain: &HeightField, time: f32) -> glam::Mat4 {
     let origin = object_origin(object, terrain, time);
     let rest = object.transform_at(origin);
+    if let Some(pose) = &object.pose {
+        return turned(origin, pose.yaw, rest);
+    }
     let Motion::Path {
         points,
         speed,
@@ -110,11 +116,7 @@ pub fn object_transform(object: &MeshObject, terrain: &HeightField, time: f32) -
         if heading.length_squared() < 1e-12 {
             return rest;
         }
-        let yaw = glam::Quat::from_rotation_y(heading.x.atan2(heading.y));
-        return glam::Mat4::from_translation(origin)
-            * glam::Mat4::from_quat(yaw)
-            * glam::Mat4::from_translation(-origin)
-            * rest;
+        return turned(origin, heading.x.atan2(heading.y), rest);
     }
     if !object.rolls || radius <= 0.0 {
         return rest;
@@ -140,6 +142,15 @@ pub fn object_transform(object: &MeshObject, terrain: &HeightField, time: f32) -
         * rest
 }
 
+/// `rest` turned by `yaw` about the vertical through `origin`: the object's +z then faces
+/// (sin yaw, 0, cos yaw).
+fn turned(origin: Vec3, yaw: f32, rest: glam::Mat4) -> glam::Mat4 {
+    glam::Mat4::from_translation(origin)
+        * glam::Mat4::from_quat(glam::Quat::from_rotation_y(yaw))
+        * glam::Mat4::from_translation(-origin)
+        * rest
+}
+
 /// How far along a path an object has gone at arc length `s` (an open path stops at its
 /// end; a looped one keeps counting).
 fn path_distance(points: &[(f32, f32)], looped: bool, s: f32) -> f32 {
@@ -155,8 +166,12 @@ fn path_distance(points: &[(f32, f32)], looped: bool, s: f32) -> f32 {
 
 /// The time into its animation an animated object is at `time` seconds into the scene: on
 /// a `Path` with a `stride`, the distance travelled over the stride in cycles of the
-/// animation's `duration` (a walk keeps pace with the ground); otherwise `time`.
+/// animation's `duration` (a walk keeps pace with the ground); a steered object's pose
+/// sets it; otherwise `time`.
 pub fn animation_time(object: &MeshObject, duration: f32, time: f32) -> f32 {
+    if let Some(pose) = &object.pose {
+        return pose.animation_time;
+    }
     match &object.motion {
         Motion::Path {
             points,
@@ -210,10 +225,19 @@ pub fn object_obstacles(
         object_spheres_at(objects, packings, terrain, t1),
         object_spheres_at(objects, packings, terrain, time),
     );
+    // A steered object stands still in the scene's clock: its pose carries its velocity.
+    let steered: Vec<Vec3> = objects
+        .iter()
+        .zip(packings)
+        .filter_map(|(o, p)| p.as_ref().map(|p| (o, p.spheres.len())))
+        .flat_map(|(o, n)| std::iter::repeat_n(o.pose.map_or(Vec3::ZERO, |pose| pose.velocity), n))
+        .collect();
     now.iter()
         .zip(a.iter().zip(&b))
-        .map(|(s, (a, b))| {
-            let v = (Vec3::new(b[0], b[1], b[2]) - Vec3::new(a[0], a[1], a[2])) / (t1 - t0);
+        .zip(&steered)
+        .map(|((s, (a, b)), carried)| {
+            let v =
+                (Vec3::new(b[0], b[1], b[2]) - Vec3::new(a[0], a[1], a[2])) / (t1 - t0) + *carried;
             ObstacleGpu {
                 circle: [s[0], s[2], s[3], s[1] - terrain.height(s[0], s[2])],
                 velocity: [v.x, v.z, v.y, 0.0],
