@@ -7,6 +7,7 @@
 //!include terrain_height.wgsl
 //!include blade_pose.wgsl
 //!include clumps.wgsl
+//!include trails.wgsl
 
 struct GenParams {
     // Patch side in quanta (1/1024 m), patches per tile side, blades per patch, per tile.
@@ -45,6 +46,12 @@ struct Job {
 // The tuft centres of one period of tiles (`field::tiles::TuftLayout`): offsets in quanta
 // from their patch's corner, `key.w` per patch, patches row-major over the period.
 @group(0) @binding(11) var<storage, read> tuft_offsets: array<vec2<u32>>;
+// The trail map (`trails.wgsl`): a tile coming back takes its trail from its page.
+@group(0) @binding(12) var<storage, read> trails: array<u32>;
+
+fn trail_word(i: u32) -> u32 {
+    return trails[i];
+}
 
 const FLAG_DENSITY: u32 = 1u;
 const FLAG_BOUNDED: u32 = 2u;
@@ -180,6 +187,21 @@ fn make_blade(tx: i32, tz: i32, i: u32) -> Blade {
     return out;
 }
 
+// The pose of a blade bent by a trail: leaning towards its rest tip moved by `bend` times
+// its height, at the tip distance where the validated curve has the blade's length (as
+// `rest_pose`: a fixed point of the validation, so the update takes it as it is). The
+// twin of `trails::bent_pose`.
+fn trail_pose(v0: vec3<f32>, up: vec3<f32>, rest: vec3<f32>, bend: vec2<f32>, height: f32) -> array<vec3<f32>, 2> {
+    let dir = rest + vec3<f32>(bend.x, 0.0, bend.y) * height - v0;
+    let along = dot(dir, up);
+    let across = dir - up * along;
+    let side = length(across);
+    if side < 1e-6 * height {
+        return validate(v0, rest, up, height);
+    }
+    return rest_pose(v0, up, across / side, height, atan2(side, along));
+}
+
 @compute @workgroup_size(64)
 fn gen_blades(
     @builtin(workgroup_id) wid: vec3<u32>,
@@ -190,10 +212,24 @@ fn gen_blades(
     if wid.y >= gen.map.w || job.generate == 0u || i >= gen.grid.w {
         return;
     }
-    let blade = make_blade(job.tx, job.tz, i);
+    var blade = make_blade(job.tx, job.tz, i);
     let at = job.slot * gen.grid.w + i;
+    let rest = blade.v2_width.xyz;
+    // The trail left here before (the twin of `trails::restore`): the eta left now and the
+    // tip moved by the bend, validated to the blade's length.
+    var eta = 0.0;
+    let height = blade.v1_height.w;
+    let trail = trail_at(blade.v0_dir.x, blade.v0_dir.z);
+    if trail.x > 0.0 && height > 0.0 {
+        let pose = trail_pose(blade.v0_dir.xyz, blade.up_stiffness.xyz, rest, trail.yz, height);
+        if trail_finite3(pose[0]) && trail_finite3(pose[1]) {
+            blade.v1_height = vec4<f32>(pose[0], height);
+            blade.v2_width = vec4<f32>(pose[1], blade.v2_width.w);
+            eta = trail.x;
+        }
+    }
     blades[at] = blade;
-    states[at].rest_eta = vec4<f32>(blade.v2_width.xyz, 0.0);
+    states[at].rest_eta = vec4<f32>(rest, eta);
     // A new tile has not been seen: its blades wait for the late occlusion test.
     seen[at] = 0u;
 }

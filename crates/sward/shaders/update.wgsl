@@ -149,6 +149,7 @@ fn main(
         count_reset();
     }
     splat_push(v0, pushed);
+    trail_write(i, v0, eta, (corrected[1].xz - rest.xz) / height);
     blades[i].v1_height = vec4<f32>(corrected[0], height);
     blades[i].v2_width = vec4<f32>(corrected[1], blade.v2_width.w);
     states[i].rest_eta.w = eta;

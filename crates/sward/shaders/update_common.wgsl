@@ -7,6 +7,7 @@
 //!include wind_sample.wgsl
 //!include bvh_node.wgsl
 //!include update_slot.wgsl
+//!include trails.wgsl
 
 @group(0) @binding(0) var<uniform> params: SimParams;
 @group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
@@ -25,6 +26,31 @@
 // counted since the start (never cleared); then the collision pushes of this step per cell
 // of the propagation grid (`propagate.wgsl`).
 @group(0) @binding(7) var<storage, read_write> out: UpdateOut;
+// The trail map (`trails.wgsl`): pressed blades of the tile pool write where they stand.
+@group(0) @binding(9) var<storage, read_write> trails: array<atomic<u32>>;
+
+fn trail_word(i: u32) -> u32 {
+    return atomicLoad(&trails[i]);
+}
+
+// A pressed blade of the tile pool (index i, rooted at v0) leaves its trail: the largest
+// stamp eta + a t of its texel, and the bend (tip off its rest tip, over the height, x and
+// z) of the blade that wrote it. The twin of `trails::write`.
+fn trail_write(i: u32, v0: vec3<f32>, eta: f32, bend: vec2<f32>) {
+    if !(eta > TRAIL_MIN_ETA) || i >= trail_word(3u) {
+        return;
+    }
+    let w = trail_texel_at(v0.x, v0.z);
+    if w == TRAIL_NONE {
+        return;
+    }
+    let s = eta + bitcast<f32>(trail_word(6u)) * bitcast<f32>(trail_word(5u));
+    let old = atomicMax(&trails[w], bitcast<u32>(s));
+    if bitcast<u32>(s) >= old {
+        atomicStore(&trails[w + 1u], bitcast<u32>(bend.x));
+        atomicStore(&trails[w + 2u], bitcast<u32>(bend.y));
+    }
+}
 
 // Whether x is a finite number. A bit test, because a compiler may assume that NaN never
 // occurs and fold `x == x` away. The twin of `f32::is_finite`.

@@ -190,6 +190,7 @@ fn main(
         count_reset();
     }
     splat_push(v0, pushed);
+    trail_write(i, v0, eta, (p[3].xz - rest[3].xz) / height);
     blades[i].v1_height = vec4<f32>(p[1], height);
     blades[i].v2_width = vec4<f32>(p[3], blade.v2_width.w);
     states[i].rest_eta.w = eta;

@@ -53,6 +53,7 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/blade_pose.wgsl"),
     ),
     ("tile_gen.wgsl", include_str!("../shaders/tile_gen.wgsl")),
+    ("trails.wgsl", include_str!("../shaders/trails.wgsl")),
     (
         "wind_sample.wgsl",
         include_str!("../shaders/wind_sample.wgsl"),

@@ -18,6 +18,7 @@ mod terrain;
 #[cfg(test)]
 pub(crate) mod tests;
 pub mod tiles;
+pub mod trails;
 
 pub use density::DensityMap;
 pub use noise::{

@@ -26,6 +26,13 @@ impl Renderer {
             timer: self.timer.as_ref(),
             work: self.work.as_ref(),
         };
+        let p = &self.scene.physics;
+        tiles.write_trail_header(
+            &gpu.queue,
+            self.time,
+            p.collision_decay,
+            p.max_collision_strength,
+        );
         let jobs = tiles.plan(eye.x, eye.z);
         if jobs.is_empty() {
             return;

@@ -326,6 +326,24 @@ impl Renderer {
         if scene.physics.model == crate::scene::BladeModel::Verlet {
             buffers.ensure_verlet(gpu)?;
         }
+        // The trail map of a streamed field: a page per slot of the pool plus the cache.
+        let trail_layout = match (&layout, &scene.physics.trails) {
+            (Some(l), Some(t)) => {
+                let tile_q = l.tile_q().clamp(1, i32::MAX as i64) as i32;
+                let pages = l.slots.saturating_add(t.cache_tiles);
+                Some(crate::field::trails::TrailLayout::new(
+                    t.resolution,
+                    pages,
+                    tile_q,
+                ))
+            }
+            _ => None,
+        };
+        if let Some(t) = &trail_layout {
+            buffers
+                .ensure_trails(gpu, t)
+                .map_err(|e| scene.error_at("physics.trails.cache_tiles", e.to_string()))?;
+        }
         // A streamed field's object grass sits after the tile pool.
         let carried = match &layout {
             Some(l) => field.carried.shifted(
@@ -336,7 +354,15 @@ impl Renderer {
         };
         let density = crate::field::DensityMap::from_scene(&scene.terrain)?;
         let tiles = layout.map(|l| {
-            TileStreamer::new(gpu, &buffers, &l, &scene.field, &terrain, density.as_ref())
+            TileStreamer::new(
+                gpu,
+                &buffers,
+                &l,
+                &scene.field,
+                &terrain,
+                density.as_ref(),
+                trail_layout,
+            )
         });
         let update = UpdatePass::new(gpu, &buffers, grid);
         let cull = CullPass::new(gpu, &buffers);

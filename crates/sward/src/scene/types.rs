@@ -457,6 +457,33 @@ pub struct Physics {
     /// Qiu et al.'s grass-to-grass propagation (§5.2): a blade pressed by a collider
     /// passes part of its bending to its neighbours, generation by generation. `None`: off.
     pub propagation: Option<Propagation>,
+    /// The trail map of a streamed field (`field::trails`): where colliders pressed the
+    /// grass, kept in world space, so a trail is still there when its tile leaves the blade
+    /// radius and comes back, and the billboards and the far ground show it. It decays with
+    /// η (`collision_decay`). `None`: trails live only in the blades. Ignored by a field
+    /// generated whole (`field.tile_size: 0`), whose blades never leave.
+    pub trails: Option<Trails>,
+}
+
+/// The sizes of the trail map (`physics.trails`).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Trails {
+    /// Texels along a tile's side, 4 to 128 (32 on 8 m tiles: 25 cm texels).
+    pub resolution: u32,
+    /// Tiles whose trail is kept after they left the blade radius, 0 to 65536, beyond the
+    /// resident tiles: the map holds (resident slots + cache_tiles) pages of
+    /// resolution² × 12 bytes. When it is full the trail that left longest ago goes.
+    pub cache_tiles: u32,
+}
+
+impl Default for Trails {
+    fn default() -> Self {
+        Self {
+            resolution: 32,
+            cache_tiles: 256,
+        }
+    }
 }
 
 /// Grass-to-grass propagation (Qiu et al. §5.2, Eq. 4) over a grid of cells around the
@@ -606,6 +633,7 @@ impl Default for Physics {
             verlet: VerletParams::default(),
             cwd: CwdParams::default(),
             propagation: None,
+            trails: Some(Trails::default()),
         }
     }
 }

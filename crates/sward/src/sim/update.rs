@@ -52,6 +52,10 @@ pub struct BladeBuffers {
     pub verlet: wgpu::Buffer,
     /// Whether `verlet` holds a state per blade.
     pub has_verlet: bool,
+    /// The trail map of a streamed field (`field::trails`): header, tile table, pages.
+    /// Until [`BladeBuffers::ensure_trails`] sizes it, a zeroed header (no table: nothing
+    /// is written or read).
+    pub trails: wgpu::Buffer,
     /// Blades in `blades` and `states` (for a streamed field, the pool's slots plus the
     /// objects' blades).
     pub count: u32,
@@ -230,6 +234,7 @@ impl BladeBuffers {
             mapped_at_creation: false,
         });
         let verlet = verlet_buffer(device, 1);
+        let trails = trails_buffer(device, crate::field::trails::HEADER_WORDS as u64 * 4);
         Ok(Self {
             blades,
             states,
@@ -243,6 +248,7 @@ impl BladeBuffers {
             resets,
             verlet,
             has_verlet: false,
+            trails,
             count: count as u32,
             patch_size: patch_size.max(1),
             patch_count,
@@ -265,6 +271,25 @@ impl BladeBuffers {
         self.verlet = verlet_buffer(&gpu.device, self.count.max(1) as u64);
         self.has_verlet = true;
         Ok(true)
+    }
+
+    /// Allocates the trail map of `layout` (zeroed: no trail anywhere), checked against the
+    /// adapter's limits first. Call before the passes that bind it are built.
+    pub fn ensure_trails(
+        &mut self,
+        gpu: &Gpu,
+        layout: &crate::field::trails::TrailLayout,
+    ) -> Result<()> {
+        let bytes = layout.bytes();
+        gpu.check_storage(
+            &format!(
+                "the trail map ({} pages of {}² texels)",
+                layout.pages, layout.resolution
+            ),
+            bytes,
+        )?;
+        self.trails = trails_buffer(&gpu.device, bytes);
+        Ok(())
     }
 
     /// Makes the update's output (the reset counter) hold the propagation's splat for a grid
@@ -380,6 +405,12 @@ impl BladeBuffers {
         Ok(bytemuck::pod_read_unaligned(&bytes))
     }
 
+    /// Reads the trail map back, as words (blocks; for tests and the twin comparison).
+    pub fn read_trails(&self, gpu: &Gpu) -> Result<Vec<u32>> {
+        let bytes = read_buffer(gpu, &self.trails, self.trails.size())?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
+    }
+
     /// Replaces the blades and states (tests and the CPU/GPU comparison).
     pub fn write(
         &self,
@@ -401,6 +432,18 @@ impl BladeBuffers {
         }
         Ok(())
     }
+}
+
+/// The trail map's buffer of `bytes` (zeroed).
+fn trails_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.trails"),
+        size: bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 fn verlet_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
@@ -486,6 +529,7 @@ impl UpdatePass {
                 storage_entry(6, true),
                 storage_entry(7, false),
                 storage_entry(8, false),
+                storage_entry(9, false),
             ],
         });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -533,6 +577,10 @@ impl UpdatePass {
                 wgpu::BindGroupEntry {
                     binding: 8,
                     resource: buffers.verlet.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 9,
+                    resource: buffers.trails.as_entire_binding(),
                 },
             ],
         });

@@ -41,6 +41,8 @@ use crate::scene::limits::MAX_GENERATIONS;
 const GENERATIONS: Integers = Integers::new(1, MAX_GENERATIONS as u64, "");
 const PROPAGATION_CELL: Allowed = Allowed::closed(0.01, 10.0, "m");
 const PROPAGATION_EXTENT: Allowed = Allowed::closed(0.1, 1000.0, "m");
+const TRAIL_RESOLUTION: Integers = Integers::new(4, 128, "texels");
+const TRAIL_CACHE: Integers = Integers::new(0, 65536, "tiles");
 /// Cells per side of the propagation grid at most: 2048² cells of 28 bytes are 112 MiB.
 const MAX_PROPAGATION_CELLS: u32 = 2048;
 
@@ -95,6 +97,12 @@ pub(super) const RULES: &[(&str, Rule)] = &[
         "physics.propagation.extent",
         Rule::Text("0.1 <= extent <= 1000 m, at most 2048 cells per side (extent / cell_size)"),
     ),
+    (
+        "physics.trails",
+        Rule::Text("None or Some((resolution: .., cache_tiles: ..)), each part optional"),
+    ),
+    ("physics.trails.resolution", Rule::Integer(TRAIL_RESOLUTION)),
+    ("physics.trails.cache_tiles", Rule::Integer(TRAIL_CACHE)),
 ];
 
 pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
@@ -138,6 +146,10 @@ pub(super) fn physics(check: &Checker, physics: &mut Physics) -> Result<()> {
     check.real("physics.cwd.lambda", p.cwd.lambda, LAMBDA)?;
     check.real("physics.cwd.force", p.cwd.force, FORCE)?;
     check.real("physics.cwd.cell_size", p.cwd.cell_size, CELL)?;
+    if let Some(t) = &p.trails {
+        check.integer("physics.trails.resolution", t.resolution, TRAIL_RESOLUTION)?;
+        check.integer("physics.trails.cache_tiles", t.cache_tiles, TRAIL_CACHE)?;
+    }
     if let Some(q) = &p.propagation {
         check.real("physics.propagation.att", q.att, ATT)?;
         check.real("physics.propagation.threshold", q.threshold, THRESHOLD)?;

@@ -1,0 +1,96 @@
+// The trail map (issue 29, point 4; `field::trails`, its CPU twin): a header, a table
+// from tile to page (open addressing, linear probing) and the pages of texels (stamp
+// `eta + a t`, bend x, bend z). Every read goes through `trail_word(i)`, which the including
+// shader defines: an atomic load in the blade update (which writes the map), a plain load
+// in the tile generation, the billboards and the far ground (which only read it). Expects
+// `hash32` and `rotl17` (common.wgsl).
+
+const TRAIL_HEADER: u32 = 16u;
+const TRAIL_TEXEL_WORDS: u32 = 3u;
+const TRAIL_NONE: u32 = 0xffffffffu;
+// Blades with a smaller eta leave no trail (`trails::MIN_ETA`).
+const TRAIL_MIN_ETA: f32 = 0.02;
+
+// Whether every component is finite: a bit test (a compiler may fold `x == x` away).
+fn trail_finite3(v: vec3<f32>) -> bool {
+    let e = vec3<u32>(0x7f800000u);
+    return all((bitcast<vec3<u32>>(v) & e) != e);
+}
+
+// floor(a / b) for b > 0.
+fn trail_div_floor(a: i32, b: i32) -> i32 {
+    let q = a / b;
+    return select(q, q - 1, (a % b) != 0 && a < 0);
+}
+
+fn trail_quantum(v: f32) -> i32 {
+    return i32(clamp(round(v * 1024.0), -2.0e9, 2.0e9));
+}
+
+// The tile (x, y) and texel (z) under world point (x, z): the twin of `TrailLayout::locate`.
+fn trail_locate(x: f32, z: f32) -> vec3<i32> {
+    let t = i32(trail_word(4u));
+    let r = trail_word(1u);
+    let xq = trail_quantum(x);
+    let zq = trail_quantum(z);
+    let tx = trail_div_floor(xq, t);
+    let tz = trail_div_floor(zq, t);
+    let u = u32(xq - tx * t) * r / u32(t);
+    let v = u32(zq - tz * t) * r / u32(t);
+    return vec3<i32>(tx, tz, i32(v * r + u));
+}
+
+// The page holding tile (tx, tz)'s trail, or TRAIL_NONE: the twin of the table's probe.
+fn trail_page(tx: i32, tz: i32) -> u32 {
+    let cap = trail_word(0u);
+    if cap == 0u {
+        return TRAIL_NONE;
+    }
+    // Outside the tiles any page covers: no probe at all (most of the far ground).
+    let lo = vec2<i32>(bitcast<i32>(trail_word(8u)), bitcast<i32>(trail_word(9u)));
+    let hi = vec2<i32>(bitcast<i32>(trail_word(10u)), bitcast<i32>(trail_word(11u)));
+    if tx < lo.x || tz < lo.y || tx > hi.x || tz > hi.y {
+        return TRAIL_NONE;
+    }
+    var s = hash32(bitcast<u32>(tx) ^ rotl17(hash32(bitcast<u32>(tz)))) & (cap - 1u);
+    for (var k = 0u; k < cap; k++) {
+        let e = TRAIL_HEADER + 4u * s;
+        let page = trail_word(e + 2u);
+        if page == 0u {
+            return TRAIL_NONE;
+        }
+        if bitcast<i32>(trail_word(e)) == tx && bitcast<i32>(trail_word(e + 1u)) == tz {
+            return page - 1u;
+        }
+        s = (s + 1u) & (cap - 1u);
+    }
+    return TRAIL_NONE;
+}
+
+// The first word of a texel (`TrailLayout::texel_word`), or TRAIL_NONE where no page covers
+// the point.
+fn trail_texel_at(x: f32, z: f32) -> u32 {
+    let at = trail_locate(x, z);
+    let page = trail_page(at.x, at.y);
+    if page == TRAIL_NONE {
+        return TRAIL_NONE;
+    }
+    let r = trail_word(1u);
+    return trail_word(2u) + page * r * r * TRAIL_TEXEL_WORDS + u32(at.z) * TRAIL_TEXEL_WORDS;
+}
+
+// The trail at world point (x, z) now: (eta left, at most the ceiling; bend x, bend z), or
+// zero where there is none.
+fn trail_at(x: f32, z: f32) -> vec3<f32> {
+    let w = trail_texel_at(x, z);
+    if w == TRAIL_NONE {
+        return vec3<f32>(0.0);
+    }
+    let now = bitcast<f32>(trail_word(5u));
+    let decay = bitcast<f32>(trail_word(6u));
+    let eta = min(bitcast<f32>(trail_word(w)) - decay * now, bitcast<f32>(trail_word(7u)));
+    if !(eta > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    return vec3<f32>(eta, bitcast<f32>(trail_word(w + 1u)), bitcast<f32>(trail_word(w + 2u)));
+}
