@@ -43,7 +43,7 @@ fn gpu_placement_and_sway_match_the_cpu_twin() {
     let mut sim =
         sward::sim::params::sim_params(&s.physics, &s.wind, s.terrain.size, 0.02, 1.7, 0, 0);
     sim.sphere_count = 2;
-    let got = probe_cards(&gpu, &terrain, &params, &sim, &[], &spheres).expect("probe");
+    let got = probe_cards(&gpu, &terrain, &params, &sim, &[], &spheres, &[]).expect("probe");
     assert_eq!(got.len() as u32, layout.card_count());
     let grid = WindGrid {
         velocity: &[[0.0, 0.0]],
@@ -73,7 +73,7 @@ fn gpu_placement_and_sway_match_the_cpu_twin() {
             c.fade
         );
         let h = params.eye_card[3] * c.scale;
-        let top = top_offset(&params, &sim, &grid, &spheres, c.pos, h);
+        let top = top_offset(&params, &sim, &grid, &spheres, &[], c.pos, h);
         assert!(
             (g.top - top).length() <= 1e-3,
             "{what} top {} vs {top}",
@@ -215,7 +215,7 @@ fn cards_sway_with_the_wind_and_bend_away_from_spheres() {
     });
     let sim = sward::sim::params::sim_params(&s.physics, &wind, s.terrain.size, 0.02, 0.0, 0, 0);
     let p = layout.params(Vec3::ZERO, 12.0, false, 0, s.terrain.size);
-    let off = top_offset(&p, &sim, &grid, &[], root, h);
+    let off = top_offset(&p, &sim, &grid, &[], &[], root, h);
     assert!(off.x > 0.05 && off.z.abs() < 1e-4 && off.y == 0.0, "{off}");
     // No wind, a ball beside the card: the top bends away from it and down.
     let calm = sward::sim::params::sim_params(
@@ -233,7 +233,7 @@ fn cards_sway_with_the_wind_and_bend_away_from_spheres() {
     );
     let p = layout.params(Vec3::ZERO, 12.0, false, 1, s.terrain.size);
     let ball = [root.x - 0.5, root.y + 0.6, root.z, 0.5];
-    let off = top_offset(&p, &calm, &grid, &[ball], root, h);
+    let off = top_offset(&p, &calm, &grid, &[ball], &[], root, h);
     assert!(
         off.x > 0.1 && off.y < 0.0,
         "bends away (+x) and down: {off}"
@@ -241,7 +241,7 @@ fn cards_sway_with_the_wind_and_bend_away_from_spheres() {
     assert!(off.length() <= 0.9 * h + 1e-6);
     let far_ball = [root.x - 5.0, root.y, root.z, 0.5];
     assert_eq!(
-        top_offset(&p, &calm, &grid, &[far_ball], root, h),
+        top_offset(&p, &calm, &grid, &[far_ball], &[], root, h),
         Vec3::ZERO
     );
 }

@@ -299,3 +299,60 @@ fn without_room_in_the_cache_a_trail_is_dropped() {
     let (_, etas) = run.etas(tile).expect("the tile is back");
     assert_eq!(most(&etas), 0.0, "a dropped trail came back");
 }
+
+/// The billboards read the same map: over the ball's trail a card's top goes the way the
+/// trail's blades were bent, and down. The probe (`billboard_sway.wgsl` with the map read
+/// back from the renderer) against the CPU twin (`billboard::top_offset` reading the same
+/// words through `trails::sample`): every card's top within 1e-3 m; the cards rooted on
+/// the trail are lower than without the map (where the trail is strong, by more than a
+/// quarter of their height) and no other card moved.
+#[test]
+fn billboards_over_a_trail_lie_down_as_its_blades_did() {
+    use sward::render::billboard::{probe::probe_cards, top_offset, BillboardLayout};
+    use sward::sim::reference::WindGrid;
+    let mut s = scene(256);
+    s.render.billboard_distance = 40.0;
+    let mut run = Run::new(s.clone());
+    run.frames(150, 1.0 / 30.0);
+    let words = run.r.buffers.read_trails(&run.gpu).expect("trails");
+    let terrain = &run.session.terrain;
+    let layout = BillboardLayout::from_scene(&s.render, &s.field).expect("billboards");
+    let params = layout.params(Vec3::new(0.5, 3.0, 0.5), 4.0, false, 0, s.terrain.size);
+    let sim = sward::sim::params::sim_params(&s.physics, &s.wind, s.terrain.size, 0.0, 0.0, 0, 0);
+    let got = probe_cards(&run.gpu, terrain, &params, &sim, &[], &[], &words).expect("probe");
+    let grid = WindGrid {
+        velocity: &[[0.0, 0.0]],
+    };
+    let mut on_trail = 0;
+    // The most a card on the trail went down, in card heights.
+    let mut lowest: f32 = 0.0;
+    for (i, g) in got.iter().enumerate() {
+        let c = g.card;
+        let h = params.eye_card[3] * c.scale;
+        let top = top_offset(&params, &sim, &grid, &[], &words, c.pos, h);
+        assert!(
+            (g.top - top).length() <= 1e-3,
+            "card {i}: top {} vs {top}",
+            g.top
+        );
+        let plain = top_offset(&params, &sim, &grid, &[], &[], c.pos, h);
+        if trails::sample(&words, c.pos.x, c.pos.z).x > 0.0 {
+            on_trail += 1;
+            assert!(
+                top.y < plain.y,
+                "card {i} on the trail at {}: top {top} vs {plain} without it",
+                c.pos
+            );
+            lowest = lowest.max((plain.y - top.y) / h);
+        } else {
+            assert_eq!(top, plain, "card {i} off the trail moved");
+        }
+    }
+    eprintln!(
+        "{on_trail} of {} cards stand on the trail; the most one went down: {lowest:.2} of \
+         its height",
+        got.len()
+    );
+    assert!(on_trail > 0, "no card on the trail");
+    assert!(lowest > 0.25, "no card lies down on the trail ({lowest})");
+}

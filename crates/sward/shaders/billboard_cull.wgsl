@@ -28,8 +28,15 @@
 @group(0) @binding(11) var<storage, read_write> args: CardDrawArgs;
 // The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`, `wave_blades`).
 @group(0) @binding(12) var<storage, read> waves: array<u32, 2>;
+// The trail map (`trails.wgsl`): cards over a trail lie down as its blades did.
+@group(0) @binding(13) var<storage, read> trails: array<u32>;
+
+fn trail_word(i: u32) -> u32 {
+    return trails[i];
+}
 
 //!include wind_sample.wgsl
+//!include trails.wgsl
 //!include billboard_sway.wgsl
 
 // `draw_indirect` arguments (wgpu::util::DrawIndirectArgs): six vertices per card.
@@ -86,7 +93,10 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let slope = terrain_height(c.pos.xz);
     let ground_n = normalize(vec3<f32>(-slope.y, 1.0, -slope.z));
     let albedo = max(bb.albedo.rgb, vec3<f32>(1e-4));
-    let l = far_grass_facings(centre, ground_n, albedo, mean_wave(waves[0], waves[1]));
+    // A trail under the card: its blades show their paler side (`trail_wave`).
+    let trail_pale = trail_wave(trail_at(c.pos.x, c.pos.z)) * light.shading_b.y;
+    let wave = max(mean_wave(waves[0], waves[1]), trail_pale);
+    let l = far_grass_facings(centre, ground_n, albedo, wave);
     // The far ground's patches and clumps at the card's root (`grass_texture`, faded as
     // the ground's are by the metres a pixel spans there: 2 w / (P11 · height) at view
     // depth w), so that cards and the ground between them vary together.

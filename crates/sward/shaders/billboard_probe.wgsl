@@ -11,8 +11,15 @@
 @group(0) @binding(8) var<storage, read> wind_grid: array<vec2<f32>>;
 // Per card: (x, y, z, fade), (variant, scale, mirror, accept), (top offset, level).
 @group(0) @binding(10) var<storage, read_write> probe_out: array<vec4<f32>>;
+// A trail map (`trails.wgsl`; a zeroed header: none).
+@group(0) @binding(11) var<storage, read> trails: array<u32>;
+
+fn trail_word(i: u32) -> u32 {
+    return trails[i];
+}
 
 //!include wind_sample.wgsl
+//!include trails.wgsl
 //!include billboard_sway.wgsl
 
 @compute @workgroup_size(64)

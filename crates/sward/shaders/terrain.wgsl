@@ -16,6 +16,13 @@
 @group(0) @binding(4) var density_sampler: sampler;
 // The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`, `wave_blades`).
 @group(0) @binding(5) var<storage, read> waves: array<u32, 2>;
+// The trail map (`trails.wgsl`): a path pressed into the grass shows on the far ground.
+@group(0) @binding(6) var<storage, read> trails: array<u32>;
+
+fn trail_word(i: u32) -> u32 {
+    return trails[i];
+}
+//!include trails.wgsl
 
 struct VertexOut {
     // Invariant: the depth prepass and the colour pass must produce the same depth.
@@ -144,7 +151,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let near = ground * (light.ambient.rgb * (0.5 + 0.5 * n.y) + light.sun.rgb * diffuse * 1.5);
     // The grass seen from afar: the blades' own light averaged over the blades a distant
     // eye sees (`far_grass_light`, per vertex), the sun's part shadowed here.
-    let grass = (in.grass_ambient + lit * in.grass_sun) * grass_texture(octaves, in.footprint);
+    var grass = (in.grass_ambient + lit * in.grass_sun) * grass_texture(octaves, in.footprint);
+    // A trail here: its pressed blades show their paler side, as the billboards' and the
+    // blades' do (`blade_albedo`: a → 1.7 a + 0.04 at 0.6 of the wave; at the far albedo,
+    // about 0.1, that is 2.1 a, so the grass is 1 + 0.66 w times as bright).
+    grass *= 1.0 + 0.66 * trail_wave(trail_at(q.x, q.y)) * light.shading_b.y;
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):

@@ -94,3 +94,10 @@ fn trail_at(x: f32, z: f32) -> vec3<f32> {
     }
     return vec3<f32>(eta, bitcast<f32>(trail_word(w + 1u)), bitcast<f32>(trail_word(w + 2u)));
 }
+
+// The shading wave (before the waves' strength) of the blades a trail `t` (`trail_at`)
+// left: bent by |bend| of their height (`blade_albedos`: clamp(1.5 |bend|)), as long as
+// the trail cripples them (eta up to 1). What the far levels shade a trail with.
+fn trail_wave(t: vec3<f32>) -> f32 {
+    return clamp(1.5 * length(t.yz), 0.0, 1.0) * clamp(t.x, 0.0, 1.0);
+}

@@ -273,6 +273,56 @@ impl TrailPages {
     }
 }
 
+/// The trail at world point (x, z) read from a whole map's `words` as the shaders read it
+/// (the twin of `trail_at`: the header's time, decay and ceiling, the table's probe): (η
+/// left, bend x, bend z), zero where no page covers the point or nothing is left. An empty
+/// or zeroed map has no trail anywhere.
+pub fn sample(words: &[u32], x: f32, z: f32) -> Vec3 {
+    let word = |i: usize| words.get(i).copied().unwrap_or(0);
+    let capacity = word(0);
+    if capacity == 0 || !capacity.is_power_of_two() {
+        return Vec3::ZERO;
+    }
+    let layout = TrailLayout {
+        resolution: word(1).max(1),
+        pages: 0,
+        capacity,
+        tile_q: (word(4) as i32).max(1),
+    };
+    let (tile, texel) = layout.locate(x, z);
+    let b = [word(8), word(9), word(10), word(11)].map(|w| w as i32);
+    if tile.0 < b[0] || tile.1 < b[1] || tile.0 > b[2] || tile.1 > b[3] {
+        return Vec3::ZERO;
+    }
+    let mut s = table_slot(tile, capacity);
+    let mut page = None;
+    for _ in 0..capacity {
+        let e = (HEADER_WORDS + 4 * s) as usize;
+        if word(e + 2) == 0 {
+            break;
+        }
+        if (word(e) as i32, word(e + 1) as i32) == tile {
+            page = Some(word(e + 2) - 1);
+            break;
+        }
+        s = (s + 1) & (capacity - 1);
+    }
+    let Some(page) = page else {
+        return Vec3::ZERO;
+    };
+    let r = layout.resolution as u64;
+    let w = (word(2) as u64
+        + page as u64 * r * r * TEXEL_WORDS as u64
+        + (texel * TEXEL_WORDS) as u64) as usize;
+    let f = |i: usize| f32::from_bits(word(i));
+    let eta = (f(w) - f(6) * f(5)).min(f(7));
+    // A NaN is no trail either.
+    if eta.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Vec3::ZERO;
+    }
+    Vec3::new(eta, f(w + 1), f(w + 2))
+}
+
 /// The CPU twin of a pressed blade's write (`trail_write`): into `words` (the whole map),
 /// at its root (x, z), η and its tip's displacement over its height.
 pub fn write(
@@ -331,7 +381,7 @@ pub fn restore(
 ) {
     let height = blade.v1_height[3];
     let eta = eta_left(f32::from_bits(texel[0]), now, decay).min(max_eta);
-    if !(eta > 0.0 && height > 0.0) {
+    if eta.is_nan() || eta <= 0.0 || height.is_nan() || height <= 0.0 {
         return;
     }
     let v0 = Vec3::from_slice(&blade.v0_dir[..3]);

@@ -206,7 +206,7 @@ impl DrawPass {
             ],
         });
 
-        let terrain_pass = TerrainPass::new(gpu, terrain, density, blend, &frame);
+        let terrain_pass = TerrainPass::new(gpu, terrain, density, blend, &frame, &buffers.trails);
         let pipelines = Pipelines::new(
             device,
             format,

@@ -93,6 +93,7 @@ impl Renderer {
                     sim_params: self.update.params_buffer(),
                     wind_grid: self.wind_grid(),
                     waves: self.draw.waves_buffer(),
+                    trails: &self.buffers.trails,
                 },
                 super::post::HDR_FORMAT,
                 self.samples,
@@ -114,6 +115,7 @@ impl Renderer {
                     sim_params: self.update.params_buffer(),
                     wind_grid: self.wind_grid(),
                     waves: self.draw.waves_buffer(),
+                    trails: &self.buffers.trails,
                 },
             );
             self.billboards = Some(b);

@@ -116,14 +116,16 @@ pub(crate) fn density_texture(gpu: &Gpu, density: Option<&DensityMap>) -> wgpu::
 }
 
 impl TerrainPass {
-    /// Uploads the terrain; `frame` is the draw pass's frame-uniform buffer and `blend`
-    /// the soil-to-grass distances ([`clipmap::grass_blend`]).
+    /// Uploads the terrain; `frame` is the draw pass's frame-uniform buffer, `blend` the
+    /// soil-to-grass distances ([`clipmap::grass_blend`]) and `trails` the trail map (the
+    /// far ground shows the trails pressed into it).
     pub fn new(
         gpu: &Gpu,
         terrain: &HeightField,
         density: Option<&DensityMap>,
         blend: (f32, f32),
         frame: &wgpu::Buffer,
+        trails: &wgpu::Buffer,
     ) -> Self {
         let device = &gpu.device;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -150,6 +152,7 @@ impl TerrainPass {
                     count: None,
                 },
                 read_storage(5, wgpu::ShaderStages::VERTEX),
+                read_storage(6, wgpu::ShaderStages::FRAGMENT),
             ],
         });
         // The gusts' bend at the edge of the blades' reach, copied from the cull's counters
@@ -200,6 +203,10 @@ impl TerrainPass {
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: waves.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: trails.as_entire_binding(),
                 },
             ],
         });

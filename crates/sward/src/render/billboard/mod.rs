@@ -256,12 +256,14 @@ pub fn place_card(p: &BillboardParams, terrain: &HeightField, i: u32) -> Card {
 
 /// How far the top of a card of height `h` rooted at `root` moves (the twin of
 /// `top_offset` in `billboard_sway.wgsl`): the wind the blades feel times the sway gain,
-/// then away from and down under each sphere near it; at most 0.9 h.
+/// then away from and down under each sphere near it, and along and down by the bend of a
+/// trail under it in the trail map `trails` (its words; empty: none); at most 0.9 h.
 pub fn top_offset(
     p: &BillboardParams,
     sim: &SimParams,
     grid: &WindGrid,
     spheres: &[[f32; 4]],
+    trails: &[u32],
     root: Vec3,
     h: f32,
 ) -> Vec3 {
@@ -281,6 +283,11 @@ pub fn top_offset(
             let push = reach - dist;
             off += Vec3::new(away.x * push, -0.5 * push, away.y * push);
         }
+    }
+    let trail = crate::field::trails::sample(trails, root.x, root.z);
+    if trail.x > 0.0 {
+        let k = trail.x.min(1.0);
+        off += Vec3::new(trail.y, -0.5, trail.z) * (k * h);
     }
     let len = off.length();
     if len > 0.9 * h {

@@ -84,6 +84,8 @@ pub struct Inputs<'a> {
     pub wind_grid: &'a wgpu::Buffer,
     /// The gusts' bend at the edge of the blades' reach (the far levels' shading waves).
     pub waves: &'a wgpu::Buffer,
+    /// The trail map (`field::trails`; a zeroed header when the field keeps none).
+    pub trails: &'a wgpu::Buffer,
 }
 
 impl BillboardPass {
@@ -184,6 +186,7 @@ impl BillboardPass {
                 compute_storage_entry(10, false),
                 compute_storage_entry(11, false),
                 compute_storage_entry(12, true),
+                compute_storage_entry(13, true),
             ],
         });
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -325,6 +328,7 @@ impl BillboardPass {
                 buf(10, cards),
                 buf(11, args),
                 buf(12, inputs.waves),
+                buf(13, inputs.trails),
             ],
         })
     }

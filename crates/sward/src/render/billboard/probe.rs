@@ -31,7 +31,8 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 }
 
 /// Runs the probe over every card of `params`' grid, with the wind of `sim` (and the fluid
-/// grid `wind_grid`, one cell when unused) and the colliders `spheres`.
+/// grid `wind_grid`, one cell when unused), the colliders `spheres` and the trail map
+/// `trails` (its words; empty: none).
 pub fn probe_cards(
     gpu: &Gpu,
     terrain: &HeightField,
@@ -39,6 +40,7 @@ pub fn probe_cards(
     sim: &SimParams,
     wind_grid: &[[f32; 2]],
     spheres: &[[f32; 4]],
+    trails: &[u32],
 ) -> Result<Vec<Probed>> {
     let device = &gpu.device;
     let c = wgpu::ShaderStages::COMPUTE;
@@ -52,6 +54,7 @@ pub fn probe_cards(
             uniform_entry(7, c),
             compute_storage_entry(8, true),
             compute_storage_entry(10, false),
+            compute_storage_entry(11, true),
         ],
     });
     let terrain_params = terrain_gpu::params_buffer(device, "sward.billboard_probe.terrain");
@@ -95,6 +98,18 @@ pub fn probe_cards(
         bytemuck::cast_slice(&sph),
         storage,
     );
+    let mut trail_words = trails.to_vec();
+    trail_words.resize(
+        trail_words
+            .len()
+            .max(crate::field::trails::HEADER_WORDS as usize),
+        0,
+    );
+    let trail_buf = init(
+        "sward.billboard_probe.trails",
+        bytemuck::cast_slice(&trail_words),
+        storage,
+    );
     let count = u64::from(params.levels[0]) * u64::from(params.levels[2]).pow(2);
     let out_size = count * 3 * 16;
     let out = device.create_buffer(&wgpu::BufferDescriptor {
@@ -114,6 +129,7 @@ pub fn probe_cards(
             entry(7, &sim_buf),
             entry(8, &wind_buf),
             entry(10, &out),
+            entry(11, &trail_buf),
         ],
     });
     let module = shaders::module(device, "billboard_probe.wgsl");
