@@ -58,6 +58,7 @@ fn base(alt: bool) -> String {
         guides: [(strength: 6.0, radius: 1.0, points: [(position: (-2.0, 0.0)), (position: (2.0, 0.0), parent: Some(0))])],
     ),
     physics: (propagation: Some(())),
+    camera: (follow: Some(())),
     render: (self_shadow: {self_shadow}),
 )"#,
         planet = planet.display()

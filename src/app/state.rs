@@ -187,7 +187,10 @@ impl AppState {
             }
         };
         let (renderer, editor) = build(gpu, scene, format)?;
-        let camera = CameraController::from_view(&CameraView::from_scene(&renderer.scene.camera));
+        // A scene camera that follows an object opens behind it.
+        let camera = CameraController::from_view(
+            &renderer.scene_camera(&CameraView::from_scene(&renderer.scene.camera), 0.0),
+        );
         let budget = FrameBudget::new(&renderer.scene.culling, None)
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
@@ -504,8 +507,11 @@ impl AppState {
         }
         self.editor = editor;
         self.applied_revision = self.editor.revision();
-        self.camera =
-            CameraController::from_view(&CameraView::from_scene(&self.renderer.scene.camera));
+        self.camera = CameraController::from_view(
+            &self
+                .renderer
+                .scene_camera(&CameraView::from_scene(&self.renderer.scene.camera), 0.0),
+        );
         self.field_draft = self.renderer.scene.field.clone();
         self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms)
             .with_msaa_step(true)

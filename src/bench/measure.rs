@@ -82,10 +82,11 @@ pub(super) fn measure(
             renderer.record_trace();
         }
         let start = Instant::now();
+        let view = renderer.scene_camera(&camera, BENCH_DT);
         renderer.frame(
             gpu,
             BENCH_DT,
-            &camera,
+            &view,
             &target.color_view,
             &target.depth_view,
             size,
@@ -108,7 +109,8 @@ pub(super) fn measure(
         }
     }
     let n = f64::from(frames.max(1));
-    let work = count_frame(gpu, &mut renderer, &camera, target)?;
+    let view = renderer.scene_camera(&camera, BENCH_DT);
+    let work = count_frame(gpu, &mut renderer, &view, target)?;
     // Every frame has timestamps or none does; a mix would mean a broken driver, and the
     // means over the timed frames are still right then.
     let gpu_ms = (timed > 0).then(|| {

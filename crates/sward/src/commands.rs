@@ -157,10 +157,12 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         if o.timings && k + 1 == o.frames && !renderer.count_work(&gpu, true) {
             println!("work counters: the adapter has no pipeline-statistics queries");
         }
+        // A camera that follows an object goes where the object will be this frame.
+        let view = renderer.scene_camera(&camera, o.dt);
         renderer.frame(
             &gpu,
             o.dt,
-            &camera,
+            &view,
             &target.color_view,
             &target.depth_view,
             o.size,

@@ -63,6 +63,47 @@ impl CameraView {
     }
 }
 
+/// How far back (s) the camera behind an object looks for the way it came: a path's corner
+/// turns the view over this long instead of at once.
+pub const FOLLOW_LAG: f32 = 0.75;
+
+/// The view of `base`'s lens from behind object `follow.object` of `objects` at `time`
+/// (`camera.follow`): `distance` behind its origin along the way it moved over the last
+/// [`FOLLOW_LAG`] seconds (its facing while it stands), `height` above it, looking at the
+/// point `look_height` above it; the eye at least 0.3 m above the terrain. `base` unchanged
+/// when the object does not exist.
+pub fn follow_view(
+    base: &CameraView,
+    follow: &crate::scene::CameraFollow,
+    objects: &[crate::scene::MeshObject],
+    terrain: &crate::field::HeightField,
+    time: f32,
+) -> CameraView {
+    use crate::sim::colliders::{object_origin, object_transform};
+    let Some(o) = objects.get(follow.object as usize) else {
+        return *base;
+    };
+    let now = object_origin(o, terrain, time);
+    let before = object_origin(o, terrain, (time - FOLLOW_LAG).max(0.0));
+    let mut way = glam::Vec2::new(now.x - before.x, now.z - before.z);
+    if way.length_squared() < 1e-6 {
+        let f = object_transform(o, terrain, time).transform_vector3(Vec3::Z);
+        way = glam::Vec2::new(f.x, f.z);
+    }
+    let way = way.normalize_or(glam::Vec2::Y);
+    let mut eye = now - Vec3::new(way.x, 0.0, way.y) * follow.distance + Vec3::Y * follow.height;
+    eye.y = eye.y.max(terrain.height(eye.x, eye.z) + 0.3);
+    let target = now + Vec3::Y * follow.look_height;
+    if !(eye.is_finite() && target.is_finite()) || eye.distance_squared(target) < 1e-8 {
+        return *base;
+    }
+    CameraView {
+        eye,
+        target,
+        ..*base
+    }
+}
+
 /// The clip-space crop that shows the part of a view from normalised x = `x0` to the right
 /// edge (x = 1) across a whole target: applied after the projection, it scales and shifts
 /// x so that [`x0`, 1] maps to [-1, 1] and leaves y, z and w alone. A pixel's world point
@@ -85,6 +126,69 @@ pub fn crop_x(x0: f32) -> Mat4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The camera behind an object on a path: behind it along its way, at the heights
+    /// asked, above the ground; turning at a corner over FOLLOW_LAG; the base camera when
+    /// the object does not exist.
+    #[test]
+    fn the_follow_camera_stays_behind_the_object_along_its_way() {
+        use crate::scene::{CameraFollow, MeshObject, Motion};
+        let terrain = crate::field::HeightField::flat(200.0, 3);
+        let walker = MeshObject {
+            mesh: "walker.gltf".into(),
+            motion: Motion::Path {
+                points: vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0)],
+                speed: 1.0,
+                looped: false,
+            },
+            ..Default::default()
+        };
+        let base = CameraView {
+            eye: Vec3::new(50.0, 5.0, 50.0),
+            target: Vec3::ZERO,
+            fov_y: 50.0,
+            near: 0.1,
+            far: 100.0,
+        };
+        let follow = CameraFollow {
+            object: 0,
+            distance: 4.0,
+            height: 2.0,
+            look_height: 1.0,
+        };
+        let objects = [walker];
+        // At 5 s it is at (5, 0) going +x: the eye 4 m back along x, 2 m up.
+        let v = follow_view(&base, &follow, &objects, &terrain, 5.0);
+        assert!(
+            (v.eye - Vec3::new(1.0, 2.0, 0.0)).length() < 1e-4,
+            "{}",
+            v.eye
+        );
+        assert!((v.target - Vec3::new(5.0, 1.0, 0.0)).length() < 1e-4);
+        assert_eq!((v.fov_y, v.near, v.far), (50.0, 0.1, 100.0));
+        // Past the corner by more than the lag, it looks along +z.
+        let v = follow_view(&base, &follow, &objects, &terrain, 12.0);
+        assert!(
+            (v.eye - Vec3::new(10.0, 2.0, -2.0)).length() < 1e-4,
+            "{}",
+            v.eye
+        );
+        // Just past the corner, the view is turning: between the two.
+        let v = follow_view(&base, &follow, &objects, &terrain, 10.3);
+        let back = (v.target - v.eye) * Vec3::new(1.0, 0.0, 1.0);
+        assert!(back.x > 0.0 && back.z > 0.0, "{back}");
+        // A camera under the ground is lifted; a missing object leaves the base camera.
+        let low = CameraFollow {
+            height: -5.0,
+            ..follow.clone()
+        };
+        assert!(follow_view(&base, &low, &objects, &terrain, 5.0).eye.y >= 0.3 - 1e-6);
+        let gone = CameraFollow {
+            object: 3,
+            ..follow
+        };
+        assert_eq!(follow_view(&base, &gone, &objects, &terrain, 5.0), base);
+    }
 
     /// The cropped view shows at each pixel of its part what the whole view shows at the
     /// same window pixel: a point at normalised x in [x0, 1] lands at (x - x0) / (1 - x0)

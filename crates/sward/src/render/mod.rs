@@ -458,8 +458,10 @@ impl Renderer {
         r.upload_colliders(gpu);
         r.sync_billboards(gpu);
         r.apply_propagation(gpu)?;
+        let eye = r
+            .scene_camera(&CameraView::from_scene(&r.scene.camera), 0.0)
+            .eye;
         if let Some(t) = &mut r.tiles {
-            let eye = CameraView::from_scene(&r.scene.camera).eye;
             t.fill(gpu, eye.x, eye.z)?;
         }
         Ok(r)
@@ -524,6 +526,19 @@ impl Renderer {
             c.advance(gpu, &self.buffers, &self.scene, &self.terrain, self.time);
         }
         dt
+    }
+
+    /// The camera to draw the next frame (a step of `dt` seconds) from, for a scene camera
+    /// `base`: from behind the object it follows (`camera.follow`) where that object will
+    /// be after the step, else `base` itself.
+    pub fn scene_camera(&self, base: &CameraView, dt: f32) -> CameraView {
+        match &self.scene.camera.follow {
+            Some(f) => {
+                let time = self.time + dt.clamp(0.0, self.scene.physics.max_dt);
+                camera::follow_view(base, f, &self.scene.objects, &self.terrain, time)
+            }
+            None => *base,
+        }
     }
 
     /// The length in seconds of the animation the scene's object `index` plays (`None`: it
@@ -726,7 +741,7 @@ impl Renderer {
             });
         let dt = self.advance(gpu, dt);
         // No camera: no patch is culled and none is throttled.
-        let camera = CameraView::from_scene(&self.scene.camera);
+        let camera = self.scene_camera(&CameraView::from_scene(&self.scene.camera), 0.0);
         self.stream_tiles(gpu, &mut encoder, camera.eye);
         if let Some(c) = &self.carried {
             c.encode(&mut encoder);
@@ -821,7 +836,8 @@ impl Renderer {
     }
 
     /// GPU memory held for the blades (blade, state, seen-flag, patch, sphere and
-    /// visible-index buffers plus the indirect arguments), and in all, wind solver included. Meshes and
+    /// visible-index buffers, the Verlet states, the trail map, plus the indirect
+    /// arguments), and in all, wind solver included. Meshes and
     /// uniforms are a few hundred KiB and counted in the total.
     pub fn gpu_bytes(&self) -> (u64, u64) {
         let b = &self.buffers;
@@ -836,6 +852,8 @@ impl Renderer {
             &b.dispatch,
             &b.seen,
             &b.resets,
+            &b.verlet,
+            &b.trails,
         ]
         .iter()
         .map(|x| x.size())

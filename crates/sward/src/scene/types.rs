@@ -732,6 +732,39 @@ pub struct Camera {
     pub near: f32,
     /// Distance of the far clip plane in metres: beyond `near` and at most 1000000 m.
     pub far: f32,
+    /// The camera behind a moving object (the prairie thesis's camera behind its walker):
+    /// `eye` and `target` give way to a view from behind the object along the way it has
+    /// come. `None`: the camera stays at `eye`.
+    #[serde(default)]
+    pub follow: Option<CameraFollow>,
+}
+
+/// The camera behind one of the scene's objects (`camera.follow`): every frame the eye is
+/// `distance` behind the object's origin along the way it moved over the last 0.75 s (its
+/// facing while it stands), `height` above it, looking at the point `look_height` above
+/// the origin; never below the terrain.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraFollow {
+    /// Which of the scene's `objects`, counted from 0.
+    pub object: u32,
+    /// Metres behind it, 0.1 to 1000.
+    pub distance: f32,
+    /// Metres above its origin of the eye, −1000 to 1000.
+    pub height: f32,
+    /// Metres above its origin of the point looked at, −1000 to 1000.
+    pub look_height: f32,
+}
+
+impl Default for CameraFollow {
+    fn default() -> Self {
+        Self {
+            object: 0,
+            distance: 4.5,
+            height: 2.2,
+            look_height: 1.2,
+        }
+    }
 }
 
 impl Default for Camera {
@@ -742,6 +775,7 @@ impl Default for Camera {
             fov_y: 50.0,
             near: 0.1,
             far: 300.0,
+            follow: None,
         }
     }
 }

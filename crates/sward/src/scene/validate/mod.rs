@@ -62,7 +62,7 @@
 //! | `culling.lod_morph` | 0 ≤ lod_morph ≤ 1 |
 //! | `culling.physics_throttle` | 1 – 64 frames |
 //! | `culling.physics_radius` | 0 – 10⁴ m |
-//! | `camera` | eye and target distinct, 1 < fov_y < 179 degrees, 0.001 ≤ near ≤ 1000 m, near < far ≤ 10⁶ m |
+//! | `camera` | eye and target distinct, 1 < fov_y < 179 degrees, 0.001 ≤ near ≤ 1000 m, near < far ≤ 10⁶ m; `follow`: an object of the scene, distance 0.1 – 1000 m, heights ±1000 m |
 //! | `render.sun_direction` | non-zero |
 //! | `render.width_min_px`, `width_span_px` | 0 – 1024 px |
 //! | `render.msaa` | one of 1, 2, 4, 8 samples (4 by default; the adapter may give fewer) |
@@ -163,7 +163,7 @@ pub(crate) fn validate_with_sets(
     wind::wind(&check, &mut scene.wind, scene.terrain.size)?;
     physics::physics(&check, &mut scene.physics)?;
     view::culling(&check, &scene.culling)?;
-    view::camera(&check, &scene.camera)?;
+    view::camera(&check, &scene.camera, scene.objects.len())?;
     view::render(&check, &mut scene.render)?;
     light::light(&check, &scene.light)
 }
@@ -543,6 +543,36 @@ mod tests {
             (
                 Box::new(|s| s.camera.far = 0.05),
                 "camera.far = 0.05 is out of range: allowed near < far <= 1000000 m (near = 0.1 m)",
+            ),
+            (
+                Box::new(|s| s.camera.follow = Some(crate::scene::CameraFollow::default())),
+                "camera.follow.object = 0 is out of range: the scene has no objects to follow",
+            ),
+            (
+                Box::new(|s| {
+                    s.objects = vec![crate::scene::MeshObject {
+                        mesh: "x.obj".into(),
+                        ..Default::default()
+                    }];
+                    s.camera.follow = Some(crate::scene::CameraFollow {
+                        object: 1,
+                        ..Default::default()
+                    });
+                }),
+                "camera.follow.object = 1 is out of range: allowed 0 to 0 (the scene has 1 objects)",
+            ),
+            (
+                Box::new(|s| {
+                    s.objects = vec![crate::scene::MeshObject {
+                        mesh: "x.obj".into(),
+                        ..Default::default()
+                    }];
+                    s.camera.follow = Some(crate::scene::CameraFollow {
+                        distance: 0.0,
+                        ..Default::default()
+                    });
+                }),
+                "camera.follow.distance = 0 is out of range: allowed 0.1 <= distance <= 1000 m",
             ),
             (
                 Box::new(|s| s.render.width_span_px = -1.0),

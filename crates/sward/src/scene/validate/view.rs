@@ -55,6 +55,20 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("camera.fov_y", Rule::Real(FOV)),
     ("camera.near", Rule::Real(NEAR)),
     ("camera.far", Rule::Text(FAR_TEXT)),
+    (
+        "camera.follow",
+        Rule::Text(
+            "None or Some((object: .., distance: .., height: .., look_height: ..)), each part \
+             optional",
+        ),
+    ),
+    (
+        "camera.follow.object",
+        Rule::Text("the index of one of the scene's objects, from 0"),
+    ),
+    ("camera.follow.distance", Rule::Real(FOLLOW_DISTANCE)),
+    ("camera.follow.height", Rule::Real(FOLLOW_HEIGHT)),
+    ("camera.follow.look_height", Rule::Real(FOLLOW_HEIGHT)),
     ("render.sun_direction", Rule::Direction),
     ("render.displacement", Rule::Bool),
     ("render.width_min_px", Rule::Real(WIDTH_PIXELS)),
@@ -117,7 +131,29 @@ pub(super) fn culling(check: &Checker, culling: &Culling) -> Result<()> {
     check.real("culling.physics_radius", c.physics_radius, PHYSICS_RADIUS)
 }
 
-pub(super) fn camera(check: &Checker, camera: &Camera) -> Result<()> {
+const FOLLOW_DISTANCE: Allowed = Allowed::closed(0.1, 1000.0, "m");
+const FOLLOW_HEIGHT: Allowed = Allowed::closed(-1000.0, 1000.0, "m");
+
+/// `objects`: how many objects the scene has (what `camera.follow.object` may name).
+pub(super) fn camera(check: &Checker, camera: &Camera, objects: usize) -> Result<()> {
+    if let Some(f) = &camera.follow {
+        if f.object as usize >= objects {
+            let allowed = match objects {
+                0 => "the scene has no objects to follow".to_string(),
+                n => format!("allowed 0 to {} (the scene has {n} objects)", n - 1),
+            };
+            return Err(check.error(
+                "camera.follow.object",
+                format!(
+                    "camera.follow.object = {} is out of range: {allowed}",
+                    f.object
+                ),
+            ));
+        }
+        check.real("camera.follow.distance", f.distance, FOLLOW_DISTANCE)?;
+        check.real("camera.follow.height", f.height, FOLLOW_HEIGHT)?;
+        check.real("camera.follow.look_height", f.look_height, FOLLOW_HEIGHT)?;
+    }
     check.vector("camera.eye", &tuple3(camera.eye), POSITION)?;
     check.vector("camera.target", &tuple3(camera.target), POSITION)?;
     // The view matrix needs a viewing direction.
