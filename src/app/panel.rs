@@ -310,6 +310,7 @@ fn physics_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     egui::CollapsingHeader::new("Physics").show(ui, |ui| {
         super::panel_models::model_controls(ui, app, gpu);
         super::panel_models::propagation_controls(ui, app, gpu);
+        super::panel_models::trail_controls(ui, app, gpu);
         let p = &mut app.renderer.scene.physics;
         ui.add(egui::Slider::new(&mut p.gravity_acceleration, 0.0..=30.0).text("gravity m/s²"));
         ui.add(egui::Slider::new(&mut p.mass, 0.0..=1.0).text("mass"));

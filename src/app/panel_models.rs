@@ -85,6 +85,51 @@ pub fn propagation_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
     }
 }
 
+/// The trail map (`physics.trails`): on or off, its texels per tile and its cache, applied
+/// by rebuilding the field; what it holds now.
+pub fn trail_controls(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
+    let mut on = app.trails_draft.is_some();
+    ui.checkbox(&mut on, "trail map: trails outlive their tiles");
+    if on != app.trails_draft.is_some() {
+        app.trails_draft = on.then(sward::scene::Trails::default);
+    }
+    if let Some(t) = &mut app.trails_draft {
+        ui.add(egui::Slider::new(&mut t.resolution, 4..=128).text("texels per tile side"));
+        ui.add(
+            egui::Slider::new(&mut t.cache_tiles, 0..=65536)
+                .logarithmic(true)
+                .text("tiles kept after they leave"),
+        );
+    }
+    if app.trails_draft != app.renderer.scene.physics.trails
+        && ui.button("Apply (rebuilds the field)").clicked()
+    {
+        app.apply_trails(gpu);
+    }
+    match app.renderer.tiles() {
+        Some(t) => match &t.trails {
+            Some(p) => {
+                let l = p.layout();
+                ui.label(format!(
+                    "{} pages of {}² texels ({:.2} MB); {} trails of tiles that left kept, {} \
+                     dropped",
+                    l.pages,
+                    l.resolution,
+                    l.bytes() as f64 / 1e6,
+                    p.cached_count(),
+                    p.evicted
+                ));
+            }
+            None => {
+                ui.label("no trail map: a trail goes with its tile's blades");
+            }
+        },
+        None => {
+            ui.label("the field is generated whole: its blades keep their trails");
+        }
+    }
+}
+
 /// The field draft's species, clumps and flowers (applied by the Field section's
 /// Regenerate): each species' share and colour, adding and removing species, the clumps'
 /// settings, and the flowers' share, head size and kinds' colours.

@@ -109,6 +109,8 @@ pub struct AppState {
     pub failed_save: Option<String>,
     /// The field settings the next "Regenerate" applies.
     pub field_draft: sward::scene::Field,
+    /// The trail map settings the next "Apply" of the Physics section builds.
+    pub trails_draft: Option<sward::scene::Trails>,
     pub status: Option<Status>,
     pub show_help: bool,
     /// Wall-clock milliseconds of the last frames (the Stats plot).
@@ -204,6 +206,7 @@ impl AppState {
         }
         let applied_revision = editor.revision();
         let field_draft = renderer.scene.field.clone();
+        let trails_draft = renderer.scene.physics.trails.clone();
         Ok(Self {
             arrows: ArrowPass::new(gpu, HDR_FORMAT, renderer.msaa_samples()),
             upscale: Upscale::new(gpu, format),
@@ -223,6 +226,7 @@ impl AppState {
             unsaveable: failed_path,
             failed_save: None,
             field_draft,
+            trails_draft,
             status,
             show_help: false,
             frame_times: VecDeque::with_capacity(PLOT_FRAMES),
@@ -513,6 +517,7 @@ impl AppState {
                 .scene_camera(&CameraView::from_scene(&self.renderer.scene.camera), 0.0),
         );
         self.field_draft = self.renderer.scene.field.clone();
+        self.trails_draft = self.renderer.scene.physics.trails.clone();
         self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms)
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
@@ -550,6 +555,28 @@ impl AppState {
                 self.renderer.buffers.count
             )),
             Err(e) => Status::Error(format!("not regenerated: {e}")),
+        });
+    }
+
+    /// Rebuilds the field with the panel's trail map settings (the map is sized with the
+    /// tile pool); the scene keeps everything else. A map the adapter cannot hold is
+    /// refused and the old one kept.
+    pub fn apply_trails(&mut self, gpu: &Gpu) {
+        let before = self.renderer.scene.physics.trails.clone();
+        self.renderer.scene.physics.trails = self.trails_draft.clone();
+        let scene = self.current_scene();
+        let result = validated(&scene).and_then(|s| {
+            let time = self.renderer.time;
+            self.replace_field(gpu, s)?;
+            self.renderer.time = time;
+            Ok(())
+        });
+        self.status = Some(match result {
+            Ok(()) => Status::Info("trail map rebuilt (the trails so far are gone)".into()),
+            Err(e) => {
+                self.renderer.scene.physics.trails = before;
+                Status::Error(format!("trail map not changed: {e}"))
+            }
         });
     }
 
