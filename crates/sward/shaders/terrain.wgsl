@@ -155,7 +155,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // A trail here: its pressed blades show their paler side, as the billboards' and the
     // blades' do (`blade_albedo`: a → 1.7 a + 0.04 at 0.6 of the wave; at the far albedo,
     // about 0.1, that is 2.1 a, so the grass is 1 + 0.66 w times as bright).
-    grass *= 1.0 + 0.66 * trail_wave(trail_at(q.x, q.y)) * light.shading_b.y;
+    grass *= 1.0 + 0.66 * trail_wave_smooth(q.x, q.y) * light.shading_b.y;
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):

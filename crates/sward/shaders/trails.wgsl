@@ -101,3 +101,20 @@ fn trail_at(x: f32, z: f32) -> vec3<f32> {
 fn trail_wave(t: vec3<f32>) -> f32 {
     return clamp(1.5 * length(t.yz), 0.0, 1.0) * clamp(t.x, 0.0, 1.0);
 }
+
+// `trail_wave` at world point (x, z) interpolated bilinearly between the four texels around
+// it: on the far ground a path's edge is soft rather than a staircase of texels.
+fn trail_wave_smooth(x: f32, z: f32) -> f32 {
+    if trail_word(0u) == 0u {
+        return 0.0;
+    }
+    let texel = f32(trail_word(4u)) / (1024.0 * f32(max(trail_word(1u), 1u)));
+    let g = vec2<f32>(x, z) / texel - 0.5;
+    let f = fract(g);
+    let c = (floor(g) + 0.5) * texel;
+    let a = trail_wave(trail_at(c.x, c.y));
+    let b = trail_wave(trail_at(c.x + texel, c.y));
+    let d = trail_wave(trail_at(c.x, c.y + texel));
+    let e = trail_wave(trail_at(c.x + texel, c.y + texel));
+    return mix(mix(a, b, f.x), mix(d, e, f.x), f.y);
+}
