@@ -522,4 +522,60 @@ mod tests {
         restore(&mut b2, &mut s2, texel, 30.0, 0.25, 2.0);
         assert_eq!((b2, s2.rest_eta[3]), (blade, 0.0));
     }
+
+    proptest::proptest! {
+        /// Whatever the tiles do, every resident tile has a page of its own, no two tiles
+        /// share one, a tile that stays keeps its page, and the table finds each tile's
+        /// page.
+        #[test]
+        fn pages_stay_consistent_under_any_flight(
+            steps in proptest::collection::vec(
+                proptest::collection::btree_set((-6i32..6, -6i32..6), 0..9),
+                1..40,
+            ),
+            cache in 0u32..6,
+        ) {
+            let l = TrailLayout::new(4, 9 + cache, 4096);
+            let mut p = TrailPages::new(l);
+            let mut held: HashMap<(i32, i32), u32> = HashMap::new();
+            let mut table = Vec::new();
+            for resident in &steps {
+                p.sync(resident);
+                let _ = p.take_fresh();
+                let mut used = HashSet::new();
+                for t in resident {
+                    let page = p.page_of(*t);
+                    proptest::prop_assert!(page.is_some(), "{t:?} has no page");
+                    let page = page.unwrap();
+                    proptest::prop_assert!(page < l.pages);
+                    proptest::prop_assert!(used.insert(page), "page {page} shared");
+                    // A tile that stays keeps its page (its trail).
+                    if let Some(&before) = held.get(t) {
+                        proptest::prop_assert_eq!(before, page);
+                    }
+                }
+                proptest::prop_assert!(p.cached_count() as u32 <= l.pages);
+                if let Some(t) = p.table() {
+                    table = t;
+                }
+                if !table.is_empty() {
+                    for t in resident {
+                        let mut s = table_slot(*t, l.capacity);
+                        let found = loop {
+                            let e = 4 * s as usize;
+                            if table[e + 2] == 0 {
+                                break None;
+                            }
+                            if (table[e] as i32, table[e + 1] as i32) == *t {
+                                break Some(table[e + 2] - 1);
+                            }
+                            s = (s + 1) & (l.capacity - 1);
+                        };
+                        proptest::prop_assert_eq!(found, p.page_of(*t));
+                    }
+                }
+                held = resident.iter().map(|t| (*t, p.page_of(*t).unwrap())).collect();
+            }
+        }
+    }
 }
