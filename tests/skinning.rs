@@ -33,6 +33,55 @@ fn walker() -> String {
     format!("{}/assets/models/walker.gltf", env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The flat 12 m field of the trail tests with `object` (the walker's scene entry) as its
+/// only object.
+fn flat_walk_sets(object: String) -> Vec<String> {
+    vec![
+        "terrain.height=Flat".to_string(),
+        "terrain.size=12".to_string(),
+        "field.tile_size=0".to_string(),
+        "field.density=120".to_string(),
+        "field.height=(min: 0.4, max: 0.6)".to_string(),
+        "colliders=[]".to_string(),
+        "wind.directional=None".to_string(),
+        format!("objects=[{object}]"),
+    ]
+}
+
+/// Runs 150 frames of 1/30 s (`before` runs ahead of each) and returns each blade's largest
+/// η over them (read every third frame: a pressed blade's η decays in a fraction of a
+/// second).
+fn most_eta_over_150_frames(
+    gpu: &sward::gpu::Gpu,
+    r: &mut Renderer,
+    target: &Target,
+    camera: &CameraView,
+    size: (u32, u32),
+    mut before: impl FnMut(&mut Renderer),
+) -> Vec<f32> {
+    let mut most_eta: Vec<f32> = Vec::new();
+    for f in 0..150 {
+        before(r);
+        r.frame(
+            gpu,
+            1.0 / 30.0,
+            camera,
+            &target.color_view,
+            &target.depth_view,
+            size,
+        );
+        if f % 3 == 2 {
+            let (_, states) = r.buffers.read(gpu).expect("blades");
+            most_eta.resize(states.len(), 0.0);
+            for (m, s) in most_eta.iter_mut().zip(&states) {
+                *m = m.max(s.rest_eta[3]);
+            }
+        }
+    }
+    gpu.check_errors().expect("no GPU error");
+    most_eta
+}
+
 #[test]
 fn the_gpu_poses_the_walker_as_its_cpu_twin() {
     let gpu = common::gpu();
@@ -219,20 +268,11 @@ fn the_walkers_feet_stay_on_the_hills() {
 #[test]
 fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
     let gpu = common::gpu();
-    let sets = vec![
-        "terrain.height=Flat".to_string(),
-        "terrain.size=12".to_string(),
-        "field.tile_size=0".to_string(),
-        "field.density=120".to_string(),
-        "field.height=(min: 0.4, max: 0.6)".to_string(),
-        "colliders=[]".to_string(),
-        "wind.directional=None".to_string(),
-        format!(
-            "objects=[(mesh: {:?}, animation: Some(\"walk\"), stride: 1.76, collider: Joints, \
-             motion: Path(points: [(-5.0, 0.0), (5.0, 0.0)], speed: 1.4, looped: false))]",
-            walker()
-        ),
-    ];
+    let sets = flat_walk_sets(format!(
+        "(mesh: {:?}, animation: Some(\"walk\"), stride: 1.76, collider: Joints, \
+         motion: Path(points: [(-5.0, 0.0), (5.0, 0.0)], speed: 1.4, looped: false))",
+        walker()
+    ));
     let size = (32, 18);
     let (_session, mut r, target, camera) = setup(&gpu, &sets, size);
     // The embedding's sphere budget counts what the frame places (the rigged joints and the
@@ -243,25 +283,7 @@ fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
     );
     assert!(r.scene_sphere_count() >= 9, "one sphere per joint");
     // 5 s: the walker covers 7 m, from x = -5 to x = 2.
-    let mut most_eta: Vec<f32> = Vec::new();
-    for f in 0..150 {
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        if f % 3 == 2 {
-            let (_, states) = r.buffers.read(&gpu).expect("blades");
-            most_eta.resize(states.len(), 0.0);
-            for (m, s) in most_eta.iter_mut().zip(&states) {
-                *m = m.max(s.rest_eta[3]);
-            }
-        }
-    }
-    gpu.check_errors().expect("no GPU error");
+    let most_eta = most_eta_over_150_frames(&gpu, &mut r, &target, &camera, size, |_| {});
     let (blades, _) = r.buffers.read(&gpu).expect("blades");
     // Behind the walker, away from where it started.
     let behind = |b: &sward::field::blade::Blade| (-3.5..0.5).contains(&b.v0_dir[0]);
@@ -320,20 +342,11 @@ fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
 fn a_steered_walker_presses_the_grass_where_it_walks() {
     use sward_app::app::walker::{WalkInput, Walker};
     let gpu = common::gpu();
-    let sets = vec![
-        "terrain.height=Flat".to_string(),
-        "terrain.size=12".to_string(),
-        "field.tile_size=0".to_string(),
-        "field.density=120".to_string(),
-        "field.height=(min: 0.4, max: 0.6)".to_string(),
-        "colliders=[]".to_string(),
-        "wind.directional=None".to_string(),
-        format!(
-            "objects=[(mesh: {:?}, animation: Some(\"walk\"), stride: 1.76, collider: Joints, \
-             translation: (0.0, 0.0, -4.0))]",
-            walker()
-        ),
-    ];
+    let sets = flat_walk_sets(format!(
+        "(mesh: {:?}, animation: Some(\"walk\"), stride: 1.76, collider: Joints, \
+         translation: (0.0, 0.0, -4.0))",
+        walker()
+    ));
     let size = (32, 18);
     let (_session, mut r, target, camera) = setup(&gpu, &sets, size);
     let mut w = Walker::take(&r.scene, &r.terrain, r.time, |i| r.animation_duration(i))
@@ -343,28 +356,11 @@ fn a_steered_walker_presses_the_grass_where_it_walks() {
         forward: 1.0,
         ..WalkInput::default()
     };
-    let mut most_eta: Vec<f32> = Vec::new();
-    for f in 0..150 {
+    let most_eta = most_eta_over_150_frames(&gpu, &mut r, &target, &camera, size, |r| {
         w.step(walk, 1.0 / 30.0);
         r.pose_object(w.object, Some(w.pose(&r.terrain)))
             .expect("pose");
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        if f % 3 == 2 {
-            let (_, states) = r.buffers.read(&gpu).expect("blades");
-            most_eta.resize(states.len(), 0.0);
-            for (m, s) in most_eta.iter_mut().zip(&states) {
-                *m = m.max(s.rest_eta[3]);
-            }
-        }
-    }
-    gpu.check_errors().expect("no GPU error");
+    });
     // A pose past the scene's objects, or with a NaN, is refused.
     assert!(r.pose_object(1, Some(w.pose(&r.terrain))).is_err());
     let mut bad = w.pose(&r.terrain);

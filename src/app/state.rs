@@ -543,12 +543,7 @@ impl AppState {
     pub fn regenerate(&mut self, gpu: &Gpu) {
         let mut scene = self.current_scene();
         scene.field = self.field_draft.clone();
-        let result = validated(&scene).and_then(|s| {
-            let time = self.renderer.time;
-            self.replace_field(gpu, s)?;
-            self.renderer.time = time;
-            Ok(())
-        });
+        let result = self.rebuild_field(gpu, &scene);
         self.status = Some(match result {
             Ok(()) => Status::Info(format!(
                 "regenerated: {} blades",
@@ -565,12 +560,7 @@ impl AppState {
         let before = self.renderer.scene.physics.trails.clone();
         self.renderer.scene.physics.trails = self.trails_draft.clone();
         let scene = self.current_scene();
-        let result = validated(&scene).and_then(|s| {
-            let time = self.renderer.time;
-            self.replace_field(gpu, s)?;
-            self.renderer.time = time;
-            Ok(())
-        });
+        let result = self.rebuild_field(gpu, &scene);
         self.status = Some(match result {
             Ok(()) => Status::Info("trail map rebuilt (the trails so far are gone)".into()),
             Err(e) => {
@@ -578,6 +568,16 @@ impl AppState {
                 Status::Error(format!("trail map not changed: {e}"))
             }
         });
+    }
+
+    /// Checks `scene` as a file would be and rebuilds the renderer for it, keeping the
+    /// simulation's clock; on an error the old renderer stays.
+    fn rebuild_field(&mut self, gpu: &Gpu, scene: &Scene) -> Result<()> {
+        let checked = validated(scene)?;
+        let time = self.renderer.time;
+        self.replace_field(gpu, checked)?;
+        self.renderer.time = time;
+        Ok(())
     }
 
     fn replace_field(&mut self, gpu: &Gpu, scene: Scene) -> Result<()> {
