@@ -49,8 +49,12 @@ pub struct Walker {
     pub object: usize,
     /// Its origin's (x, z) in metres.
     pub position: Vec2,
-    /// Its heading in radians: it faces (sin h, 0, cos h), as [`ObjectPose::yaw`].
+    /// Its heading in radians: it faces (sin h, 0, cos h) in the world (its +z turned by
+    /// its rotation and its pose's yaw).
     pub heading: f32,
+    /// The heading its scene `rotation` alone gives it: the pose's yaw is the rest of the
+    /// turn.
+    rest_heading: f32,
     /// Ground speed along the heading in m/s (negative: walking back).
     pub speed: f32,
     /// Signed distance walked, in metres, reduced to one stride (the walk's phase).
@@ -91,7 +95,8 @@ impl Walker {
         let w = Self {
             object,
             position: Vec2::new(origin.x, origin.z),
-            heading: heading_of(o, terrain, time),
+            heading: facing_of(&object_transform(o, terrain, time)),
+            rest_heading: facing_of(&o.transform_at(origin)),
             speed: 0.0,
             phase: (cycles * stride).rem_euclid(stride),
             walked: 0.0,
@@ -149,7 +154,7 @@ impl Walker {
         let facing = self.facing() * self.speed;
         ObjectPose {
             origin: Vec3::new(x, terrain.height(x, z) + self.lift, z),
-            yaw: self.heading,
+            yaw: self.heading - self.rest_heading,
             animation_time: self.phase / self.stride * self.duration,
             velocity: Vec3::new(facing.x, 0.0, facing.y),
         }
@@ -158,22 +163,20 @@ impl Walker {
     fn is_finite(&self) -> bool {
         self.position.is_finite()
             && self.heading.is_finite()
+            && self.rest_heading.is_finite()
             && self.speed.is_finite()
             && self.phase.is_finite()
             && self.walked.is_finite()
     }
 }
 
-/// The heading an object faces at `time`: the turn about the vertical its transform adds
-/// to its rest rotation (a path walker's heading), measured on its +z axis.
-fn heading_of(o: &MeshObject, terrain: &HeightField, time: f32) -> f32 {
-    let now = object_transform(o, terrain, time).transform_vector3(Vec3::Z);
-    let rest = o
-        .transform_at(object_origin(o, terrain, time))
-        .transform_vector3(Vec3::Z);
-    let turn = now.x.atan2(now.z) - rest.x.atan2(rest.z);
-    if turn.is_finite() {
-        turn.rem_euclid(TAU)
+/// The heading a transform turns an object's +z to, about the vertical (0 along +z, π/2
+/// along +x); 0 when it points straight up or down.
+fn facing_of(m: &glam::Mat4) -> f32 {
+    let f = m.transform_vector3(Vec3::Z);
+    let h = f.x.atan2(f.z);
+    if h.is_finite() && (f.x != 0.0 || f.z != 0.0) {
+        h.rem_euclid(TAU)
     } else {
         0.0
     }
@@ -330,6 +333,34 @@ mod tests {
             w.step(WalkInput::default(), dt);
         }
         assert_eq!((w.speed, w.phase), (0.0, phase));
+    }
+
+    #[test]
+    fn a_figure_turned_in_the_scene_walks_the_way_it_faces() {
+        let terrain = terrain();
+        let mut s = scene_with_walker(Motion::Static);
+        // Turned a quarter about y: its +z faces +x.
+        s.objects[1].rotation = (0.0, 90.0, 0.0);
+        let mut w = Walker::take(&s, &terrain, 0.0, animated).unwrap();
+        assert!((w.facing() - Vec2::X).length() < 1e-4, "{:?}", w.facing());
+        let start = w.position;
+        for _ in 0..60 {
+            w.step(
+                WalkInput {
+                    forward: 1.0,
+                    ..WalkInput::default()
+                },
+                1.0 / 60.0,
+            );
+        }
+        let moved = w.position - start;
+        assert!(moved.x > 0.5 && moved.y.abs() < 1e-4, "{moved}");
+        // Drawn as it stands: the pose adds no turn to its rotation yet.
+        let mut posed = s.objects[1].clone();
+        posed.pose = Some(w.pose(&terrain));
+        let m = object_transform(&posed, &terrain, 0.0);
+        let f = m.transform_vector3(Vec3::Z);
+        assert!((f.normalize() - Vec3::X).length() < 1e-4, "{f}");
     }
 
     #[test]
