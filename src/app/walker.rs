@@ -13,7 +13,7 @@ use std::f32::consts::TAU;
 use glam::{Vec2, Vec3};
 
 use sward::field::HeightField;
-use sward::scene::{MeshObject, ObjectPose, Scene};
+use sward::scene::{ObjectPose, Scene};
 use sward::sim::colliders::{animation_time, object_origin, object_transform};
 
 /// Walking speed in m/s (the pace of `walk.ron`'s path).
@@ -193,7 +193,7 @@ fn finite_axis(v: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sward::scene::Motion;
+    use sward::scene::{MeshObject, Motion};
 
     /// A 100 m square of hills (about ±3 m): the feet must follow them.
     fn terrain() -> HeightField {
