@@ -54,6 +54,18 @@ fn fs(in: Out) -> @location(0) vec4<f32> {
 }
 "#;
 
+/// The host's shadow caster: its box, depth only, into one of sward's sun cascades.
+const CASTER_WGSL: &str = r#"
+@group(0) @binding(0) var<uniform> sun_view_proj: mat4x4<f32>;
+@vertex
+fn vs(@location(0) pos: vec3<f32>) -> @builtin(position) vec4<f32> {
+    return sun_view_proj * vec4<f32>(pos, 1.0);
+}
+"#;
+
+/// Indices of the box at the end of `world`'s mesh (six faces of two triangles).
+const BOX_INDICES: u32 = 36;
+
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Vertex {
@@ -84,6 +96,11 @@ pub struct Host {
     pub grass_on: bool,
     /// Whether the host's world receives sward's sun shadows.
     pub shadows: bool,
+    /// Whether the host's box casts into sward's sun shadows (`shadow_casters`).
+    pub casts: bool,
+    /// The caster pipeline and, per cascade, its view-projection's buffer and group.
+    caster: wgpu::RenderPipeline,
+    caster_groups: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
 }
 
 impl Host {
@@ -198,7 +215,11 @@ impl Host {
             contents: bytemuck::cast_slice(&ball_index),
             usage: wgpu::BufferUsages::INDEX,
         });
+        let (caster, caster_groups) = caster_pipeline(device);
         Ok(Self {
+            caster,
+            caster_groups,
+            casts: true,
             ball_vertices,
             ball_indices,
             ball_index_count: ball_index.len() as u32,
@@ -282,6 +303,33 @@ impl Host {
             wind: None,
         };
         self.grass.prepare(device, queue, &mut encoder, &inputs)?;
+        if self.casts {
+            // The host's box into each sun cascade sward drew this frame, over sward's own
+            // casters: the grass and the host's ground then lie in its shadow.
+            for (caster, (buffer, group)) in
+                self.grass.shadow_casters().iter().zip(&self.caster_groups)
+            {
+                queue.write_buffer(buffer, 0, bytemuck::bytes_of(&caster.view_proj));
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("host.box_shadow"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: caster.depth,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    ..Default::default()
+                });
+                pass.set_pipeline(&self.caster);
+                pass.set_bind_group(0, group, &[]);
+                pass.set_vertex_buffer(0, self.vertices.slice(..));
+                pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(self.index_count - BOX_INDICES..self.index_count, 0, 0..1);
+            }
+        }
         if self.grass_on {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("host.grass"),
@@ -294,6 +342,81 @@ impl Host {
         queue.submit([encoder.finish()]);
         Ok(())
     }
+}
+
+/// The host's depth-only pipeline for its shadow casters (sward's shadow format and bias),
+/// and one view-projection buffer and group for each of the (at most four) cascades.
+fn caster_pipeline(
+    device: &wgpu::Device,
+) -> (wgpu::RenderPipeline, Vec<(wgpu::Buffer, wgpu::BindGroup)>) {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("host.caster_shader"),
+        source: wgpu::ShaderSource::Wgsl(CASTER_WGSL.into()),
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("host.caster_layout"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("host.caster_pipeline_layout"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("host.caster"),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+            })],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: sward::embed::SHADOW_DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: sward::embed::SHADOW_DEPTH_BIAS,
+        }),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    });
+    let groups = (0..4)
+        .map(|_| {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("host.caster_view_proj"),
+                size: 64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("host.caster_group"),
+                layout: &layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
+            (buffer, group)
+        })
+        .collect();
+    (pipeline, groups)
 }
 
 const SKY: wgpu::Color = wgpu::Color {

@@ -188,6 +188,24 @@ pub struct ShadowReceiver<'a> {
     pub sun_direction: Vec3,
 }
 
+/// One of sward's sun shadow cascades drawn this frame, where a host draws its own shadow
+/// casters ([`GrassRenderer::shadow_casters`]).
+pub struct ShadowCaster<'a> {
+    /// World to the cascade's clip space: the sun's orthographic view-projection (depth
+    /// 0..1, nearer the sun smaller).
+    pub view_proj: glam::Mat4,
+    /// The cascade's layer of sward's shadow map ([`SHADOW_DEPTH_FORMAT`]), to draw into
+    /// with `LoadOp::Load` and `StoreOp::Store` and a depth compare of `LessEqual`.
+    pub depth: &'a wgpu::TextureView,
+}
+
+/// The format of sward's shadow maps: a host's caster pipeline writes this depth.
+pub const SHADOW_DEPTH_FORMAT: wgpu::TextureFormat = crate::render::draw::DEPTH_FORMAT;
+
+/// The depth bias sward's own casters draw with; a host's caster pipeline takes the same,
+/// so that its surfaces and the grass do not shadow themselves.
+pub const SHADOW_DEPTH_BIAS: wgpu::DepthBiasState = crate::render::pipelines::SHADOW_BIAS;
+
 /// sward's grass in a host's frame. See the module's example.
 pub struct GrassRenderer {
     gpu: Gpu,
@@ -362,6 +380,24 @@ impl GrassRenderer {
             group: self.renderer.light().group(),
             sun_direction: crate::render::light::sun::scene_sun(&self.renderer.scene),
         }
+    }
+
+    /// The cascades of sward's sun shadows that the last [`GrassRenderer::prepare`] drew,
+    /// for the host's own shadow casters: after `prepare` and before submitting its
+    /// encoder, the host draws its meshes, depth only, into each cascade's layer with that
+    /// cascade's `view_proj`, loading the depth sward drew (a pipeline of
+    /// [`SHADOW_DEPTH_FORMAT`] and [`SHADOW_DEPTH_BIAS`]). The grass `render` draws then
+    /// lies in their shadows, as does a host surface that receives them
+    /// ([`GrassRenderer::shadow_receiver`]). Cascades sward did not draw again this frame
+    /// (the far ones are redrawn every few frames) are not listed and keep what the host
+    /// drew into them before. Empty when the scene has no sun shadows.
+    pub fn shadow_casters(&self) -> Vec<ShadowCaster<'_>> {
+        self.renderer
+            .light()
+            .caster_targets()
+            .into_iter()
+            .map(|(view_proj, depth)| ShadowCaster { view_proj, depth })
+            .collect()
     }
 
     /// The WGSL a host's shader includes to receive sward's shadows with the bindings at

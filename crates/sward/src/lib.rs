@@ -29,7 +29,7 @@ pub mod sim;
 
 pub use embed::{
     Collider, ColorOutput, FrameInputs, GrassRenderer, GrassRendererDescriptor, SceneSource,
-    ShadowReceiver, WindInput,
+    ShadowCaster, ShadowReceiver, WindInput,
 };
 pub use error::{Error, Result};
 pub use render::camera::CameraView;

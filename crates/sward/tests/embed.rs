@@ -6,7 +6,8 @@
 //! the near field's pixels (bound: 40 %) and none of the sky's; with the host's depth the
 //! cull keeps 25,367 blades after 4 frames, without it 26,448 (the box, the ball and the
 //! hills hide the rest); the host's world receiving sward's shadows: 820 pixels darker
-//! (bound: 20), none brighter; two runs give the same picture.
+//! (bound: 20), none brighter; the host's box casting into sward's shadow maps: 56 pixels
+//! of grass darker at 480x270 (bound: 30), none brighter; two runs give the same picture.
 
 #[allow(dead_code)]
 #[path = "../examples/embed.rs"]
@@ -194,6 +195,30 @@ fn the_hosts_world_receives_swards_shadows() {
     // shadow only takes light away.
     assert!(darker > 20, "{darker} pixels in shadow");
     assert_eq!(brighter, 0);
+}
+
+/// The host's box casts into sward's sun shadows (`GrassRenderer::shadow_casters`): drawn
+/// depth only into each cascade sward drew, it darkens the grass and the host's ground on
+/// its far side from the sun, and lights nothing.
+#[test]
+fn the_hosts_box_casts_into_swards_shadows() {
+    // The box is small in the view (10 m away): a larger picture sees its shadow.
+    let size = (480, 270);
+    let (open, _) = example::render_image(size, 8, |h| h.casts = false).expect("no caster");
+    let (cast, _) = example::render_image(size, 8, |_| {}).expect("caster");
+    let luma = |p: &image::Rgba<u8>| p.0[..3].iter().map(|&c| u32::from(c)).sum::<u32>();
+    let (mut darker, mut brighter) = (0, 0);
+    for (a, b) in open.pixels().zip(cast.pixels()) {
+        let (a, b) = (luma(a), luma(b));
+        if b + 12 < a {
+            darker += 1;
+        } else if a + 12 < b {
+            brighter += 1;
+        }
+    }
+    eprintln!("with the host's box casting: {darker} pixels darker, {brighter} brighter");
+    assert!(darker > 30, "{darker} pixels in the box's shadow");
+    assert!(brighter * 10 < darker, "{brighter} pixels brighter");
 }
 
 /// A host that draws with 4x MSAA: the grass pipeline is built for its sample count, the

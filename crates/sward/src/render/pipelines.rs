@@ -247,6 +247,14 @@ pub(crate) fn depth_only_pipeline(
 
 /// A shadow caster's pipeline: `entry` of `shader` into a single-sample depth map, both
 /// sides drawn, with a slope-scaled depth bias against acne on surfaces at grazing sun.
+/// The depth bias of every shadow caster (sward's own and a host's, `embed`): enough to
+/// keep a lit surface from shadowing itself at the maps' resolution.
+pub const SHADOW_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
+    constant: 2,
+    slope_scale: 1.5,
+    clamp: 0.0,
+};
+
 pub(crate) fn shadow_pipeline(
     device: &wgpu::Device,
     label: &str,
@@ -258,11 +266,7 @@ pub(crate) fn shadow_pipeline(
     let depth = DepthOnly {
         compare: wgpu::CompareFunction::LessEqual,
         write: true,
-        bias: wgpu::DepthBiasState {
-            constant: 2,
-            slope_scale: 1.5,
-            clamp: 0.0,
-        },
+        bias: SHADOW_BIAS,
         samples: 1,
     };
     depth_only_pipeline(device, label, stage, layout, buffers, constants, depth)

@@ -520,6 +520,24 @@ impl LightPass {
     }
 }
 
+impl LightPass {
+    /// The cascades the last `prepare` drew this frame, each with the sun's view-projection
+    /// it was drawn with and its layer of the shadow map: where a program embedding sward
+    /// draws its own shadow casters (after the frame's shadow passes, loading the depth).
+    /// The cascades not listed keep what was drawn into them before.
+    pub fn caster_targets(&self) -> Vec<(glam::Mat4, &wgpu::TextureView)> {
+        (0..self.cascades as usize)
+            .filter(|&k| self.drawn[k])
+            .map(|k| {
+                (
+                    glam::Mat4::from_cols_array_2d(&self.last.cascades[k]),
+                    &self.map.layer_views[k],
+                )
+            })
+            .collect()
+    }
+}
+
 /// The shortest and tallest blade the field can grow (its own heights, its species' and its
 /// flowers' stems), for which levels of detail a cascade's casters can have.
 fn blade_heights(field: &crate::scene::Field) -> (f32, f32) {
