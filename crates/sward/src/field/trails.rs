@@ -132,6 +132,25 @@ pub fn table_slot(tile: (i32, i32), capacity: u32) -> u32 {
     hash32(tile.0 as u32 ^ hash32(tile.1 as u32).rotate_left(17)) & (capacity.max(1) - 1)
 }
 
+/// The page `table` (the words of the table: `capacity` entries of tile x, tile z, page +
+/// 1, 0) gives `tile`, probing linearly from [`table_slot`] as the shaders' `trail_page`
+/// does; `None` at the first empty entry or when the table is shorter.
+pub fn find_page(table: &[u32], capacity: u32, tile: (i32, i32)) -> Option<u32> {
+    let word = |i: usize| table.get(i).copied().unwrap_or(0);
+    let mut s = table_slot(tile, capacity);
+    for _ in 0..capacity {
+        let e = 4 * s as usize;
+        if word(e + 2) == 0 {
+            return None;
+        }
+        if (word(e) as i32, word(e + 1) as i32) == tile {
+            return Some(word(e + 2) - 1);
+        }
+        s = (s + 1) & (capacity.max(1) - 1);
+    }
+    None
+}
+
 /// The stamp of η written at time `now`.
 pub fn stamp(eta: f32, now: f32, decay: f32) -> f32 {
     eta + decay * now
@@ -294,19 +313,8 @@ pub fn sample(words: &[u32], x: f32, z: f32) -> Vec3 {
     if tile.0 < b[0] || tile.1 < b[1] || tile.0 > b[2] || tile.1 > b[3] {
         return Vec3::ZERO;
     }
-    let mut s = table_slot(tile, capacity);
-    let mut page = None;
-    for _ in 0..capacity {
-        let e = (HEADER_WORDS + 4 * s) as usize;
-        if word(e + 2) == 0 {
-            break;
-        }
-        if (word(e) as i32, word(e + 1) as i32) == tile {
-            page = Some(word(e + 2) - 1);
-            break;
-        }
-        s = (s + 1) & (capacity - 1);
-    }
+    let table = words.get(HEADER_WORDS as usize..).unwrap_or(&[]);
+    let page = find_page(table, capacity, tile);
     let Some(page) = page else {
         return Vec3::ZERO;
     };
@@ -456,7 +464,7 @@ mod tests {
     }
 
     #[test]
-    fn the_table_finds_every_page_by_probing_as_the_shader_does() {
+    fn the_table_finds_every_page_and_no_other_tile() {
         let l = layout(40);
         let mut p = TrailPages::new(l);
         let tiles: Vec<(i32, i32)> = (-3..3).flat_map(|x| (-3..3).map(move |z| (x, z))).collect();
@@ -464,19 +472,9 @@ mod tests {
         let table = p.table().expect("changed");
         assert!(p.table().is_none(), "unchanged since");
         for &t in &tiles {
-            let mut s = table_slot(t, l.capacity);
-            let page = loop {
-                let e = 4 * s as usize;
-                if table[e + 2] == 0 {
-                    break None;
-                }
-                if (table[e] as i32, table[e + 1] as i32) == t {
-                    break Some(table[e + 2] - 1);
-                }
-                s = (s + 1) & (l.capacity - 1);
-            };
-            assert_eq!(page, p.page_of(t), "{t:?}");
+            assert_eq!(find_page(&table, l.capacity, t), p.page_of(t), "{t:?}");
         }
+        assert_eq!(find_page(&table, l.capacity, (10, 10)), None);
         assert_eq!(p.bounds(), [-3, -3, 2, 2]);
     }
 
@@ -560,18 +558,10 @@ mod tests {
                 }
                 if !table.is_empty() {
                     for t in resident {
-                        let mut s = table_slot(*t, l.capacity);
-                        let found = loop {
-                            let e = 4 * s as usize;
-                            if table[e + 2] == 0 {
-                                break None;
-                            }
-                            if (table[e] as i32, table[e + 1] as i32) == *t {
-                                break Some(table[e + 2] - 1);
-                            }
-                            s = (s + 1) & (l.capacity - 1);
-                        };
-                        proptest::prop_assert_eq!(found, p.page_of(*t));
+                        proptest::prop_assert_eq!(
+                            find_page(&table, l.capacity, *t),
+                            p.page_of(*t)
+                        );
                     }
                 }
                 held = resident.iter().map(|t| (*t, p.page_of(*t).unwrap())).collect();
