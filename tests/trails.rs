@@ -194,6 +194,7 @@ fn a_trail_outlives_its_tile_and_comes_back_decayed() {
         }
     }
     assert!(trail_texels > 8, "{trail_texels} texels hold a trail");
+    far_ground_reads_the_map_as_its_twin(&run.gpu, &words, pages, &layout);
 
     run.frames(60, 1.0 / 30.0);
     let layout = run.layout();
@@ -285,6 +286,57 @@ fn a_trail_outlives_its_tile_and_comes_back_decayed() {
         restored += (s.rest_eta[3] > 0.0) as usize;
     }
     assert!(restored > 20, "{restored} blades took a trail back");
+}
+
+/// The map's largest stamp (the readers' early out) is the largest texel stamp the update
+/// wrote, and the far ground's read of the map (`trail_wave_smooth` and `trail_at`, probed
+/// on the GPU) is its CPU twin's (`trails::wave_smooth`, `trails::sample`) over the ball's
+/// path and the tile borders it crosses (tiles of 4 m, texels of 0.25 m).
+fn far_ground_reads_the_map_as_its_twin(
+    gpu: &Gpu,
+    words: &[u32],
+    pages: &trails::TrailPages,
+    layout: &TrailLayout,
+) {
+    let r = layout.resolution;
+    let largest = (-4..4)
+        .flat_map(|tx| (-4..4).map(move |tz| (tx, tz)))
+        .filter_map(|t| pages.page_of(t))
+        .flat_map(|page| (0..r * r).map(move |k| words[layout.texel_word(page, k)]))
+        .max()
+        .unwrap();
+    assert_eq!(
+        words[trails::MAX_STAMP_WORD],
+        largest,
+        "the map's largest stamp"
+    );
+
+    // Off the texel centres (where the clamped interpolation may step at a tile's edge).
+    let points: Vec<glam::Vec2> = (0..220)
+        .flat_map(|i| (0..40).map(move |j| (i, j)))
+        .map(|(i, j)| glam::Vec2::new(-4.5 + i as f32 * 0.0371, 0.2 + j as f32 * 0.0413))
+        .collect();
+    let got = sward::render::far_texture::probe_trails(gpu, words, &points).expect("probe");
+    let mut waving = 0;
+    for (p, (wave, at)) in points.iter().zip(&got) {
+        let want = trails::wave_smooth(words, p.x, p.y);
+        assert!(
+            (wave - want).abs() < 1e-4,
+            "wave at {p}: GPU {wave}, twin {want}"
+        );
+        let t = trails::sample(words, p.x, p.y);
+        assert!(
+            (*at - t).abs().max_element() < 1e-6,
+            "trail at {p}: GPU {at}, twin {t}"
+        );
+        waving += (want > 0.1) as usize;
+    }
+    assert!(waving > 200, "{waving} points show the trail");
+    // A map with nothing alive reads nothing, wherever.
+    let mut old = words.to_vec();
+    old[5] = (1e6f32).to_bits();
+    let none = sward::render::far_texture::probe_trails(gpu, &old, &points).expect("probe");
+    assert!(none.iter().all(|(w, t)| *w == 0.0 && *t == Vec3::ZERO));
 }
 
 #[test]

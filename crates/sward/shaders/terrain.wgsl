@@ -19,6 +19,11 @@
 // The trail map (`trails.wgsl`): a path pressed into the grass shows on the far ground.
 @group(0) @binding(6) var<storage, read> trails: array<u32>;
 
+// Whether the field has a trail map at all (a streamed field with `physics.trails`): without
+// one the lookup is compiled out, as a software rasteriser would run it for every ground
+// pixel even where it returns at once.
+override TRAILS: bool = true;
+
 fn trail_word(i: u32) -> u32 {
     return trails[i];
 }
@@ -152,10 +157,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // The grass seen from afar: the blades' own light averaged over the blades a distant
     // eye sees (`far_grass_light`, per vertex), the sun's part shadowed here.
     var grass = (in.grass_ambient + lit * in.grass_sun) * grass_texture(octaves, in.footprint);
-    // A trail here: its pressed blades show their paler side, as the billboards' and the
-    // blades' do (`blade_albedo`: a → 1.7 a + 0.04 at 0.6 of the wave; at the far albedo,
-    // about 0.1, that is 2.1 a, so the grass is 1 + 0.66 w times as bright).
-    grass *= 1.0 + 0.66 * trail_wave_smooth(q.x, q.y) * light.shading_b.y;
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):
@@ -167,6 +168,16 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         outside = 0.0;
     }
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
+    // A trail here: its pressed blades show their paler side, as the billboards' and the
+    // blades' do (`blade_albedo`: a → 1.7 a + 0.04 at 0.6 of the wave; at the far albedo,
+    // about 0.1, that is 2.1 a, so the grass is 1 + 0.66 w times as bright). Only where
+    // the far grass shows: under the blades the map is theirs to show, and its table probe
+    // is the dearest read of this shader.
+    if TRAILS {
+        if cover > 0.0 && light.shading_b.y > 0.0 {
+            grass *= 1.0 + 0.66 * trail_wave_smooth(q.x, q.y) * light.shading_b.y;
+        }
+    }
     var color = mix(near, grass, cover);
     color = fog_towards(color, in.world, in.sky);
     return vec4<f32>(color, 1.0);

@@ -8,6 +8,9 @@
 const TRAIL_HEADER: u32 = 16u;
 const TRAIL_TEXEL_WORDS: u32 = 3u;
 const TRAIL_NONE: u32 = 0xffffffffu;
+// The header word holding the largest stamp ever written (`trails::MAX_STAMP_WORD`): the
+// update raises it with every write, the CPU's header upload leaves it alone.
+const TRAIL_MAX_STAMP: u32 = 12u;
 // Blades with a smaller eta leave no trail (`trails::MIN_ETA`).
 const TRAIL_MIN_ETA: f32 = 0.02;
 
@@ -79,13 +82,29 @@ fn trail_texel_at(x: f32, z: f32) -> u32 {
     return trail_word(2u) + page * r * r * TRAIL_TEXEL_WORDS + u32(at.z) * TRAIL_TEXEL_WORDS;
 }
 
+// Whether any trail is left anywhere: the largest stamp ever written has not decayed away.
+// Where nothing was ever pressed (most scenes) every read stops here, before any probe.
+fn trail_alive() -> bool {
+    let now = bitcast<f32>(trail_word(5u));
+    let decay = bitcast<f32>(trail_word(6u));
+    return trail_word(0u) != 0u && bitcast<f32>(trail_word(TRAIL_MAX_STAMP)) - decay * now > 0.0;
+}
+
 // The trail at world point (x, z) now: (eta left, at most the ceiling; bend x, bend z), or
 // zero where there is none.
 fn trail_at(x: f32, z: f32) -> vec3<f32> {
+    if !trail_alive() {
+        return vec3<f32>(0.0);
+    }
     let w = trail_texel_at(x, z);
     if w == TRAIL_NONE {
         return vec3<f32>(0.0);
     }
+    return trail_texel(w);
+}
+
+// The trail held by the texel whose first word is `w`, now (as `trail_at`).
+fn trail_texel(w: u32) -> vec3<f32> {
     let now = bitcast<f32>(trail_word(5u));
     let decay = bitcast<f32>(trail_word(6u));
     let eta = min(bitcast<f32>(trail_word(w)) - decay * now, bitcast<f32>(trail_word(7u)));
@@ -102,19 +121,36 @@ fn trail_wave(t: vec3<f32>) -> f32 {
     return clamp(1.5 * length(t.yz), 0.0, 1.0) * clamp(t.x, 0.0, 1.0);
 }
 
-// `trail_wave` at world point (x, z) interpolated bilinearly between the four texels around
-// it: on the far ground a path's edge is soft rather than a staircase of texels.
+// `trail_wave` at world point (x, z) interpolated bilinearly between the four texel centres
+// around it: on the far ground a path's edge is soft rather than a staircase of texels.
+// The far ground runs this for every pixel, and a software rasteriser runs both sides of
+// every branch and each lane's integer division on its own, so it is written for that:
+// one table probe, for the tile of the lower corner, whose texel the others are clamped
+// into (along a tile's last texel the interpolation holds that texel's value, 24 cm at the
+// default resolution); no integer division (a texel centre is half a texel from any
+// border, so the float tile and texel are `trail_locate`'s). The CPU twin is
+// `trails::wave_smooth`.
 fn trail_wave_smooth(x: f32, z: f32) -> f32 {
-    if trail_word(0u) == 0u {
+    if !trail_alive() {
         return 0.0;
     }
-    let texel = f32(trail_word(4u)) / (1024.0 * f32(max(trail_word(1u), 1u)));
+    let r = max(trail_word(1u), 1u);
+    let rf = f32(r);
+    let texel = f32(trail_word(4u)) / (1024.0 * rf);
     let g = vec2<f32>(x, z) / texel - 0.5;
     let f = fract(g);
-    let c = (floor(g) + 0.5) * texel;
-    let a = trail_wave(trail_at(c.x, c.y));
-    let b = trail_wave(trail_at(c.x + texel, c.y));
-    let d = trail_wave(trail_at(c.x, c.y + texel));
-    let e = trail_wave(trail_at(c.x + texel, c.y + texel));
-    return mix(mix(a, b, f.x), mix(d, e, f.x), f.y);
+    let base = floor(g);
+    let tile = floor((base + 0.5) / rf);
+    let uv = vec2<u32>(base - tile * rf);
+    let page = trail_page(i32(tile.x), i32(tile.y));
+    let w = trail_word(2u) + (page * r + uv.y) * r * TRAIL_TEXEL_WORDS;
+    let u0 = uv.x * TRAIL_TEXEL_WORDS;
+    let u1 = min(uv.x + 1u, r - 1u) * TRAIL_TEXEL_WORDS;
+    let next = select(r * TRAIL_TEXEL_WORDS, 0u, uv.y + 1u >= r);
+    let a = trail_wave(trail_texel(w + u0));
+    let b = trail_wave(trail_texel(w + u1));
+    let d = trail_wave(trail_texel(w + next + u0));
+    let e = trail_wave(trail_texel(w + next + u1));
+    let v = mix(mix(a, b, f.x), mix(d, e, f.x), f.y);
+    return select(0.0, v, page != TRAIL_NONE);
 }

@@ -47,6 +47,9 @@ fn trail_write(i: u32, v0: vec3<f32>, eta: f32, bend: vec2<f32>) {
     let s = eta + bitcast<f32>(trail_word(6u)) * bitcast<f32>(trail_word(5u));
     let old = atomicMax(&trails[w], bitcast<u32>(s));
     if bitcast<u32>(s) >= old {
+        // The map's largest stamp, the readers' early out where no trail is left: only a
+        // texel's new largest can be the map's.
+        atomicMax(&trails[TRAIL_MAX_STAMP], bitcast<u32>(s));
         atomicStore(&trails[w + 1u], bitcast<u32>(bend.x));
         atomicStore(&trails[w + 2u], bitcast<u32>(bend.y));
     }

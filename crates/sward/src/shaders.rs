@@ -23,6 +23,10 @@ const FILES: &[(&str, &str)] = &[
         "grass_texture_probe.wgsl",
         include_str!("../shaders/grass_texture_probe.wgsl"),
     ),
+    (
+        "trail_probe.wgsl",
+        include_str!("../shaders/trail_probe.wgsl"),
+    ),
     ("wind.wgsl", include_str!("../shaders/wind.wgsl")),
     ("update.wgsl", include_str!("../shaders/update.wgsl")),
     (
@@ -172,6 +176,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "terrain_probe.wgsl",
     "far_grass_probe.wgsl",
     "grass_texture_probe.wgsl",
+    "trail_probe.wgsl",
     "sky.wgsl",
     "spheres.wgsl",
     "mesh.wgsl",

@@ -28,6 +28,13 @@ use crate::field::noise::hash32;
 
 /// Words of the header: see [`TrailLayout::header`].
 pub const HEADER_WORDS: u32 = 16;
+/// The header word holding the largest stamp ever written into the map (raised by the
+/// update's writes, never lowered): while it has decayed to nothing, no reader probes the
+/// table at all. Past the words the CPU uploads ([`CPU_HEADER_WORDS`]).
+pub const MAX_STAMP_WORD: usize = 12;
+/// The header words the CPU writes every step ([`TrailLayout::header`]'s first words): the
+/// rest belong to the GPU.
+pub const CPU_HEADER_WORDS: usize = 12;
 /// Words per texel: stamp, bend x, bend z.
 pub const TEXEL_WORDS: u32 = 3;
 /// Blades with a smaller η leave no trail (a breath of contact is not a path).
@@ -102,7 +109,8 @@ impl TrailLayout {
     /// The header the shaders read: capacity, resolution, first page word, the blades of the
     /// tile pool (only they write), the tile side in quanta; the time, the decay and the
     /// ceiling of η; the tiles the pages cover (min x, min z, max x, max z; an empty box
-    /// when none).
+    /// when none). Word [`MAX_STAMP_WORD`] is the GPU's and is left 0: upload only the
+    /// first [`CPU_HEADER_WORDS`].
     pub fn header(
         &self,
         pool_blades: u32,
@@ -358,7 +366,43 @@ pub fn write(
         words[w] = s.to_bits();
         words[w + 1] = bend[0].to_bits();
         words[w + 2] = bend[1].to_bits();
+        let max = &mut words[MAX_STAMP_WORD];
+        *max = (*max).max(s.to_bits());
     }
+}
+
+/// The shading wave of the blades a trail `t` ([`sample`]) left (`trail_wave`): bent by
+/// |bend| of their height, while the trail cripples them (η up to 1).
+pub fn wave(t: Vec3) -> f32 {
+    (1.5 * glam::Vec2::new(t.y, t.z).length()).clamp(0.0, 1.0) * t.x.clamp(0.0, 1.0)
+}
+
+/// [`wave`] at world point (x, z), interpolated bilinearly between the four texel centres
+/// around it, the others clamped into the tile of the lower corner (along a tile's last
+/// texel the value holds): the twin of `trail_wave_smooth`, the far ground's trail. Each
+/// texel is read through [`sample`] at its centre, with the quantised locate.
+pub fn wave_smooth(words: &[u32], x: f32, z: f32) -> f32 {
+    let word = |i: usize| words.get(i).copied().unwrap_or(0);
+    if word(0) == 0 {
+        return 0.0;
+    }
+    let r = word(1).max(1) as f32;
+    let texel = word(4) as f32 / (QUANTA * r);
+    let g = glam::Vec2::new(x, z) / texel - 0.5;
+    let base = g.floor();
+    let f = g - base;
+    let tile = ((base + 0.5) / r).floor();
+    let uv = base - tile * r;
+    let centre = |du: f32, dv: f32| {
+        let u = (uv.x + du).min(r - 1.0);
+        let v = (uv.y + dv).min(r - 1.0);
+        let at = (tile * r + glam::Vec2::new(u, v) + 0.5) * texel;
+        wave(sample(words, at.x, at.y))
+    };
+    let (a, b) = (centre(0.0, 0.0), centre(1.0, 0.0));
+    let (d, e) = (centre(0.0, 1.0), centre(1.0, 1.0));
+    let lerp = |p: f32, q: f32, t: f32| p + (q - p) * t;
+    lerp(lerp(a, b, f.x), lerp(d, e, f.x), f.y)
 }
 
 /// The pose of a blade bent by a trail: leaning towards its rest tip moved by `bend` times

@@ -218,6 +218,7 @@ impl DrawPass {
                 &grass.layout,
             ],
             GrassSpec::of(scene, &traits),
+            buffers.has_trail_map(),
         );
         let sphere = |rings, sectors, label: &str| {
             let (sv, si) = sphere_mesh(rings, sectors);
@@ -309,6 +310,7 @@ impl DrawPass {
                 &self.grass.layout,
             ],
             self.pipelines.grass.spec,
+            self.pipelines.terrain_trails,
         );
     }
 

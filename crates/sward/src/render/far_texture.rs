@@ -2,6 +2,7 @@
 //! of its value noise, octaves and footprint fade, and a probe that runs the WGSL on the
 //! GPU at given points so tests can hold the two together. The far ground and the cards'
 //! roots are shaded with it; its mean is 1, so it keeps the grass's colour on average.
+//! The far ground's trail is probed here too ([`probe_trails`]), for the same reason.
 
 use glam::{Vec2, Vec3};
 use wgpu::util::DeviceExt;
@@ -119,6 +120,73 @@ pub fn probe_grass_texture(gpu: &Gpu, points: &[Vec3]) -> Result<Vec<(Vec3, f32)
         .iter()
         .take(points.len())
         .map(|v| (Vec3::new(v[0], v[1], v[2]), v[3]))
+        .collect())
+}
+
+/// The far ground's trail at `points` (world x, z), read back from the GPU: per point the
+/// interpolated wave (`trail_wave_smooth`) and the trail at the point (`trail_at`: η, bend
+/// x, bend z), from the map `words` (a read-back [`crate::sim::update::BladeBuffers`]
+/// trail map, or one written on the CPU).
+pub fn probe_trails(gpu: &Gpu, words: &[u32], points: &[glam::Vec2]) -> Result<Vec<(f32, Vec3)>> {
+    let device = &gpu.device;
+    let count = points.len().max(1);
+    let mut flat: Vec<[f32; 4]> = points.iter().map(|p| [p.x, p.y, 0.0, 0.0]).collect();
+    flat.resize(count, [0.0; 4]);
+    let mut map = words.to_vec();
+    map.resize(
+        map.len().max(crate::field::trails::HEADER_WORDS as usize),
+        0,
+    );
+    let init = |label, contents: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let trails = init("sward.trail_probe.map", bytemuck::cast_slice(&map));
+    let input = init("sward.trail_probe.points", bytemuck::cast_slice(&flat));
+    let out_size = (count * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward.trail_probe.out"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let module = crate::shaders::module(device, "trail_probe.wgsl");
+    // The layout is taken from the shader: three storage buffers.
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("sward.trail_probe"),
+        layout: None,
+        module: &module,
+        entry_point: Some("probe"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+        wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        }
+    }
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sward.trail_probe.group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[entry(0, &trails), entry(1, &input), entry(2, &output)],
+    });
+    let bytes = crate::gpu::run_probe(
+        gpu,
+        "sward.trail_probe",
+        &pipeline,
+        &[&group],
+        count,
+        (&output, out_size),
+    )?;
+    let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    Ok(values
+        .iter()
+        .take(points.len())
+        .map(|v| (v[0], Vec3::new(v[1], v[2], v[3])))
         .collect())
 }
 

@@ -277,6 +277,8 @@ pub(super) struct Pipelines {
     pub samples: u32,
     pub sky: wgpu::RenderPipeline,
     pub terrain: wgpu::RenderPipeline,
+    /// Whether `terrain` reads the trail map.
+    pub terrain_trails: bool,
     pub spheres: wgpu::RenderPipeline,
     /// Depth-only terrain and colliders (the occluder pass).
     pub terrain_depth: wgpu::RenderPipeline,
@@ -289,13 +291,15 @@ pub(super) struct Pipelines {
 
 impl Pipelines {
     /// `layouts`: frame, terrain, spheres and grass bind group layouts; `spec`: the
-    /// grass pipelines' specialisation.
+    /// grass pipelines' specialisation; `trails`: whether the far ground reads a trail map
+    /// (the terrain's `TRAILS`).
     pub fn new(
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
         samples: u32,
         layouts: [&wgpu::BindGroupLayout; 4],
         spec: GrassSpec,
+        trails: bool,
     ) -> Self {
         let [frame_layout, terrain_layout, spheres_layout, grass_layout] = layouts;
         let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
@@ -335,7 +339,7 @@ impl Pipelines {
                 cull_back: true,
                 lines: false,
                 depth_only: false,
-                constants: &[],
+                constants: &[("TRAILS", f64::from(u8::from(trails)))],
             },
         );
         let spheres = pipeline(
@@ -409,6 +413,7 @@ impl Pipelines {
             samples,
             sky,
             terrain: terrain_pipeline,
+            terrain_trails: trails,
             spheres,
             terrain_depth,
             spheres_depth,

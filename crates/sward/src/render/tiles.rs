@@ -289,7 +289,9 @@ impl TileStreamer {
             let h = p
                 .layout()
                 .header(self.pool_blades, now, decay, max_eta, p.bounds());
-            queue.write_buffer(&self.trail_buffer, 0, bytemuck::cast_slice(&h));
+            // The words after are the GPU's (the largest stamp written).
+            let cpu = &h[..crate::field::trails::CPU_HEADER_WORDS];
+            queue.write_buffer(&self.trail_buffer, 0, bytemuck::cast_slice(cpu));
         }
     }
 

@@ -405,6 +405,12 @@ impl BladeBuffers {
         Ok(bytemuck::pod_read_unaligned(&bytes))
     }
 
+    /// Whether [`BladeBuffers::ensure_trails`] gave the field a trail map (more than the
+    /// zeroed header).
+    pub fn has_trail_map(&self) -> bool {
+        self.trails.size() > 4 * crate::field::trails::HEADER_WORDS as u64
+    }
+
     /// Reads the trail map back, as words (blocks; for tests and the twin comparison).
     pub fn read_trails(&self, gpu: &Gpu) -> Result<Vec<u32>> {
         let bytes = read_buffer(gpu, &self.trails, self.trails.size())?;
