@@ -22,10 +22,18 @@ const MEAN_DIFFERENCE: f64 = 5.0;
 /// Pixels whose channels differ by more than 64 in sum of thirds, at most this share
 /// (measured 0.57 %: single pixels at blade tips, whose highlight is now per pixel).
 const FAR_OFF: f64 = 0.01;
+/// The 4x MSAA deferred picture's 8-row bands against the one-sample picture's, at most
+/// (levels of mean luminance; measured 4.59 on lavapipe, forward MSAA 6.04).
+const BAND_DIFFERENCE_MSAA: f64 = 6.0;
+/// The 4x MSAA deferred picture's mean absolute difference per channel from the forward
+/// MSAA one, at most (measured 16.5 on lavapipe: at this size a pixel holds several blades,
+/// and forward MSAA differs from the one-sample picture by 18.4 too; on nature at
+/// 1280x720 the two MSAA pictures differ by 3.7, as the one-sample paths do).
+const MEAN_DIFFERENCE_MSAA: f64 = 20.0;
 
-fn scene(model: BladeModel) -> Scene {
+fn scene(model: BladeModel, samples: u32) -> Scene {
     let mut s = Scene::default();
-    s.render.msaa = 1;
+    s.render.msaa = samples;
     // The light's two paths compared on the same unjittered frame: no TAA.
     s.render.taa = false;
     s.physics.model = model;
@@ -35,9 +43,19 @@ fn scene(model: BladeModel) -> Scene {
 /// `FRAMES` frames of the default scene with the blade model `model`, the last counted:
 /// its picture, its work and whether its grass took the deferred path.
 fn render_model(model: BladeModel, deferred: bool) -> (image::RgbaImage, WorkSummary, bool) {
+    render_at(model, deferred, 1, SIZE)
+}
+
+/// [`render_model`] with `samples` MSAA samples per pixel at `size`.
+fn render_at(
+    model: BladeModel,
+    deferred: bool,
+    samples: u32,
+    size: (u32, u32),
+) -> (image::RgbaImage, WorkSummary, bool) {
     let gpu = common::gpu();
-    let session = Session::new(scene(model), None, Some(&gpu)).expect("field");
-    let (mut r, target) = common::draw_frames(&gpu, &session, SIZE, FRAMES, true, |r| {
+    let session = Session::new(scene(model, samples), None, Some(&gpu)).expect("field");
+    let (mut r, target) = common::draw_frames(&gpu, &session, size, FRAMES, true, |r| {
         r.deferred_grass(deferred)
     });
     let work = r.read_work(&gpu).expect("read").expect("a counted frame");
@@ -119,14 +137,73 @@ fn every_blade_model_draws_the_forward_picture_deferred() {
     }
 }
 
+/// With 4x MSAA the deferred path lights each pixel with a grass sample once (forward:
+/// many times), and keeps the picture: every band of 8 rows has the mean of the same frame
+/// drawn with one sample (MSAA smooths edges, it does not change the mean), and the
+/// picture is the forward MSAA one within `MEAN_DIFFERENCE_MSAA` (where two blades share a
+/// pixel both take the first's light; forward, a pixel's one fragment is lit at its centre
+/// even off a thin blade).
+#[test]
+fn multisampled_grass_is_lit_once_per_covered_pixel_deferred() {
+    let model = BladeModel::Jahrmann;
+    let (deferred, work, took) = render_at(model, true, 4, SIZE);
+    assert!(took, "4x MSAA takes the deferred path");
+    let lit = work.lit_fragments_per_pixel.expect("grass on screen");
+    let (forward, forward_work, took) = render_at(model, false, 4, SIZE);
+    assert!(!took);
+    let forward_lit = forward_work
+        .lit_fragments_per_pixel
+        .expect("grass on screen");
+    println!("4x MSAA, lit shading per covered pixel: deferred {lit:.3}, forward {forward_lit:.3}");
+    assert!((0.95..=1.25).contains(&lit), "{work:?}");
+    assert!(forward_lit > 2.0, "{forward_work:?}");
+
+    let (single, _, _) = render_at(model, true, 1, SIZE);
+    let band = |image: &image::RgbaImage, y0: u32| {
+        let mut sum = 0.0;
+        for y in y0..(y0 + 8).min(SIZE.1) {
+            for x in 0..SIZE.0 {
+                let p = image.get_pixel(x, y);
+                sum += (0..3).map(|c| f64::from(p[c])).sum::<f64>() / 3.0;
+            }
+        }
+        sum / f64::from(SIZE.0 * (y0 + 8).min(SIZE.1).saturating_sub(y0))
+    };
+    let worst = |image: &image::RgbaImage| {
+        (0..SIZE.1)
+            .step_by(8)
+            .map(|y| (band(image, y) - band(&single, y)).abs())
+            .fold(0.0, f64::max)
+    };
+    let (worst, forward_worst) = (worst(&deferred), worst(&forward));
+    println!(
+        "worst band against one sample: deferred {worst:.2} levels, forward {forward_worst:.2}"
+    );
+    assert!(
+        worst <= BAND_DIFFERENCE_MSAA,
+        "a band {worst:.2} levels off"
+    );
+    let mut sum = 0u64;
+    for (a, b) in deferred.pixels().zip(forward.pixels()) {
+        sum += (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>();
+    }
+    let mean = sum as f64 / f64::from(3 * SIZE.0 * SIZE.1);
+    println!("against forward MSAA: mean difference {mean:.2} levels");
+    assert!(mean <= MEAN_DIFFERENCE_MSAA, "mean difference {mean:.2}");
+}
+
 /// A target the adapter cannot hold the path's pixel list or dispatch for is drawn
 /// forward, not refused: 1920 x 1080 fits on lavapipe, 16384 x 16384 (a list of 1 GiB,
-/// over a million shading workgroups) does not.
+/// over a million shading workgroups) does not, nor a multisampled side over 16384.
 #[test]
 fn targets_too_large_for_the_path_are_drawn_forward() {
     let gpu = common::gpu();
     use sward::render::deferred::DeferredTargets;
-    assert!(DeferredTargets::fits(&gpu, (1920, 1080)));
-    assert!(!DeferredTargets::fits(&gpu, (16384, 16384)));
-    assert!(DeferredTargets::new(&gpu, (16384, 16384)).is_err());
+    assert!(DeferredTargets::fits(&gpu, (1920, 1080), 1));
+    assert!(DeferredTargets::fits(&gpu, (1920, 1080), 4));
+    assert!(!DeferredTargets::fits(&gpu, (16384, 16384), 1));
+    assert!(DeferredTargets::new(&gpu, (16384, 16384), 1).is_err());
+    // Multisampled, the pixel list packs 14 bits per side.
+    assert!(!DeferredTargets::fits(&gpu, (16385, 64), 4));
+    assert!(DeferredTargets::new(&gpu, (64, 16385), 4).is_err());
 }

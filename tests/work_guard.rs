@@ -144,7 +144,9 @@ fn a_third_more_grass_is_caught() {
         .density;
     let denser = one(&[format!("field.density={}", density * 4.0 / 3.0)]);
     let failures = departures(&denser, &base);
-    for figure in ["blades drawn", "vertex invocations", "lit grass fragments"] {
+    // Not the lit grass fragments: the grass is lit once per pixel it covers (deferred, with
+    // the prairie's MSAA too), and a denser field covers the same pixels.
+    for figure in ["blades drawn", "vertex invocations", "fragment invocations"] {
         assert!(
             failures.iter().any(|f| f.contains(figure)),
             "a third more grass should move {figure}: {failures:?}"

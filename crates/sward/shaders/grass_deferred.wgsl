@@ -18,7 +18,7 @@
 //
 // Used when the grass pipelines are specialised without flowers and debug views, with
 // one sample per pixel and filled triangles; otherwise the grass is drawn forward.
-//!include grass.wgsl
+//!include grass_vis.wgsl
 
 @group(2) @binding(0) var vis_buffer: texture_2d<u32>;
 @group(2) @binding(1) var depth_buffer: texture_depth_2d;
@@ -27,43 +27,6 @@
 // Bound to the pixel pass only: the shading pass reads it as its indirect arguments, which
 // a storage binding in the same dispatch may not (it binds a stand-in).
 @group(2) @binding(4) var<storage, read_write> shade_args: ShadeArgs;
-
-// The grass pixels, packed (y << 16 | x), and how many; `count` is cleared every frame.
-struct PixelList {
-    count: atomic<u32>,
-    pixels: array<u32>,
-}
-
-// The shading's `dispatch_workgroups_indirect` arguments: x (cleared every frame) grows
-// by one workgroup per SHADE_GROUP listed pixels; y and z stay 1.
-struct ShadeArgs {
-    x: atomic<u32>,
-    y: u32,
-    z: u32,
-    pad: u32,
-}
-
-// Invocations per workgroup of `shade_pixels` (twin: `deferred::SHADE_GROUP`): 256, the
-// most every adapter allows, so a 4K frame's grass needs at most 32,400 workgroups, under
-// the 65,535 a dispatch may have along x.
-const SHADE_GROUP: u32 = 256u;
-
-struct VisOut {
-    // Invariant: the same depth as the lit pass and the coverage measurement.
-    @builtin(position) @invariant clip: vec4<f32>,
-    @location(0) uv: vec2<f32>,
-    @location(1) @interpolate(flat) blade: u32,
-}
-
-@vertex
-fn vs_vis(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VisOut {
-    let b = blade_vertex(batch_vid, inst);
-    var out: VisOut;
-    out.clip = b.out.clip;
-    out.uv = b.out.uv;
-    out.blade = b.index;
-    return out;
-}
 
 @fragment
 fn fs_vis(in: VisOut) -> @location(0) vec4<u32> {
@@ -98,26 +61,5 @@ fn shade_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     let packed = pixel_list.pixels[gid.x];
     let px = vec2<i32>(vec2<u32>(packed & 0xffffu, packed >> 16u));
     let vis = textureLoad(vis_buffer, px, 0);
-    let index = vis.x;
-    let uv = unpack2x16unorm(vis.y);
-    let blade = blades[index];
-    let ctx = blade_ctx(blade);
-    let point = blade_point(blade, ctx, index, uv.x, uv.y, 0.0);
-    // Two-sided, as the forward fragment stage lights it.
-    var flat_n = normalize(point.n);
-    if dot(flat_n, frame.camera_pos.xyz - point.p) < 0.0 {
-        flat_n = -flat_n;
-    }
-    let albedo = blade_albedos(index, blade);
-    let colour = shade_blade(
-        point.p,
-        flat_n,
-        ctx.side,
-        uv,
-        mix(albedo.root, albedo.tip.rgb, uv.y),
-        sun_visibility(point.p),
-        blade_self_shade(blade, point.p),
-    );
-    let v0 = blade.v0_dir.xyz;
-    textureStore(scene_out, px, vec4<f32>(fog_towards(colour, point.p, blade_sky(v0)), 1.0));
+    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, unpack2x16unorm(vis.y)), 1.0));
 }

@@ -84,9 +84,14 @@ const FILES: &[(&str, &str)] = &[
     ("carry.wgsl", include_str!("../shaders/carry.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),
     ("grass.wgsl", include_str!("../shaders/grass.wgsl")),
+    ("grass_vis.wgsl", include_str!("../shaders/grass_vis.wgsl")),
     (
         "grass_deferred.wgsl",
         include_str!("../shaders/grass_deferred.wgsl"),
+    ),
+    (
+        "grass_deferred_msaa.wgsl",
+        include_str!("../shaders/grass_deferred_msaa.wgsl"),
     ),
     ("terrain.wgsl", include_str!("../shaders/terrain.wgsl")),
     (
@@ -172,6 +177,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "hiz.wgsl",
     "grass.wgsl",
     "grass_deferred.wgsl",
+    "grass_deferred_msaa.wgsl",
     "terrain.wgsl",
     "terrain_probe.wgsl",
     "far_grass_probe.wgsl",

@@ -10,9 +10,17 @@
 //! rasteriser's threads spent a third of the draw on it. The compute passes run on every
 //! core and shade each grass pixel once.
 //!
-//! The path is taken with one sample per pixel, filled triangles and grass pipelines
-//! specialised without flower heads or debug views (`DrawPass::deferred`); everything else
-//! is drawn forward, as before.
+//! With multisampling (`shaders/grass_deferred_msaa.wgsl`) the visibility buffer is
+//! multisampled too and the light still runs once per grass pixel: after the hardware
+//! resolve, each pixel with a grass sample is lit once, at its first grass sample's blade
+//! point, and resolved again from its samples (the lit colour in its grass samples, the
+//! multisampled colour in the others). The colour pass clears to alpha [`GRASS_ALPHA`] so
+//! the samples nothing covered after the grass are known. Forward MSAA shaded about 42
+//! lit fragments per covered pixel on nature at 1280x720.
+//!
+//! The path is taken with filled triangles and grass pipelines specialised without flower
+//! heads or debug views (`DrawPass::deferred`); everything else is drawn forward, as
+//! before.
 
 use crate::error::{Error, Result};
 use crate::gpu::queries::PassQueries;
@@ -22,6 +30,19 @@ use crate::gpu::Gpu;
 /// where grass was drawn (0 cleared).
 pub const VIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
+/// The multisampled visibility buffer: blade index in two 16-bit halves, u and v in 16
+/// bits each (a format every adapter can multisample).
+pub const VIS_MS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Uint;
+
+/// The alpha the multisampled visibility draws leave in the colour's grass samples: a
+/// sample still at it after every draw is grass that nothing covered later. Negative, so
+/// no pass writes it (lit passes write 1, the arrows 0, the cards' coverage 0 to 1); exact
+/// in half floats.
+pub const GRASS_ALPHA: f64 = -1.0;
+
+/// Widest multisampled target the path takes: the pixel list packs x and y in 14 bits.
+const MS_MAX_SIDE: u32 = 1 << 14;
+
 /// Invocations per workgroup of the shading pass (`SHADE_GROUP` in the shader).
 pub const SHADE_GROUP: u32 = 256;
 
@@ -29,8 +50,10 @@ pub const SHADE_GROUP: u32 = 256;
 const ARGS_BYTES: u64 = 16;
 
 /// The deferred path's bind group layout (group 2 of its compute passes): the visibility
-/// buffer, the depth, the scene target, the pixel list and the shading's arguments.
-pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+/// buffer, the depth (multisampled: the multisampled colour instead), the scene target,
+/// the pixel list and the shading's arguments.
+pub fn layout(device: &wgpu::Device, samples: u32) -> wgpu::BindGroupLayout {
+    let multisampled = samples > 1;
     let compute = wgpu::ShaderStages::COMPUTE;
     let storage = |binding| wgpu::BindGroupLayoutEntry {
         binding,
@@ -43,7 +66,11 @@ pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         count: None,
     };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("sward.deferred.layout"),
+        label: Some(if multisampled {
+            "sward.deferred.layout_ms"
+        } else {
+            "sward.deferred.layout"
+        }),
         entries: &[
             wgpu::BindGroupLayoutEntry {
                 binding: 0,
@@ -51,7 +78,7 @@ pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 ty: wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Uint,
                     view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+                    multisampled,
                 },
                 count: None,
             },
@@ -59,9 +86,13 @@ pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 binding: 1,
                 visibility: compute,
                 ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
+                    sample_type: if multisampled {
+                        wgpu::TextureSampleType::Float { filterable: false }
+                    } else {
+                        wgpu::TextureSampleType::Depth
+                    },
                     view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+                    multisampled,
                 },
                 count: None,
             },
@@ -92,13 +123,33 @@ pub(super) struct DeferredPipelines {
 }
 
 impl DeferredPipelines {
-    /// `grass_layout`: the grass draw's group 0; `constants`: the specialisation's.
+    /// `grass_layout`: the grass draw's group 0; `constants`: the specialisation's;
+    /// `samples`: the colour pass's samples per pixel (the multisampled path above 1).
     pub fn new(
         device: &wgpu::Device,
         grass_layout: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
+        samples: u32,
     ) -> Self {
-        let module = crate::shaders::module(device, "grass_deferred.wgsl");
+        let ms = samples > 1;
+        let (file, fs, pixels, shade, format) = if ms {
+            (
+                "grass_deferred_msaa.wgsl",
+                "fs_vis_ms",
+                "grass_pixels_ms",
+                "shade_pixels_ms",
+                VIS_MS_FORMAT,
+            )
+        } else {
+            (
+                "grass_deferred.wgsl",
+                "fs_vis",
+                "grass_pixels",
+                "shade_pixels",
+                VIS_FORMAT,
+            )
+        };
+        let module = crate::shaders::module(device, file);
         let options = || wgpu::PipelineCompilationOptions {
             constants,
             ..Default::default()
@@ -126,22 +177,33 @@ impl DeferredPipelines {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
             fragment: Some(wgpu::FragmentState {
                 module: &module,
-                entry_point: Some("fs_vis"),
+                entry_point: Some(fs),
                 compilation_options: options(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: VIS_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                // Multisampled, the colour too: its grass samples marked.
+                targets: &[
+                    Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    }),
+                    ms.then_some(wgpu::ColorTargetState {
+                        format: super::post::HDR_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    }),
+                ][..1 + usize::from(ms)],
             }),
             multiview_mask: None,
             cache: None,
         });
         let light = super::light::layout(device);
-        let own = layout(device);
+        let own = layout(device, samples);
         let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.deferred.compute.layout"),
             bind_group_layouts: &[Some(grass_layout), Some(&light), Some(&own)],
@@ -159,8 +221,8 @@ impl DeferredPipelines {
         };
         Self {
             vis,
-            pixels: compute("sward.deferred.pixels", "grass_pixels"),
-            shade: compute("sward.deferred.shade", "shade_pixels"),
+            pixels: compute("sward.deferred.pixels", pixels),
+            shade: compute("sward.deferred.shade", shade),
         }
     }
 }
@@ -168,6 +230,7 @@ impl DeferredPipelines {
 /// The visibility buffer and the pixel list, sized to the 3D passes' target.
 pub struct DeferredTargets {
     size: (u32, u32),
+    samples: u32,
     vis_view: wgpu::TextureView,
     /// `PixelList`: the length, then one packed pixel per grass pixel at most (width x
     /// height entries).
@@ -184,7 +247,16 @@ impl DeferredTargets {
     /// Whether the adapter can hold the path's buffers for a target of `size` (the list
     /// is one storage binding of width x height words) and dispatch its shading (a
     /// workgroup per [`SHADE_GROUP`] pixels along x, when every pixel is grass).
-    pub fn fits(gpu: &Gpu, size: (u32, u32)) -> bool {
+    /// Multisampled (`samples` > 1), the sides are at most [`MS_MAX_SIDE`] and the device
+    /// must multisample [`VIS_MS_FORMAT`] with that count.
+    pub fn fits(gpu: &Gpu, size: (u32, u32), samples: u32) -> bool {
+        if samples > 1
+            && (size.0 > MS_MAX_SIDE
+                || size.1 > MS_MAX_SIDE
+                || !super::msaa::format_supports(gpu, VIS_MS_FORMAT, samples))
+        {
+            return false;
+        }
         let limits = gpu.device.limits();
         let bytes = list_bytes(size);
         let pixels = u64::from(size.0) * u64::from(size.1);
@@ -198,9 +270,10 @@ impl DeferredTargets {
                 <= u64::from(limits.max_compute_workgroups_per_dimension)
     }
 
-    /// Buffers for a target of `size`; an error when the adapter cannot hold them.
-    pub fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
-        if !Self::fits(gpu, size) {
+    /// Buffers for a target of `size` drawn with `samples` samples per pixel; an error
+    /// when the adapter cannot hold them.
+    pub fn new(gpu: &Gpu, size: (u32, u32), samples: u32) -> Result<Self> {
+        if !Self::fits(gpu, size, samples) {
             return Err(Error::Limits(format!(
                 "the deferred grass shading's pixel list for {}x{} ({} bytes) exceeds the \
                  adapter's storage binding limit",
@@ -218,13 +291,22 @@ impl DeferredTargets {
                 depth_or_array_layers: 1,
             },
             mip_level_count: 1,
-            sample_count: 1,
+            sample_count: samples,
             dimension: wgpu::TextureDimension::D2,
-            format: VIS_FORMAT,
-            // Copied out: the TAA twin's test reads it back.
+            format: if samples > 1 {
+                VIS_MS_FORMAT
+            } else {
+                VIS_FORMAT
+            },
+            // Copied out: the TAA twin's test reads it back (a multisampled texture cannot
+            // be copied).
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
+                | if samples > 1 {
+                    wgpu::TextureUsages::empty()
+                } else {
+                    wgpu::TextureUsages::COPY_SRC
+                },
             view_formats: &[],
         });
         let list = device.create_buffer(&wgpu::BufferDescriptor {
@@ -251,17 +333,23 @@ impl DeferredTargets {
         });
         Ok(Self {
             size,
+            samples,
             vis_view: vis.create_view(&Default::default()),
             list,
             args,
             stand_in,
-            layout: layout(device),
+            layout: layout(device, samples),
         })
     }
 
     /// The size the buffers were made for.
     pub fn size(&self) -> (u32, u32) {
         self.size
+    }
+
+    /// The samples per pixel they were made for.
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// The visibility buffer, the grass draws' colour attachment.
@@ -272,24 +360,20 @@ impl DeferredTargets {
     /// Bytes of GPU memory held: the visibility buffer and the list.
     pub fn gpu_bytes(&self) -> u64 {
         let pixels = u64::from(self.size.0) * u64::from(self.size.1);
-        pixels * 16 + list_bytes(self.size) + 2 * ARGS_BYTES
+        let texel = if self.samples > 1 { 8 } else { 16 };
+        pixels * texel * u64::from(self.samples) + list_bytes(self.size) + 2 * ARGS_BYTES
     }
 
-    /// Records the two compute passes: the grass pixels of the finished depth listed, then
-    /// lit into `scene` (the single-sample scene target, the size of these buffers).
-    /// `groups`: the grass draw's group 0 and the light's group 1.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn encode_light(
+    /// The bind groups of a frame's light passes (the pixel pass's, then the shading's):
+    /// `depth` is, with one sample, the finished depth; multisampled, the multisampled
+    /// colour. `scene`: the single-sample scene target the light writes (the size of these
+    /// buffers). Made per frame, like the pyramid's: they bind the caller's views.
+    pub(super) fn light_groups(
         &self,
         device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        pipelines: &DeferredPipelines,
-        groups: (&wgpu::BindGroup, &wgpu::BindGroup),
         depth: &wgpu::TextureView,
         scene: &wgpu::TextureView,
-        queries: (PassQueries, PassQueries),
-    ) {
-        // Per frame, like the pyramid's: they bind the caller's depth and scene views.
+    ) -> [wgpu::BindGroup; 2] {
         let group = |args: &wgpu::Buffer| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("sward.deferred.group"),
@@ -318,6 +402,20 @@ impl DeferredTargets {
                 ],
             })
         };
+        [group(&self.args), group(&self.stand_in)]
+    }
+
+    /// Records the two compute passes with `light` ([`DeferredTargets::light_groups`]):
+    /// the grass pixels listed, then lit. `groups`: the grass draw's group 0 and the
+    /// light's group 1.
+    pub(super) fn encode_light(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &DeferredPipelines,
+        groups: (&wgpu::BindGroup, &wgpu::BindGroup),
+        light: &[wgpu::BindGroup; 2],
+        queries: (PassQueries, PassQueries),
+    ) {
         // The workgroup count and the list's length start at 0; y and z stay 1.
         encoder.clear_buffer(&self.args, 0, Some(4));
         encoder.clear_buffer(&self.list, 0, Some(4));
@@ -331,7 +429,7 @@ impl DeferredTargets {
             pass.set_pipeline(&pipelines.pixels);
             pass.set_bind_group(0, groups.0, &[]);
             pass.set_bind_group(1, groups.1, &[]);
-            pass.set_bind_group(2, &group(&self.args), &[]);
+            pass.set_bind_group(2, &light[0], &[]);
             pass.dispatch_workgroups(self.size.0.div_ceil(8), self.size.1.div_ceil(8), 1);
             q_pixels.end(&mut pass);
         }
@@ -343,7 +441,7 @@ impl DeferredTargets {
         pass.set_pipeline(&pipelines.shade);
         pass.set_bind_group(0, groups.0, &[]);
         pass.set_bind_group(1, groups.1, &[]);
-        pass.set_bind_group(2, &group(&self.stand_in), &[]);
+        pass.set_bind_group(2, &light[1], &[]);
         pass.dispatch_workgroups_indirect(&self.args, 0);
         q_shade.end(&mut pass);
     }

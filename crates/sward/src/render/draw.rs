@@ -472,11 +472,20 @@ impl DrawPass {
             wgpu::LoadOp::Clear(1.0)
         };
         let deferred = vis.zip(self.deferred());
+        // Multisampled, the visibility draws mark the colour's grass samples (the colour is
+        // their second attachment, cleared here as the forward pass clears it) and the
+        // colour pass loads it.
+        let multisampled = deferred.is_some() && self.pipelines.samples > 1;
         if let Some((vis, pipelines)) = deferred {
+            let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+            let targets = [
+                (vis, clear),
+                (color, wgpu::LoadOp::Clear(wgpu::Color::BLACK)),
+            ];
             let mut pass = colour_pass(
                 encoder,
                 "sward.draw.grass_vis",
-                (vis, wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
+                &targets[..1 + usize::from(multisampled)],
                 (depth, depth_load),
                 q.render_writes_part(true, false),
             );
@@ -490,10 +499,15 @@ impl DrawPass {
         } else {
             q.render_writes()
         };
+        let load = if multisampled {
+            wgpu::LoadOp::Load
+        } else {
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+        };
         let mut pass = colour_pass(
             encoder,
             "sward.draw",
-            (color, wgpu::LoadOp::Clear(wgpu::Color::BLACK)),
+            &[(color, load)],
             (depth, depth_load),
             writes,
         );
@@ -610,14 +624,18 @@ impl DrawPass {
     ) {
         let offset = std::mem::offset_of!(crate::sim::layout::CullCounters, late_draws) as u64;
         let deferred = vis.zip(self.deferred());
-        let (target, label) = match deferred {
-            Some((vis, _)) => (vis, "sward.draw.late_vis"),
-            None => (color, "sward.draw.late"),
+        let load = wgpu::LoadOp::Load;
+        let both = [(vis.unwrap_or(color), load), (color, load)];
+        let (targets, label) = match deferred {
+            // Multisampled, the colour's grass samples are marked too.
+            Some(_) if self.pipelines.samples > 1 => (&both[..], "sward.draw.late_vis"),
+            Some(_) => (&both[..1], "sward.draw.late_vis"),
+            None => (&both[1..], "sward.draw.late"),
         };
         let mut pass = colour_pass(
             encoder,
             label,
-            (target, wgpu::LoadOp::Load),
+            targets,
             (depth, wgpu::LoadOp::Load),
             q.render_writes(),
         );
@@ -645,26 +663,33 @@ impl DrawPass {
     }
 }
 
-/// A render pass into `color` and `depth` with the given loads, both stored: the main draw
-/// (colour cleared) and the late grass draw (both loaded) differ only in those.
+/// A render pass into `colors` and `depth` with the given loads, all stored: the main draw
+/// (colour cleared) and the late grass draw (both loaded) differ only in those; the
+/// multisampled visibility draws have the colour as a second attachment.
 fn colour_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     label: &str,
-    color: (&wgpu::TextureView, wgpu::LoadOp<wgpu::Color>),
+    colors: &[(&wgpu::TextureView, wgpu::LoadOp<wgpu::Color>)],
     depth: (&wgpu::TextureView, wgpu::LoadOp<f32>),
     timestamps: Option<wgpu::RenderPassTimestampWrites>,
 ) -> wgpu::RenderPass<'e> {
+    let attachments: Vec<_> = colors
+        .iter()
+        .map(|&(view, load)| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        })
+        .collect();
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: color.0,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: color.1,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
+        color_attachments: &attachments,
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: depth.0,
             depth_ops: Some(wgpu::Operations {

@@ -22,24 +22,24 @@ pub(crate) struct Prepared {
 
 impl Renderer {
     /// Whether this frame's grass takes the deferred path (`render::deferred`): asked for
-    /// (`render.deferred_grass`),
-    /// one sample per pixel, filled triangles, pipelines that allow it and buffers the
-    /// adapter can hold; makes sure those buffers match a target of `size`.
+    /// (`render.deferred_grass`), filled triangles, pipelines that allow it and buffers the
+    /// adapter can hold; makes sure those buffers match a target of `size` at this sample
+    /// count.
     fn ensure_deferred(&mut self, gpu: &Gpu, size: (u32, u32), wireframe: bool) -> bool {
+        let samples = self.samples;
         let wanted = self.scene.render.deferred_grass
             && !wireframe
-            && self.samples == 1
             && self.draw.deferred().is_some()
-            && DeferredTargets::fits(gpu, size);
+            && DeferredTargets::fits(gpu, size, samples);
         if !wanted {
             // Not held while unused (the panel switched it off, MSAA came back on).
             self.deferred = None;
             return false;
         }
-        if self.deferred.as_ref().map(|d| d.size()) != Some(size) {
+        if self.deferred.as_ref().map(|d| (d.size(), d.samples())) != Some((size, samples)) {
             // Dropped first: the old buffers are not held beside the new ones.
             self.deferred = None;
-            self.deferred = DeferredTargets::new(gpu, size).ok();
+            self.deferred = DeferredTargets::new(gpu, size, samples).ok();
         }
         self.deferred.is_some()
     }
@@ -126,8 +126,16 @@ impl Renderer {
             Some(m) => (&m.color, &m.depth),
             None => (&scene, depth),
         };
-        self.encode_passes(gpu, encoder, dt, camera, color, pass_depth, size);
+        let deferred = self.encode_passes(gpu, encoder, dt, camera, color, pass_depth, size);
         self.msaa = target;
+        // Multisampled, the deferred grass is lit after the hardware resolve (`resolve`):
+        // it reads the samples the window's arrows may still draw into.
+        self.pending_grass_light = match (&self.deferred, &self.msaa) {
+            (Some(d), Some(m)) if deferred && d.samples() > 1 => {
+                Some(d.light_groups(&gpu.device, &m.color, &scene))
+            }
+            _ => None,
+        };
         let now = super::taa::FrameViews {
             view_proj: self.view_crop * camera.view_proj_relative(self.aspect(size.0, size.1)),
             jitter: self.jitter,
@@ -167,7 +175,8 @@ impl Renderer {
         self.jitter = taa.next_jitter(size);
     }
 
-    /// The passes of [`Renderer::encode_scene`], into the views they draw into.
+    /// The passes of [`Renderer::encode_scene`], into the views they draw into; whether the
+    /// grass took the deferred path.
     #[allow(clippy::too_many_arguments)]
     fn encode_passes(
         &mut self,
@@ -178,7 +187,7 @@ impl Renderer {
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
         size: (u32, u32),
-    ) {
+    ) -> bool {
         let Prepared {
             occlusion,
             deferred,
@@ -229,20 +238,16 @@ impl Renderer {
                 )
             });
         }
-        // The deferred path lights its grass pixels once the depth is final.
+        // The deferred path lights its grass pixels once the depth is final (with one
+        // sample; multisampled, after the resolve).
         if let (Some(d), Some(p), true) = (&self.deferred, self.draw.deferred(), deferred) {
-            let groups = (self.draw.grass_group(), self.light.group());
-            timed(meters, encoder, timing::GRASS_LIGHT, |e, q| {
-                d.encode_light(
-                    &gpu.device,
-                    e,
-                    p,
-                    groups,
-                    depth,
-                    color,
-                    (q.row(super::work::GRASS_PIXELS), q),
-                )
-            });
+            if d.samples() == 1 {
+                let groups = (self.draw.grass_group(), self.light.group());
+                let light = d.light_groups(&gpu.device, depth, color);
+                timed(meters, encoder, timing::GRASS_LIGHT, |e, q| {
+                    d.encode_light(e, p, groups, &light, (q.row(super::work::GRASS_PIXELS), q))
+                });
+            }
         }
         // A counted frame measures the pixels its grass covers (not timed: a measurement).
         if let Some(w) = &self.work {
@@ -263,6 +268,7 @@ impl Renderer {
         if let (Some(o), Some(f)) = (&mut self.overlay, &self.fluid) {
             o.move_grid(&gpu.queue, f.origin());
         }
+        deferred
     }
 
     /// Everything of a frame before its colour draws: the simulation step, the tiles, the

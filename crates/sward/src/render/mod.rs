@@ -156,6 +156,9 @@ pub struct Renderer {
     /// The deferred grass shading's visibility buffer and pixel list, sized to the last
     /// target that took the path.
     deferred: Option<deferred::DeferredTargets>,
+    /// The multisampled deferred light's bind groups for this frame, recorded by
+    /// [`Renderer::resolve`] after the hardware resolve (taken there: one frame's only).
+    pending_grass_light: Option<[wgpu::BindGroup; 2]>,
     /// Frames drawn, for the physics throttle's round robin.
     frame_count: u32,
     /// The cull uniforms of the last frame drawn (tests replay them on the CPU twin).
@@ -425,6 +428,7 @@ impl Renderer {
             pyramid: None,
             pyramid_depth: None,
             deferred: None,
+            pending_grass_light: None,
             frame_count: 0,
             last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),

@@ -17,7 +17,7 @@ pub use crate::scene::limits::SAMPLE_COUNTS;
 /// Whether the device can render `format` with `samples` samples per pixel. Without the
 /// adapter-specific format features the device validates against WebGPU's guaranteed ones
 /// (1× and 4× for renderable formats), whatever the adapter itself could do.
-fn format_supports(gpu: &Gpu, format: wgpu::TextureFormat, samples: u32) -> bool {
+pub(super) fn format_supports(gpu: &Gpu, format: wgpu::TextureFormat, samples: u32) -> bool {
     let device_features = gpu.device.features();
     // A host's device comes without its adapter: the guaranteed features then.
     let adapter = gpu.adapter.as_ref().filter(|_| {
@@ -61,8 +61,8 @@ pub struct MsaaTarget {
     pub size: (u32, u32),
     /// The colour texture's format (the depth is [`DEPTH_FORMAT`]).
     pub format: wgpu::TextureFormat,
-    /// Drawn into, resolved into the caller's colour, then not needed: its contents are
-    /// discarded after the resolve.
+    /// Drawn into, then resolved into the caller's colour (and read by the deferred grass
+    /// light after the resolve).
     pub color: wgpu::TextureView,
     /// Kept between the passes of a frame (occluders → draw → late draw → arrows) and read
     /// by the depth pyramid (`texture_depth_multisampled_2d`).
@@ -94,10 +94,11 @@ impl MsaaTarget {
             samples,
             size,
             format,
+            // Read by the deferred grass light, which resolves the grass pixels itself.
             color: texture(
                 "sward.msaa.color",
                 format,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             ),
             depth: texture(
                 "sward.msaa.depth",
@@ -116,9 +117,10 @@ impl MsaaTarget {
                 view: &self.color,
                 depth_slice: None,
                 resolve_target: Some(output),
+                // Kept: the deferred grass light reads the samples after the resolve.
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Discard,
+                    store: wgpu::StoreOp::Store,
                 },
             })],
             depth_stencil_attachment: None,
@@ -182,13 +184,21 @@ impl Renderer {
         }
     }
 
-    /// Ends the frame's drawing: resolves the multisampled scene into the scene target,
-    /// tone-maps that into `color` (`post::ToneMap`) and draws the wind overlay over it in
+    /// Ends the frame's drawing: resolves the multisampled scene into the scene target
+    /// (and lights the deferred grass's pixels in it, `render::deferred`), tone-maps that into `color` (`post::ToneMap`) and draws the wind overlay over it in
     /// display colours. The frame's queries are resolved after it by
     /// [`Renderer::resolve_queries`], when the caller has added its own passes.
     pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
         if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
             m.resolve(encoder, scene);
+        }
+        // The multisampled deferred grass: its pixels lit once and resolved again.
+        let light = self.pending_grass_light.take();
+        if let (Some(light), Some(d), Some(p)) = (light, &self.deferred, self.draw.deferred()) {
+            let groups = (self.draw.grass_group(), self.light.group());
+            timed(self.meters(), encoder, timing::GRASS_LIGHT, |e, q| {
+                d.encode_light(e, p, groups, &light, (q.row(super::work::GRASS_PIXELS), q))
+            });
         }
         // With TAA the tone mapping reads the history the frame was blended into.
         let source = self

@@ -433,8 +433,8 @@ pub(super) struct GrassPipelines {
     pub grass_lines: Option<wgpu::RenderPipeline>,
     /// The blades into a sun's shadow cascade (the coarsest level's mesh).
     pub shadow_grass: wgpu::RenderPipeline,
-    /// The deferred shading's (`render::deferred`): with one sample per pixel and a
-    /// specialisation without flower heads or debug views.
+    /// The deferred shading's (`render::deferred`): with a specialisation without flower
+    /// heads or debug views, at this sample count.
     pub deferred: Option<super::deferred::DeferredPipelines>,
 }
 
@@ -498,8 +498,15 @@ impl GrassPipelines {
             &[],
             &constants,
         );
-        let deferred = (samples == 1 && !spec.flowers && !spec.debug_views)
-            .then(|| super::deferred::DeferredPipelines::new(device, layout, &constants));
+        // Multisampled, where every adapter multisamples the visibility buffer's format
+        // with this count (WebGPU guarantees 4x); otherwise the grass is drawn forward.
+        let vis_samples = samples == 1
+            || super::deferred::VIS_MS_FORMAT
+                .guaranteed_format_features(device.features())
+                .flags
+                .sample_count_supported(samples);
+        let deferred = (vis_samples && !spec.flowers && !spec.debug_views)
+            .then(|| super::deferred::DeferredPipelines::new(device, layout, &constants, samples));
         Self {
             spec,
             grass,

@@ -1,0 +1,109 @@
+// Deferred grass shading with multisampling (issue 26, point 5 with MSAA; `render/deferred.rs`):
+// the lit shading runs once per pixel the grass covers, the samples keep the coverage.
+//
+// 1. `vs_vis` / `fs_vis_ms`: the blades into a multisampled visibility buffer (blade index
+//    + 1 in two 16-bit halves, 0 where none; u and v in 16 bits each), with the
+//    multisampled depth; the fragment stage runs once per pixel and its output lands in the
+//    samples the blade covers. It also writes alpha GRASS_ALPHA into the multisampled
+//    colour, the main and the late draw alike. Its (u, v) are taken at a covered sample
+//    (centroid), not extrapolated to a pixel centre off the blade.
+// 2. The colour pass draws everything else into the multisampled colour: every lit pass
+//    writes alpha 1, the arrows 0 and the cards their coverage, so a sample still at
+//    GRASS_ALPHA (negative) after all draws is grass that nothing covered later.
+// 3. After the hardware resolve, `grass_pixels_ms` lists the pixels with a grass sample,
+//    with the first such sample; `shade_pixels_ms` lights that sample's blade point once
+//    (`vis_lit`) and resolves the pixel itself: in each grass sample that light on the
+//    sample's own blade albedo, the multisampled colour in the others, averaged as the
+//    hardware resolve averages.
+//
+// Where two blades share a pixel both take the first one's light, each on its own albedo
+// (root to tip, the blade's colour): the coverage and the colour of each are kept, the
+// light differs little at the size of a pixel.
+//!include grass_vis.wgsl
+
+@group(2) @binding(0) var vis_ms: texture_multisampled_2d<u32>;
+@group(2) @binding(1) var colour_ms: texture_multisampled_2d<f32>;
+@group(2) @binding(2) var scene_out: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(3) var<storage, read_write> pixel_list: PixelList;
+// Bound to the pixel pass only (as in grass_deferred.wgsl).
+@group(2) @binding(4) var<storage, read_write> shade_args: ShadeArgs;
+
+// The grass samples' colour alpha (`deferred::GRASS_ALPHA`): no pass writes a negative one.
+const GRASS_ALPHA: f32 = -1.0;
+
+struct VisMsOut {
+    @location(0) vis: vec4<u32>,
+    @location(1) colour: vec4<f32>,
+}
+
+@fragment
+fn fs_vis_ms(in: VisOut) -> VisMsOut {
+    let uv = vec2<u32>(round(clamp(in.uv, vec2<f32>(0.0), vec2<f32>(1.0)) * 65535.0));
+    let id = in.blade + 1u;
+    return VisMsOut(vec4<u32>(id & 0xffffu, id >> 16u, uv.x, uv.y), vec4<f32>(0.0, 0.0, 0.0, GRASS_ALPHA));
+}
+
+// Whether sample `s` of pixel `px` is grass: marked in the colour, with a blade.
+fn is_grass(px: vec2<i32>, s: u32) -> bool {
+    let vis = textureLoad(vis_ms, px, i32(s));
+    return textureLoad(colour_ms, px, i32(s)).a == GRASS_ALPHA && (vis.x | vis.y) != 0u;
+}
+
+@compute @workgroup_size(8, 8)
+fn grass_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(vis_ms);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let px = vec2<i32>(gid.xy);
+    let samples = textureNumSamples(colour_ms);
+    var first = samples;
+    for (var s = 0u; s < samples; s++) {
+        if first == samples && is_grass(px, s) {
+            first = s;
+        }
+    }
+    if first == samples {
+        return;
+    }
+    let i = atomicAdd(&pixel_list.count, 1u);
+    if i % SHADE_GROUP == 0u {
+        atomicAdd(&shade_args.x, 1u);
+    }
+    // Multisampled targets are at most 16384 wide (`DeferredTargets::fits`): 14 bits each,
+    // the sample in the 3 above.
+    pixel_list.pixels[i] = (first << 28u) | (gid.y << 14u) | gid.x;
+}
+
+@compute @workgroup_size(256)
+fn shade_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= atomicLoad(&pixel_list.count) {
+        return;
+    }
+    let packed = pixel_list.pixels[gid.x];
+    let px = vec2<i32>(vec2<u32>(packed & 0x3fffu, (packed >> 14u) & 0x3fffu));
+    let vis = textureLoad(vis_ms, px, i32(packed >> 28u));
+    let lit = vis_lit((vis.x | (vis.y << 16u)) - 1u, vec2<f32>(vis.zw) / 65535.0);
+    // The light per unit of albedo and of its height terms (`blade_light`: the sky's part
+    // goes with the ambient occlusion, the sun's mostly with 0.55 + 0.45 of it), so that a
+    // sample higher or lower on a blade takes its own share.
+    let albedo = max(lit.albedo, vec3<f32>(1e-4));
+    let ambient = lit.ambient / (albedo * max(lit.ao, 1e-3));
+    let sun = lit.sun / (albedo * mix(0.55, 1.0, lit.ao));
+    let samples = textureNumSamples(colour_ms);
+    var sum = vec4<f32>(0.0);
+    for (var s = 0u; s < samples; s++) {
+        let c = textureLoad(colour_ms, px, i32(s));
+        // A grass sample: the pixel's light on its own blade's albedo and height there
+        // (the light's direction terms vary little within a pixel; the colour along a
+        // blade, root to tip, does).
+        let v = textureLoad(vis_ms, px, i32(s));
+        let id = max(v.x | (v.y << 16u), 1u) - 1u;
+        let uv = vec2<f32>(v.zw) / 65535.0;
+        let ao = vis_ao(uv.y, lit.ao);
+        let own = vis_albedo(id, uv) * (ambient * ao + sun * mix(0.55, 1.0, ao));
+        let fogged = fog_towards(own, lit.point, lit.sky);
+        sum += select(c, vec4<f32>(fogged, 1.0), is_grass(px, s));
+    }
+    textureStore(scene_out, px, sum / f32(samples));
+}
