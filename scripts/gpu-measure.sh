@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Measures what the README's performance section reports, on the machine's GPU, and
+# Measures what the guide's performance page (docs/performance.md) reports, on the machine's GPU, and
 # writes the tables: nature and helicopter at 1920x1080 (the scenes' own MSAA, then MSAA
 # off), the light's cost, the prairie flight, and a sweep to 10,000,000 blades.
 #
 #   scripts/gpu-measure.sh [OUT_DIR]      (default: gpu-figures/)
 #
-# OUT_DIR gets every bench's JSON report and tables.md (the README's tables, Markdown).
+# OUT_DIR gets every bench's JSON report and tables.md (docs/performance.md's tables, Markdown).
 # Needs only cargo and a GPU driver; CI never runs it. SWARD_ADAPTER picks the adapter
 # (default: auto, the hardware one). FRAMES / WARMUP override the frame counts.
 set -euo pipefail
@@ -43,4 +43,4 @@ target/release/examples/gpu_tables \
     "prairie flight, 1920x1080=$out/prairie-flight.json" \
     "sweep to 10,000,000 blades, nature, 1920x1080, MSAA off=$out/sweep.json" \
     >"$out/tables.md"
-echo "wrote $out/tables.md: paste it under README.md's 'Measured' section" >&2
+echo "wrote $out/tables.md: paste it under docs/performance.md's 'Measured' section" >&2

@@ -11,6 +11,9 @@ use sward::gpu::AdapterChoice;
 use sward_app::app::AppOptions;
 use sward_app::bench::{bench, BenchOptions};
 
+#[cfg(test)]
+mod doc_commands;
+
 #[derive(Parser)]
 #[command(
     name = "sward",

@@ -15,7 +15,7 @@ use sward::scene::{
 };
 use sward::sim::fluid::{MAX_LAYERS, MAX_MULTIGRID_CYCLES};
 
-/// Keyboard and mouse shortcuts, shown in the Help window (and listed in the README).
+/// Keyboard and mouse shortcuts, shown in the Help window (and listed in the README and docs/window.md).
 pub const SHORTCUTS: &[(&str, &str)] = &[
     ("W A S D", "fly forward / left / back / right"),
     ("Q / E", "down / up"),

@@ -1,4 +1,4 @@
-//! The README's performance tables from `sward bench --json` reports: what
+//! The performance page's tables (docs/performance.md) from `sward bench --json` reports: what
 //! `scripts/gpu-measure.sh` writes after measuring on a machine with a GPU, so a session
 //! that is lent one spends its minutes measuring. The reports are read as JSON values
 //! (any mode: the three columns with their sweep, `--flight`, `--light`), so the tables

@@ -167,7 +167,7 @@ impl Default for Shading {
 }
 
 impl Shading {
-    /// The terms by name, in the order of the panel and the README's ablation.
+    /// The terms by name, in the order of the panel and the light page's ablation (docs/light.md).
     pub const NAMES: [&'static str; 6] = [
         "rounded_normal",
         "translucency",
