@@ -113,7 +113,9 @@ fn check_crate(src: &Path, layers: Layers) -> usize {
             .and_then(|c| c.as_os_str().to_str())
             .map(|s| s.trim_end_matches(".rs").to_string())
             .expect("a name");
-        if top == "lib" || top == "main" {
+        // The crate roots, and the binary's test of its guide (`doc_commands`, a test
+        // module of `main`), stand above every layer.
+        if top == "lib" || top == "main" || top == "doc_commands" {
             continue;
         }
         assert!(
@@ -203,6 +205,47 @@ fn the_library_depends_on_no_window_panel_or_command_line() {
     // The reader itself: a table after [dependencies] ends it.
     let sample = "[dependencies]\nwgpu = \"30\"\n[dev-dependencies]\nclap = \"4\"\n";
     assert_eq!(normal_dependencies(sample), vec!["wgpu".to_string()]);
+}
+
+/// A host's view of the library (issue 28, point 4): without the `internals` feature, which
+/// no default turns on, the only public modules are the embedding API, the scene types and
+/// the error; every other top-level module is declared through `internal!`, crate-private.
+#[test]
+fn a_host_sees_only_the_embedding_api_the_scene_and_the_error() {
+    let lib = std::fs::read_to_string(root().join("crates/sward/src/lib.rs")).expect("lib.rs");
+    let public: Vec<&str> = lib
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub mod "))
+        .map(|m| m.trim_end_matches(';'))
+        .filter(|m| !m.starts_with('$'))
+        .collect();
+    assert_eq!(public, ["embed", "error", "scene"]);
+    let internal = lib
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("internal!("))
+        .expect("the internal modules");
+    let declared = std::fs::read_dir(root().join("crates/sward/src"))
+        .expect("src")
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            let module = name.trim_end_matches(".rs").to_string();
+            (module != "lib").then_some(module)
+        })
+        .filter(|m| !public.contains(&m.as_str()))
+        .collect::<Vec<_>>();
+    for module in &declared {
+        assert!(
+            internal.contains(module.as_str()),
+            "{module} is neither public nor declared internal"
+        );
+    }
+    let manifest =
+        std::fs::read_to_string(root().join("crates/sward/Cargo.toml")).expect("manifest");
+    assert!(
+        manifest.contains("internals = []"),
+        "the feature, off by default"
+    );
+    assert!(!manifest.contains("default ="), "no default features");
 }
 
 /// The checker itself: an upward reference in code is found, one in a comment, a module's

@@ -6,26 +6,37 @@
 //! from the host's device, queue and target formats, [`GrassRenderer::prepare`] records a
 //! frame's simulation, cull and shadow maps into the host's encoder and
 //! [`GrassRenderer::render`] draws the blades into the host's render pass. The crate's
-//! `examples/embed.rs` is a whole host. The other modules are the layers the `sward`
-//! application is built on (scene, field, simulation, rendering, headless commands; see the
-//! repository's `docs/layers.md`); they are public for it and for tools, and documented,
-//! but [`embed`] is the interface meant for hosts.
+//! `examples/embed.rs` is a whole host. [`scene`] describes a field in code or in a RON
+//! file. The other modules are the layers the `sward` application is built on (field,
+//! simulation, rendering, headless commands; see the repository's `docs/layers.md`): they
+//! are crate-private, and public only with the `internals` feature, which the application
+//! and the tests enable; [`embed`] is the interface meant for hosts.
 #![deny(missing_docs)]
+// Without `internals` the layers below are the crate's own: what they export for the
+// application and the tests (items, and re-exports gathering them) is unused here, and is
+// not dead.
+#![cfg_attr(not(feature = "internals"), allow(dead_code, unused_imports))]
 
-pub mod commands;
-pub mod compare;
+/// Declares a layer module: public with the `internals` feature (the `sward` application
+/// and the tests, which reach into the renderer, the simulation and their CPU twins),
+/// crate-private without it (a host sees the embedding API and the scene types).
+macro_rules! internal {
+    ($($name:ident),* $(,)?) => {
+        $(
+            #[cfg(feature = "internals")]
+            pub mod $name;
+            #[cfg(not(feature = "internals"))]
+            #[allow(unreachable_pub)]
+            pub(crate) mod $name;
+        )*
+    };
+}
+
 pub mod embed;
 pub mod error;
-pub mod field;
-pub mod gpu;
-pub mod input;
-pub mod mesh;
-pub mod output;
-pub mod render;
 pub mod scene;
-pub mod session;
-pub mod shaders;
-pub mod sim;
+
+internal!(commands, compare, field, gpu, input, mesh, output, render, session, shaders, sim);
 
 pub use embed::{
     Collider, ColorOutput, FrameInputs, GrassRenderer, GrassRendererDescriptor, SceneSource,

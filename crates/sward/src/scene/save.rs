@@ -14,7 +14,7 @@
 //! text is parsed back with the loader's own [`parse_scene`], so a scene that would not load
 //! (a NaN, a value out of range) is refused instead of written.
 //!
-//! The file is written with [`write_atomic`] (a temporary file beside the target, then a
+//! The file is written with `output::write_atomic` (a temporary file beside the target, then a
 //! rename): a failed save leaves an existing file as it was and no partial file behind.
 //!
 //! # Image paths
