@@ -5,8 +5,8 @@
 //    + 1 in two 16-bit halves, 0 where none; u and v in 16 bits each), with the
 //    multisampled depth; the fragment stage runs once per pixel and its output lands in the
 //    samples the blade covers. It also writes alpha GRASS_ALPHA into the multisampled
-//    colour, the main and the late draw alike. Its (u, v) are taken at a covered sample
-//    (centroid), not extrapolated to a pixel centre off the blade.
+//    colour, the main and the late draw alike. Its (u, v) are taken at the first covered
+//    sample, not extrapolated to a pixel centre off the blade.
 // 2. The colour pass draws everything else into the multisampled colour: every lit pass
 //    writes alpha 1, the arrows 0 and the cards their coverage, so a sample still at
 //    GRASS_ALPHA (negative) after all draws is grass that nothing covered later.
@@ -36,9 +36,35 @@ struct VisMsOut {
     @location(1) colour: vec4<f32>,
 }
 
+// Samples per pixel of the multisampled target (`DeferredPipelines::new`).
+override MSAA_SAMPLES: u32 = 4u;
+
+// The standard position of sample `i` of `MSAA_SAMPLES` in the pixel (Vulkan's and
+// WebGPU's standard sample locations), from the pixel's corner.
+fn sample_position(i: u32) -> vec2<f32> {
+    if MSAA_SAMPLES == 2u {
+        return array<vec2<f32>, 2>(vec2<f32>(0.75, 0.75), vec2<f32>(0.25, 0.25))[i & 1u];
+    }
+    if MSAA_SAMPLES == 8u {
+        return array<vec2<f32>, 8>(
+            vec2<f32>(0.5625, 0.3125), vec2<f32>(0.4375, 0.6875), vec2<f32>(0.8125, 0.5625), vec2<f32>(0.3125, 0.1875),
+            vec2<f32>(0.1875, 0.8125), vec2<f32>(0.0625, 0.4375), vec2<f32>(0.6875, 0.9375), vec2<f32>(0.9375, 0.0625),
+        )[i & 7u];
+    }
+    return array<vec2<f32>, 4>(
+        vec2<f32>(0.375, 0.125), vec2<f32>(0.875, 0.375), vec2<f32>(0.125, 0.625), vec2<f32>(0.625, 0.875),
+    )[i & 3u];
+}
+
 @fragment
-fn fs_vis_ms(in: VisOut) -> VisMsOut {
-    let uv = vec2<u32>(round(clamp(in.uv, vec2<f32>(0.0), vec2<f32>(1.0)) * 65535.0));
+fn fs_vis_ms(in: VisOut, @builtin(sample_mask) covered: u32) -> VisMsOut {
+    // (u, v) at the first sample the blade covers, not at the pixel's centre, which may lie
+    // off a thin blade (where (u, v) run past its tip and edges): moved there along the
+    // screen derivatives. Centroid interpolation would do it, but llvmpipe's is not
+    // deterministic from run to run.
+    let d = sample_position(countTrailingZeros(covered)) - 0.5;
+    let at = in.uv + dpdx(in.uv) * d.x + dpdy(in.uv) * d.y;
+    let uv = vec2<u32>(round(clamp(at, vec2<f32>(0.0), vec2<f32>(1.0)) * 65535.0));
     let id = in.blade + 1u;
     return VisMsOut(vec4<u32>(id & 0xffffu, id >> 16u, uv.x, uv.y), vec4<f32>(0.0, 0.0, 0.0, GRASS_ALPHA));
 }

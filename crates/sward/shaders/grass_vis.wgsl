@@ -27,9 +27,9 @@ const SHADE_GROUP: u32 = 256u;
 struct VisOut {
     // Invariant: the same depth as the lit pass and the coverage measurement.
     @builtin(position) @invariant clip: vec4<f32>,
-    // Multisampled, at a sample the blade covers: a pixel's centre may lie off a thin
-    // blade, where (u, v) would run past its edges (with one sample, the centre).
-    @location(0) @interpolate(perspective, centroid) uv: vec2<f32>,
+    // At the pixel's centre; the multisampled draw moves it to a sample the blade covers
+    // (`fs_vis_ms`).
+    @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) blade: u32,
 }
 

@@ -154,6 +154,15 @@ impl DeferredPipelines {
             constants,
             ..Default::default()
         };
+        // The multisampled module's own constant: where its samples lie.
+        let mut vis_constants = constants.to_vec();
+        if ms {
+            vis_constants.push(("MSAA_SAMPLES", f64::from(samples)));
+        }
+        let vis_options = || wgpu::PipelineCompilationOptions {
+            constants: &vis_constants,
+            ..Default::default()
+        };
         let vis_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("sward.deferred.vis.layout"),
             bind_group_layouts: &[Some(grass_layout)],
@@ -165,7 +174,7 @@ impl DeferredPipelines {
             vertex: wgpu::VertexState {
                 module: &module,
                 entry_point: Some("vs_vis"),
-                compilation_options: options(),
+                compilation_options: vis_options(),
                 buffers: &[],
             },
             // Blades have no back: both sides are drawn.
@@ -184,7 +193,7 @@ impl DeferredPipelines {
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some(fs),
-                compilation_options: options(),
+                compilation_options: vis_options(),
                 // Multisampled, the colour too: its grass samples marked.
                 targets: &[
                     Some(wgpu::ColorTargetState {
