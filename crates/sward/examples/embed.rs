@@ -19,7 +19,7 @@ const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The grass: a 24 m square of gentle hills, light wind. The host reads the hills back
 /// (`GrassRenderer::ground_height`) to build its own ground under the blades.
-const SCENE: &str = r#"(
+pub const SCENE: &str = r#"(
     terrain: (size: 24.0, resolution: 65, height: Noise(seed: 3, amplitude: 0.8, wavelength: 14.0, octaves: 2)),
     field: (density: 90.0, height: (min: 0.3, max: 0.7), seed: 2),
     wind: (directional: Some((direction: (1.0, 0.3), strength: 2.0, gust: 0.8, wavelength: 8.0, speed: 3.0))),
@@ -109,6 +109,7 @@ impl Host {
         queue: &wgpu::Queue,
         size: (u32, u32),
         color: wgpu::TextureFormat,
+        scene: &str,
     ) -> sward::Result<Self> {
         // sward's part: a descriptor with the host's formats, and the scene.
         let grass = GrassRenderer::new(
@@ -119,7 +120,7 @@ impl Host {
                 depth_format: DEPTH,
                 sample_count: 1,
                 output: ColorOutput::ToneMapped,
-                scene: SceneSource::Ron(SCENE.into()),
+                scene: SceneSource::Ron(scene.into()),
             },
         )?;
         let (vertices, indices) = world(&grass);
@@ -594,8 +595,18 @@ pub fn render_image(
     frames: u32,
     setup: impl FnOnce(&mut Host),
 ) -> Result<(image::RgbaImage, u64), String> {
+    render_scene(SCENE, size, frames, setup).map(|(image, blades, _)| (image, blades))
+}
+
+/// [`render_image`] of another scene: the picture, the blades and the billboards drawn.
+pub fn render_scene(
+    scene: &str,
+    size: (u32, u32),
+    frames: u32,
+    setup: impl FnOnce(&mut Host),
+) -> Result<(image::RgbaImage, u64, u32), String> {
     let (device, queue) = open()?;
-    let mut host = Host::new(&device, &queue, size, COLOR).map_err(|e| e.to_string())?;
+    let mut host = Host::new(&device, &queue, size, COLOR, scene).map_err(|e| e.to_string())?;
     setup(&mut host);
     let target = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("host.color"),
@@ -620,8 +631,9 @@ pub fn render_image(
             .map_err(|e| e.to_string())?;
     }
     let drawn = host.grass.drawn_blades().map_err(|e| e.to_string())?;
+    let cards = host.grass.drawn_billboards().map_err(|e| e.to_string())?;
     let image = read_back(&device, &queue, &target, size)?;
-    Ok((image, drawn))
+    Ok((image, drawn, cards))
 }
 
 /// Renders `frames` frames headless and writes the last as a PNG at `out` (through a
@@ -799,8 +811,8 @@ mod window {
                 .find(|f| f.is_srgb())
                 .ok_or("the surface has no sRGB format")?;
             surface.configure(&device, &config);
-            let host =
-                Host::new(&device, &queue, size, config.format).map_err(|e| e.to_string())?;
+            let host = Host::new(&device, &queue, size, config.format, SCENE)
+                .map_err(|e| e.to_string())?;
             Ok(Self {
                 window,
                 surface,

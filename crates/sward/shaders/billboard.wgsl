@@ -101,6 +101,10 @@ fn bayer(p: vec2<f32>) -> f32 {
     return (f32(m[y * 4u + x]) + 0.5) / 16.0;
 }
 
+// Display colour (the scene's exposure and tone curve applied) instead of radiance: a
+// host's 8-bit target (`render::host`, as `grass.wgsl`'s).
+override DISPLAY_OUTPUT: bool = false;
+
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let tex = textureSample(atlas, atlas_sampler, in.uv, in.layer);
@@ -114,5 +118,8 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let f = textureSample(facing_atlas, atlas_sampler, in.uv, in.layer);
     let sun = (f.r * in.sun0 + f.g * in.sun1 + f.b * in.sun2 + f.a * in.sun3) / max(f.r + f.g + f.b + f.a, 1e-3);
     let color = mix(tex.rgb * (in.light_rgb + sun), in.fog_sky.rgb, in.fog_sky.w);
+    if DISPLAY_OUTPUT {
+        return vec4<f32>(tonemap(color), tex.a);
+    }
     return vec4<f32>(color, tex.a);
 }

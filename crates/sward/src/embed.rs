@@ -353,9 +353,10 @@ impl GrassRenderer {
         Ok(())
     }
 
-    /// Draws the blades [`GrassRenderer::prepare`] kept into the host's pass (a pass with
-    /// the descriptor's colour and depth formats and sample count). Draws nothing before
-    /// the first `prepare`.
+    /// Draws the blades [`GrassRenderer::prepare`] kept, and the billboards beyond them
+    /// (`render.billboard_distance`), into the host's pass (a pass with the descriptor's
+    /// colour and depth formats and sample count). Draws nothing before the first
+    /// `prepare`.
     pub fn render(&self, pass: &mut wgpu::RenderPass<'_>) {
         if self.prepared.is_some() {
             self.renderer.draw_into_host(pass, &self.host);
@@ -429,6 +430,12 @@ impl GrassRenderer {
     pub fn drawn_blades(&mut self) -> Result<u64> {
         let stats = self.renderer.stats(&self.gpu)?;
         Ok(u64::from(stats.counters.drawn()))
+    }
+
+    /// The billboards (the far level beyond the blades, `render.billboard_distance`) the
+    /// last prepared frame drew, read back (blocks; for tests and statistics).
+    pub fn drawn_billboards(&self) -> Result<u32> {
+        self.renderer.billboards_kept(&self.gpu)
     }
 }
 

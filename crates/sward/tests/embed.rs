@@ -1,6 +1,6 @@
 //! The embedding API (issue 28, points 2 and 3) through the example host
 //! (`examples/embed.rs`, compiled in here): a wgpu program with its own device, ground and
-//! box draws sward's grass into its own pass.
+//! box draws sward's grass into its own pass, and the billboards beyond the blades.
 //!
 //! Measured at 160x90 on lavapipe: 25,304 blades drawn after 12 frames, changing 81.5 % of
 //! the near field's pixels (bound: 40 %) and none of the sky's; with the host's depth the
@@ -66,6 +66,47 @@ fn the_host_draws_the_grass_into_its_own_pass() {
     assert!(
         mean[1] > mean[0] && mean[1] > mean[2],
         "mean colour {mean:?}"
+    );
+}
+
+/// The far level in the host's pass (issue 28): the example's scene with the blades to
+/// 5 m and billboards to 40 m. The cards the cull keeps beyond the blades are drawn into
+/// the host's pass with its formats, and cover ground the blades-only frame leaves bare.
+#[test]
+fn the_host_draws_the_billboards_beyond_the_blades() {
+    let scene = example::SCENE.replace(
+        "render: (billboard_distance: 0.0),",
+        "culling: (max_distance: 5.0), render: (billboard_distance: 40.0),",
+    );
+    assert_ne!(
+        scene,
+        example::SCENE,
+        "the example's scene changed its render section"
+    );
+    let none = scene.replace("billboard_distance: 40.0", "billboard_distance: 0.0");
+    let (with, _, cards) = example::render_scene(&scene, SIZE, FRAMES, |_| {}).expect("cards");
+    let (without, _, no_cards) =
+        example::render_scene(&none, SIZE, FRAMES, |_| {}).expect("no cards");
+    assert_eq!(no_cards, 0);
+    let (w, h) = SIZE;
+    // The middle band: the field beyond 5 m, where only the cards stand.
+    let band: Vec<(u32, u32)> = (0..w)
+        .flat_map(|x| (h / 3..h / 2).map(move |y| (x, y)))
+        .collect();
+    let changed = band
+        .iter()
+        .filter(|&&(x, y)| differs(with.get_pixel(x, y), without.get_pixel(x, y)))
+        .count();
+    let share = changed as f64 / band.len() as f64;
+    eprintln!(
+        "{cards} billboards drawn; they changed {:.1} % of the far band",
+        100.0 * share
+    );
+    assert!(cards > 50, "{cards} billboards drawn");
+    assert!(
+        share > 0.1,
+        "the cards changed {:.1} % of the far band",
+        100.0 * share
     );
 }
 

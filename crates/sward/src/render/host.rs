@@ -2,7 +2,8 @@
 //! built again for the host's colour format, depth format and sample count (and, for an
 //! 8-bit target, with the scene's exposure and tone curve applied in the fragment shader:
 //! `DISPLAY_OUTPUT` in `grass.wgsl`), and the draw that binds it over the visible lists
-//! the renderer's cull wrote in `Renderer::encode_before_draw`.
+//! the renderer's cull wrote in `Renderer::encode_before_draw`; and the billboards (the far
+//! level) with a pipeline for the same target.
 
 use super::grass_spec::GrassSpec;
 use super::pipelines::{pipeline_for, PipelineSpec};
@@ -21,11 +22,13 @@ pub struct HostTarget {
     pub display: bool,
 }
 
-/// The grass pipeline of one host target and one specialisation of the scene.
+/// The grass pipeline of one host target and one specialisation of the scene, and the
+/// billboards' for the same target (the far level, where the scene has one).
 pub struct HostPipelines {
     target: HostTarget,
     spec: GrassSpec,
     grass: wgpu::RenderPipeline,
+    billboards: Option<wgpu::RenderPipeline>,
 }
 
 impl HostPipelines {
@@ -51,10 +54,15 @@ impl HostPipelines {
                 constants: &constants,
             },
         );
+        let billboards = renderer
+            .billboards
+            .as_ref()
+            .map(|b| b.host_pipeline(device, target));
         Self {
             target,
             spec,
             grass,
+            billboards,
         }
     }
 
@@ -95,9 +103,18 @@ impl Renderer {
     }
 
     /// Draws the blades the last `encode_before_draw` kept (every level of detail) into
-    /// `pass`, lit by the scene's sun, sky and shadow maps.
+    /// `pass`, lit by the scene's sun, sky and shadow maps, and the billboards its cull kept
+    /// beyond them.
     pub fn draw_into_host(&self, pass: &mut wgpu::RenderPass<'_>, host: &HostPipelines) {
         pass.set_bind_group(1, self.light.group(), &[]);
         self.draw.draw_grass(pass, &host.grass, &self.cull.args, 0);
+        if let (Some(b), Some(p)) = (&self.billboards, &host.billboards) {
+            b.draw_with(pass, p);
+        }
+    }
+
+    /// How many billboards the last frame's cull kept (blocking; 0 without any).
+    pub fn billboards_kept(&self, gpu: &crate::gpu::Gpu) -> crate::error::Result<u32> {
+        self.billboards.as_ref().map_or(Ok(0), |b| b.read_drawn(gpu))
     }
 }

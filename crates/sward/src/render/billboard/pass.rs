@@ -280,7 +280,7 @@ impl BillboardPass {
             &density_tex,
             inputs,
         );
-        let pipeline = Self::pipeline(device, &draw_layout, format, samples);
+        let pipeline = Self::pipeline(device, &draw_layout, (format, DEPTH_FORMAT), samples, false);
         Self {
             layout,
             params,
@@ -347,12 +347,17 @@ impl BillboardPass {
         );
     }
 
+    /// The cards' pipeline for colour and depth `formats` and `samples`; `display`: the
+    /// scene's tone curve applied (a host's 8-bit target).
     fn pipeline(
         device: &wgpu::Device,
         bind_layout: &wgpu::BindGroupLayout,
-        format: wgpu::TextureFormat,
+        formats: (wgpu::TextureFormat, wgpu::TextureFormat),
         samples: u32,
+        display: bool,
     ) -> wgpu::RenderPipeline {
+        let (format, depth_format) = formats;
+        let constants = [("DISPLAY_OUTPUT", f64::from(u8::from(display)))];
         let module = shaders::module(device, "billboard.wgsl");
         // Group 1: the sun, the sky and the shadow map (bound by the colour pass).
         let light = crate::render::light::layout(device);
@@ -376,7 +381,7 @@ impl BillboardPass {
                 ..Default::default()
             },
             depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
+                format: depth_format,
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::LessEqual),
                 stencil: Default::default(),
@@ -392,7 +397,10 @@ impl BillboardPass {
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
                 // Alpha drives the coverage; the scene target's alpha (1: radiance, for
                 // the tone mapper) stays as the sky or the ground left it.
                 targets: &[Some(wgpu::ColorTargetState {
@@ -410,7 +418,8 @@ impl BillboardPass {
     pub fn set_samples(&mut self, device: &wgpu::Device, samples: u32) {
         if samples != self.samples {
             self.samples = samples;
-            self.pipeline = Self::pipeline(device, &self.draw_layout, self.format, samples);
+            self.pipeline =
+                Self::pipeline(device, &self.draw_layout, (self.format, DEPTH_FORMAT), samples, false);
         }
     }
 
@@ -470,7 +479,28 @@ impl BillboardPass {
 
     /// Draws the cards the cull kept (in the caller's colour pass).
     pub fn draw<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>) {
-        pass.set_pipeline(&self.pipeline);
+        self.draw_with(pass, &self.pipeline);
+    }
+
+    /// The cards' pipeline for a host's pass (`render::host`): its colour and depth formats
+    /// and samples, display colour where the host's target is 8-bit.
+    pub fn host_pipeline(
+        &self,
+        device: &wgpu::Device,
+        target: crate::render::host::HostTarget,
+    ) -> wgpu::RenderPipeline {
+        Self::pipeline(
+            device,
+            &self.draw_layout,
+            (target.color_format, target.depth_format),
+            target.samples,
+            target.display,
+        )
+    }
+
+    /// Draws the cards the cull kept with `pipeline` (this pass's own or a host's).
+    pub fn draw_with(&self, pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline) {
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.draw_group, &[]);
         pass.draw_indirect(&self.args, 0);
     }
