@@ -603,6 +603,67 @@ pub fn run_probe(
     read_buffer(gpu, output, size)
 }
 
+/// Runs a probe kernel of the WGSL file `shader` (entry `probe`, 64 invocations per
+/// workgroup, its layout taken from the shader): `inputs` become read storage buffers at
+/// bindings 0, 1, …, the output one `vec4<f32>` per point at the next binding. Returns the
+/// `points` outputs. For the tests that hold a WGSL function to its CPU twin.
+pub fn run_vec4_probe(
+    gpu: &Gpu,
+    label: &str,
+    shader: &str,
+    inputs: &[&[u8]],
+    points: usize,
+) -> Result<Vec<[f32; 4]>> {
+    use wgpu::util::DeviceExt;
+    let device = &gpu.device;
+    let count = points.max(1);
+    let buffers: Vec<wgpu::Buffer> = inputs
+        .iter()
+        .map(|bytes| {
+            // A binding may not be empty.
+            let mut data = bytes.to_vec();
+            data.resize(data.len().max(16), 0);
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: &data,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        })
+        .collect();
+    let out_size = (count * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let module = crate::shaders::module(device, shader);
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module: &module,
+        entry_point: Some("probe"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .chain(std::iter::once(&output))
+        .enumerate()
+        .map(|(k, b)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let bytes = run_probe(gpu, label, &pipeline, &[&group], count, (&output, out_size))?;
+    Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)[..points].to_vec())
+}
+
 /// Copies a buffer back to the host (blocking). `buffer` needs COPY_SRC usage.
 pub fn read_buffer(gpu: &Gpu, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
     let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {

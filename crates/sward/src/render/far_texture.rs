@@ -5,7 +5,6 @@
 //! The far ground's trail is probed here too ([`probe_trails`]), for the same reason.
 
 use glam::{Vec2, Vec3};
-use wgpu::util::DeviceExt;
 
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -67,58 +66,16 @@ pub fn grass_texture(octaves: Vec3, footprint: f32) -> f32 {
 /// The WGSL at `points` (world x, z and the footprint): each point's octaves and texture,
 /// read back from the GPU.
 pub fn probe_grass_texture(gpu: &Gpu, points: &[Vec3]) -> Result<Vec<(Vec3, f32)>> {
-    let device = &gpu.device;
-    let count = points.len().max(1);
-    let mut flat: Vec<[f32; 4]> = points.iter().map(|p| [p.x, p.y, p.z, 0.0]).collect();
-    flat.resize(count, [0.0; 4]);
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("sward.grass_texture_probe.points"),
-        contents: bytemuck::cast_slice(&flat),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let out_size = (count * 16) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sward.grass_texture_probe.out"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let module = crate::shaders::module(device, "grass_texture_probe.wgsl");
-    // The layout is taken from the shader: two storage buffers.
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("sward.grass_texture_probe"),
-        layout: None,
-        module: &module,
-        entry_point: Some("probe"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sward.grass_texture_probe.group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let bytes = crate::gpu::run_probe(
+    let flat: Vec<[f32; 4]> = points.iter().map(|p| [p.x, p.y, p.z, 0.0]).collect();
+    let values = crate::gpu::run_vec4_probe(
         gpu,
         "sward.grass_texture_probe",
-        &pipeline,
-        &[&group],
-        count,
-        (&output, out_size),
+        "grass_texture_probe.wgsl",
+        &[bytemuck::cast_slice(&flat)],
+        points.len(),
     )?;
-    let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     Ok(values
         .iter()
-        .take(points.len())
         .map(|v| (Vec3::new(v[0], v[1], v[2]), v[3]))
         .collect())
 }
@@ -128,64 +85,18 @@ pub fn probe_grass_texture(gpu: &Gpu, points: &[Vec3]) -> Result<Vec<(Vec3, f32)
 /// x, bend z), from the map `words` (a read-back [`crate::sim::update::BladeBuffers`]
 /// trail map, or one written on the CPU).
 pub fn probe_trails(gpu: &Gpu, words: &[u32], points: &[glam::Vec2]) -> Result<Vec<(f32, Vec3)>> {
-    let device = &gpu.device;
-    let count = points.len().max(1);
-    let mut flat: Vec<[f32; 4]> = points.iter().map(|p| [p.x, p.y, 0.0, 0.0]).collect();
-    flat.resize(count, [0.0; 4]);
+    let flat: Vec<[f32; 4]> = points.iter().map(|p| [p.x, p.y, 0.0, 0.0]).collect();
     let mut map = words.to_vec();
-    map.resize(
-        map.len().max(crate::field::trails::HEADER_WORDS as usize),
-        0,
-    );
-    let init = |label, contents: &[u8]| {
-        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents,
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-    };
-    let trails = init("sward.trail_probe.map", bytemuck::cast_slice(&map));
-    let input = init("sward.trail_probe.points", bytemuck::cast_slice(&flat));
-    let out_size = (count * 16) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sward.trail_probe.out"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let module = crate::shaders::module(device, "trail_probe.wgsl");
-    // The layout is taken from the shader: three storage buffers.
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("sward.trail_probe"),
-        layout: None,
-        module: &module,
-        entry_point: Some("probe"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-        wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        }
-    }
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sward.trail_probe.group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[entry(0, &trails), entry(1, &input), entry(2, &output)],
-    });
-    let bytes = crate::gpu::run_probe(
+    map.resize(map.len().max(crate::field::trails::HEADER_WORDS as usize), 0);
+    let values = crate::gpu::run_vec4_probe(
         gpu,
         "sward.trail_probe",
-        &pipeline,
-        &[&group],
-        count,
-        (&output, out_size),
+        "trail_probe.wgsl",
+        &[bytemuck::cast_slice(&map), bytemuck::cast_slice(&flat)],
+        points.len(),
     )?;
-    let values: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     Ok(values
         .iter()
-        .take(points.len())
         .map(|v| (v[0], Vec3::new(v[1], v[2], v[3])))
         .collect())
 }
