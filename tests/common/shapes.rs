@@ -95,6 +95,13 @@ pub fn write_obj(mesh: &Mesh, name: &str) -> std::path::PathBuf {
             t[2] + 1
         );
     }
-    std::fs::write(&path, text).expect("write obj");
+    // Tests of one binary run in parallel and write the same file: each writes its own
+    // and renames it into place, so a reader sees a whole file, never one being rewritten
+    // (a truncated OBJ read back as "no triangles" in a fresh-clone CI).
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let part = dir.join(format!("{name}.obj.{n}.part"));
+    std::fs::write(&part, text).expect("write obj");
+    std::fs::rename(&part, &path).expect("rename obj");
     path
 }
