@@ -14,9 +14,10 @@
 //! multisampled too and the light still runs once per grass pixel: after the hardware
 //! resolve, each pixel with a grass sample is lit once, at its first grass sample's blade
 //! point, and resolved again from its samples (the lit colour in its grass samples, the
-//! multisampled colour in the others). The colour pass clears to alpha [`GRASS_ALPHA`] so
-//! the samples nothing covered after the grass are known. Forward MSAA shaded about 42
-//! lit fragments per covered pixel on nature at 1280x720.
+//! multisampled colour in the others). The visibility draws write alpha [`GRASS_ALPHA`]
+//! into the colour's samples they cover, so the samples nothing covered after the grass
+//! are known. Forward MSAA shaded about 42 lit fragments per covered pixel on nature at
+//! 1280x720.
 //!
 //! The path is taken with filled triangles and grass pipelines specialised without flower
 //! heads or debug views (`DrawPass::deferred`); everything else is drawn forward, as
@@ -282,6 +283,14 @@ impl DeferredTargets {
     /// Buffers for a target of `size` drawn with `samples` samples per pixel; an error
     /// when the adapter cannot hold them.
     pub fn new(gpu: &Gpu, size: (u32, u32), samples: u32) -> Result<Self> {
+        if samples > 1 && !Self::fits(gpu, size, samples) && Self::fits(gpu, size, 1) {
+            return Err(Error::Limits(format!(
+                "the multisampled deferred grass shading for {}x{} with {samples} samples: \
+                 sides up to {MS_MAX_SIDE} and a {VIS_MS_FORMAT:?} visibility buffer the \
+                 device multisamples {samples}x",
+                size.0, size.1
+            )));
+        }
         if !Self::fits(gpu, size, samples) {
             return Err(Error::Limits(format!(
                 "the deferred grass shading's pixel list for {}x{} ({} bytes) exceeds the \

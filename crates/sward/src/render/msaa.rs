@@ -109,18 +109,27 @@ impl MsaaTarget {
     }
 
     /// Records the resolve of the multisampled colour into `output` (single-sample, same
-    /// format and size): an empty pass whose colour attachment resolves at its end.
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, output: &wgpu::TextureView) {
+    /// format and size): an empty pass whose colour attachment resolves at its end. `keep`:
+    /// the samples are read afterwards (the deferred grass light); otherwise discarded.
+    pub fn resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::TextureView,
+        keep: bool,
+    ) {
         encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward.msaa.resolve"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &self.color,
                 depth_slice: None,
                 resolve_target: Some(output),
-                // Kept: the deferred grass light reads the samples after the resolve.
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
+                    store: if keep {
+                        wgpu::StoreOp::Store
+                    } else {
+                        wgpu::StoreOp::Discard
+                    },
                 },
             })],
             depth_stencil_attachment: None,
@@ -185,15 +194,17 @@ impl Renderer {
     }
 
     /// Ends the frame's drawing: resolves the multisampled scene into the scene target
-    /// (and lights the deferred grass's pixels in it, `render::deferred`), tone-maps that into `color` (`post::ToneMap`) and draws the wind overlay over it in
+    /// (and lights the deferred grass's pixels in it, `render::deferred`), tone-maps that
+    /// into `color` (`post::ToneMap`) and draws the wind overlay over it in
     /// display colours. The frame's queries are resolved after it by
     /// [`Renderer::resolve_queries`], when the caller has added its own passes.
     pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder, color: &wgpu::TextureView) {
-        if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
-            m.resolve(encoder, scene);
-        }
-        // The multisampled deferred grass: its pixels lit once and resolved again.
+        // The multisampled deferred grass: its pixels lit once and resolved again, from
+        // the samples the resolve keeps.
         let light = self.pending_grass_light.take();
+        if let (Some(m), Some(scene)) = (&self.msaa, self.post.current()) {
+            m.resolve(encoder, scene, light.is_some());
+        }
         if let (Some(light), Some(d), Some(p)) = (light, &self.deferred, self.draw.deferred()) {
             let groups = (self.draw.grass_group(), self.light.group());
             timed(self.meters(), encoder, timing::GRASS_LIGHT, |e, q| {
