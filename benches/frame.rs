@@ -10,6 +10,8 @@ use std::path::Path;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use sward::commands::world_frame;
+use sward::embed::GrassRenderer;
 use sward::gpu::{wait_idle, AdapterChoice, Gpu};
 use sward::render::camera::CameraView;
 use sward::render::target::{Target, COLOR_FORMAT};
@@ -29,7 +31,9 @@ fn frame(c: &mut Criterion) {
     let (width, height) = (256, 144);
     let target = Target::new(&gpu, width, height).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
-    let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    // Drawn through the embedding API, as the window and `sward render` draw.
+    let mut renderer = GrassRenderer::wrap_world(&gpu, renderer, COLOR_FORMAT);
     let name = format!(
         "frame {} blades {width}x{height} on {}",
         session.field.blades.len(),
@@ -39,14 +43,7 @@ fn frame(c: &mut Criterion) {
         b.iter(|| {
             // The same dt as `sward bench`; the clock keeps running across iterations, so
             // the balls roll on and the blades keep moving as in a real session.
-            renderer.frame(
-                &gpu,
-                1.0 / 30.0,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                (width, height),
-            );
+            world_frame(&gpu, &mut renderer, 1.0 / 30.0, camera, &target).expect("frame");
             wait_idle(&gpu.device).expect("frame finishes");
         })
     });

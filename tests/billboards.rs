@@ -265,17 +265,14 @@ fn billboards_fill_the_middle_distance_with_grass() {
         s.camera.target = (30.0, 0.0, 30.0);
         let gpu = common::gpu();
         let session = Session::new(s, None, Some(&gpu)).expect("session");
-        let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+        let mut r = sward::embed::GrassRenderer::wrap_world(
+            &gpu,
+            Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+            COLOR_FORMAT,
+        );
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
         let camera = CameraView::from_scene(&session.scene.camera);
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
         let stats = r.stats(&gpu).expect("stats");
         gpu.check_errors().expect("no GPU error");
         (
@@ -350,17 +347,14 @@ fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
     s.camera.target = (20.0, 0.0, 25.0);
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
-    r.frame(
-        &gpu,
-        1.0 / 30.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        SIZE,
-    );
+    sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     gpu.check_errors().expect("no GPU error");
     let (params, view_proj) = r.billboard_frame().expect("billboards on");
     let cards = r.billboards().unwrap().read_cards(&gpu).expect("cards");

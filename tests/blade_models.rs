@@ -168,9 +168,12 @@ fn verlet_keeps_its_length_and_stays_above_ground() {
         .colliders
         .push(common::rolling_sphere(2.5, 0.1, 0.5, -1.5));
     let session = Session::new(scene, Some(2048), Some(&gpu)).expect("field");
-    let mut r =
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
         sward::render::Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer");
+            .expect("renderer"),
+        sward::render::target::COLOR_FORMAT,
+    );
     let mut worst_len = 0.0f32;
     let mut lowest = f32::INFINITY;
     let mut flattest = f32::INFINITY;
@@ -219,21 +222,17 @@ fn render(model: BladeModel) -> Vec<u8> {
     scene.physics.model = model;
     scene.terrain.size = 5.0;
     let session = Session::new(scene, Some(6000), Some(&gpu)).expect("field");
-    let mut r =
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
         sward::render::Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer");
+            .expect("renderer"),
+        sward::render::target::COLOR_FORMAT,
+    );
     let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
     let size = (160, 100);
     let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");
     for _ in 0..20 {
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     }
     gpu.check_errors().expect("no GPU error");
     target.read_image(&gpu).expect("image").into_raw()

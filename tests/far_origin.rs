@@ -32,7 +32,11 @@ fn scene(offset: f32) -> Scene {
 fn creep(offset: f32) -> ([f64; 3], f64) {
     let gpu = common::gpu();
     let session = Session::new(scene(offset), None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let mut camera = CameraView::from_scene(&session.scene.camera);
     let mut previous: Option<image::RgbaImage> = None;
@@ -40,14 +44,7 @@ fn creep(offset: f32) -> ([f64; 3], f64) {
     for _ in 0..12 {
         camera.eye += Vec3::new(0.002, 0.0, 0.0);
         camera.target += Vec3::new(0.002, 0.0, 0.0);
-        r.frame(
-            &gpu,
-            0.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
+        sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
         let image = target.read_image(&gpu).expect("image");
         for p in image.pixels() {
             for c in 0..3 {

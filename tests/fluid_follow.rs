@@ -203,7 +203,11 @@ fn the_renderer_moves_the_grid_with_the_camera() {
     s.render.msaa = 1;
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let target = Target::new(&gpu, 32, 18).expect("target");
     let mut corners = Vec::new();
     for x in [0.0f32, 0.2, 7.9] {
@@ -211,14 +215,7 @@ fn the_renderer_moves_the_grid_with_the_camera() {
         scene_camera.eye.0 = x;
         scene_camera.target.0 = x + 5.0;
         let camera = CameraView::from_scene(&scene_camera);
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            (32, 18),
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
         corners.push(r.fluid.as_ref().expect("fluid").origin());
     }
     gpu.check_errors().expect("no GPU error");

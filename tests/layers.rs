@@ -23,7 +23,8 @@ const LIBRARY: Layers = &[
     ("simulation", &["sim"]),
     ("session", &["session"]),
     ("rendering", &["render"]),
-    ("commands and embedding", &["commands", "embed"]),
+    ("embedding", &["embed"]),
+    ("commands", &["commands"]),
 ];
 
 /// The application `sward-app` (the library is below all of it).

@@ -7,14 +7,18 @@
 mod common;
 
 use glam::{Mat4, Vec3};
+use sward::embed::GrassRenderer;
 use sward::render::camera::CameraView;
 use sward::render::light::{sky, tone};
-use sward::render::Renderer;
 use sward::scene::{HeightSource, Motion, Scene, Shading, Sphere, ToneMapping};
 use sward::session::Session;
 
 /// Renders `frames` frames of `scene` at `size` and returns the image and the renderer.
-fn render(scene: Scene, size: (u32, u32), frames: u32) -> (image::RgbaImage, Renderer, CameraView) {
+fn render(
+    scene: Scene,
+    size: (u32, u32),
+    frames: u32,
+) -> (image::RgbaImage, GrassRenderer, CameraView) {
     render_on(&common::gpu(), scene, size, frames)
 }
 
@@ -23,7 +27,7 @@ fn render_on(
     scene: Scene,
     size: (u32, u32),
     frames: u32,
-) -> (image::RgbaImage, Renderer, CameraView) {
+) -> (image::RgbaImage, GrassRenderer, CameraView) {
     let session = Session::new(scene, None, Some(gpu)).expect("field");
     let camera = CameraView::from_scene(&session.scene.camera);
     let (r, target) = common::draw_frames(gpu, &session, size, frames as usize, false, |_| {});

@@ -25,7 +25,7 @@ fn render(culling: impl Fn(&mut Culling)) -> image::RgbaImage {
     scene.light.shading.specular = 0.0;
     let session = Session::new(scene, Some(4096), Some(&gpu)).expect("field");
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
-    let mut r = common::stepped(&gpu, &session, 0, 0.0);
+    let mut r = common::world(&gpu, &session);
     let camera = CameraView {
         eye: glam::Vec3::new(-2.5, 0.6, 0.0),
         target: glam::Vec3::new(0.0, 0.2, 0.0),
@@ -33,14 +33,7 @@ fn render(culling: impl Fn(&mut Culling)) -> image::RgbaImage {
         near: 0.05,
         far: 100.0,
     };
-    r.frame(
-        &gpu,
-        0.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        SIZE,
-    );
+    sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
     let c = r.cull.read_counters(&gpu).expect("counters");
     assert!(c.drawn() > 100, "{c:?}");
     target.read_image(&gpu).expect("image")

@@ -75,7 +75,11 @@ fn frames_keep_nothing_they_allocate() {
     let scene = sward::commands::load(None, &sets).expect("scene");
     assert!(scene.field.tile_size > 0.0 && scene.render.billboard_distance > 0.0);
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     // The work counter too: its queries, ring of read-back buffers and coverage pass.
     assert!(r.count_work(&gpu, true));
     let size = (48, 27);
@@ -86,14 +90,7 @@ fn frames_keep_nothing_they_allocate() {
         // The camera flies, so tiles stream in and out.
         camera.eye.x += 0.2;
         camera.target.x += 0.2;
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
         gpu.check_errors().expect("no GPU error");
         if f == 50 {
             sward::gpu::wait_idle(&gpu.device).expect("idle");

@@ -59,20 +59,13 @@ fn four_samples_blend_the_blade_edges() {
         // Against one sample without any anti-aliasing.
         scene.render.taa = false;
         let session = Session::new(scene, Some(8192), Some(&gpu)).expect("field");
-        let mut r = common::stepped(&gpu, &session, 0, 0.0);
+        let mut r = common::world(&gpu, &session);
         r.deferred_grass(deferred);
         assert_eq!(r.msaa_samples(), msaa, "4× is guaranteed by WebGPU");
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
         // Two frames: the second uses the first's grass for occlusion (the late passes).
         for _ in 0..2 {
-            r.frame(
-                &gpu,
-                0.0,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                SIZE,
-            );
+            sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
         }
         gpu.check_errors().expect("no wgpu error");
         let drawn = r.cull.read_counters(&gpu).expect("counters").drawn();
@@ -147,39 +140,18 @@ fn an_unsupported_sample_count_falls_back_below() {
     let mut scene = common::still_scene();
     scene.render.msaa = 8;
     let session = Session::new(scene, Some(2048), Some(&gpu)).expect("field");
-    let mut r = common::stepped(&gpu, &session, 0, 0.0);
+    let mut r = common::world(&gpu, &session);
     assert_eq!(r.msaa_samples(), effective_samples(&gpu, COLOR_FORMAT, 8));
     let target = Target::new(&gpu, 32, 24).expect("target");
     let camera = CameraView::from_scene(&r.scene.camera);
-    r.frame(
-        &gpu,
-        0.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        (32, 24),
-    );
+    sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
     gpu.check_errors().expect("no wgpu error");
     // Switched live (the panel): pipelines and targets follow, the frame still draws.
     r.scene.render.msaa = 1;
-    r.frame(
-        &gpu,
-        0.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        (32, 24),
-    );
+    sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
     assert_eq!(r.msaa_samples(), 1);
     r.scene.render.msaa = 4;
-    r.frame(
-        &gpu,
-        0.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        (32, 24),
-    );
+    sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
     assert_eq!(r.msaa_samples(), 4);
     gpu.check_errors().expect("no wgpu error after switching");
 }

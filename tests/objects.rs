@@ -45,18 +45,15 @@ fn render(with_bunny: bool) -> (image::RgbaImage, u32, u32) {
     }
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let target = Target::new(&gpu, 128, 72).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     for _ in 0..3 {
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            (128, 72),
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     }
     let stats = r.stats(&gpu).expect("stats");
     gpu.check_errors().expect("no GPU error");

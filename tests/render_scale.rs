@@ -44,20 +44,13 @@ fn a_lower_render_scale_draws_the_same_blades() {
     for scale in [1.0, 0.71, MIN_SCALE] {
         let size = scaled_size(FULL, scale);
         let target = Target::new(&gpu, size.0, size.1).expect("target");
-        let mut r = common::stepped(&gpu, &session, 0, 0.0);
+        let mut r = common::world(&gpu, &session);
         // As the window does: the projection keeps the window's shape.
         r.display_aspect = Some(FULL.0 as f32 / FULL.1 as f32);
         // The grass hides grass from the second frame on (two-phase occlusion uses the
         // depth of the blades seen the frame before).
         for _ in 0..3 {
-            r.frame(
-                &gpu,
-                0.0,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                size,
-            );
+            sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
         }
         let c = r.cull.read_counters(&gpu).expect("counters");
         // Orientation, frustum and distance must not depend on pixels.

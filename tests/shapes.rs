@@ -46,17 +46,14 @@ fn scene(shape: Shape) -> Scene {
 fn image(scene: Scene, name: &str) -> image::RgbaImage {
     let gpu = common::gpu();
     let session = Session::new(scene, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
-    r.frame(
-        &gpu,
-        1.0 / 60.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        SIZE,
-    );
+    sward::commands::world_frame(&gpu, &mut r, 1.0 / 60.0, camera, &target).expect("frame");
     gpu.check_errors().expect("no GPU error");
     let image = target.read_image(&gpu).expect("image");
     if let Ok(dir) = std::env::var("SHAPES_PNG_DIR") {

@@ -2,14 +2,14 @@
 //! the directory (a new scene is covered without editing this test), each is rendered for a
 //! few frames at a small size and stepped, with no GPU error, no blade reset from a
 //! non-finite state (a reset means a valid scene drove the update to NaN), grass drawn,
-//! and a picture that is not flat.
+//! and a picture that is not flat. Each is built and drawn through the embedding API, from
+//! its file (`GrassRenderer::new_world_on` with `SceneSource::File`, `render_world`).
 
 mod common;
 
+use sward::embed::{GrassRenderer, SceneSource, WorldDescriptor};
 use sward::render::camera::CameraView;
 use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
-use sward::session::Session;
 
 const SIZE: (u32, u32) = (96, 54);
 
@@ -30,23 +30,16 @@ fn every_shipped_scene_loads_renders_and_steps() {
     let gpu = common::gpu();
     for path in &scenes {
         let name = path.display();
-        let scene = sward::commands::load(Some(path), &[])
+        let desc = WorldDescriptor {
+            color_format: COLOR_FORMAT,
+            scene: SceneSource::File(path.clone()),
+        };
+        let mut r = GrassRenderer::new_world_on(&gpu, desc)
             .unwrap_or_else(|e| panic!("{name} does not load: {e}"));
-        let session =
-            Session::new(scene, None, Some(&gpu)).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
-        let camera = CameraView::from_scene(&session.scene.camera);
+        let camera = CameraView::from_scene(&r.scene().camera);
         for _ in 0..3 {
-            r.frame(
-                &gpu,
-                1.0 / 30.0,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                SIZE,
-            );
+            sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
         }
         let counters = r.cull.read_counters(&gpu).expect("counters");
         let image = target.read_image(&gpu).expect("image");

@@ -8,6 +8,7 @@
 mod common;
 
 use glam::Vec3;
+use sward::embed::GrassRenderer;
 use sward::mesh::skin::SkinnedMesh;
 use sward::render::camera::CameraView;
 use sward::render::target::{Target, COLOR_FORMAT};
@@ -20,10 +21,11 @@ fn setup(
     gpu: &sward::gpu::Gpu,
     sets: &[String],
     size: (u32, u32),
-) -> (Session, Renderer, Target, CameraView) {
+) -> (Session, GrassRenderer, Target, CameraView) {
     let scene = sward::commands::load(None, sets).expect("scene");
     let session = Session::new(scene, None, Some(gpu)).expect("session");
     let r = Renderer::from_session(gpu, &session, COLOR_FORMAT).expect("renderer");
+    let r = GrassRenderer::wrap_world(gpu, r, COLOR_FORMAT);
     let target = Target::new(gpu, size.0, size.1).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     (session, r, target, camera)
@@ -53,23 +55,15 @@ fn flat_walk_sets(object: String) -> Vec<String> {
 /// second).
 fn most_eta_over_150_frames(
     gpu: &sward::gpu::Gpu,
-    r: &mut Renderer,
+    r: &mut GrassRenderer,
     target: &Target,
     camera: &CameraView,
-    size: (u32, u32),
     mut before: impl FnMut(&mut Renderer),
 ) -> Vec<f32> {
     let mut most_eta: Vec<f32> = Vec::new();
     for f in 0..150 {
         before(r);
-        r.frame(
-            gpu,
-            1.0 / 30.0,
-            camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
+        sward::commands::world_frame(gpu, r, 1.0 / 30.0, *camera, target).expect("frame");
         if f % 3 == 2 {
             let (_, states) = r.buffers.read(gpu).expect("blades");
             most_eta.resize(states.len(), 0.0);
@@ -96,14 +90,7 @@ fn the_gpu_poses_the_walker_as_its_cpu_twin() {
     let size = (64, 36);
     let (session, mut r, target, camera) = setup(&gpu, &sets, size);
     for _ in 0..7 {
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     }
     gpu.check_errors().expect("no GPU error");
     let posed = r.read_object_vertices(&gpu, 0).expect("read back");
@@ -283,7 +270,7 @@ fn a_walk_leaves_a_trail_as_wide_as_the_legs() {
     );
     assert!(r.scene_sphere_count() >= 9, "one sphere per joint");
     // 5 s: the walker covers 7 m, from x = -5 to x = 2.
-    let most_eta = most_eta_over_150_frames(&gpu, &mut r, &target, &camera, size, |_| {});
+    let most_eta = most_eta_over_150_frames(&gpu, &mut r, &target, &camera, |_| {});
     let (blades, _) = r.buffers.read(&gpu).expect("blades");
     // Behind the walker, away from where it started.
     let behind = |b: &sward::field::blade::Blade| (-3.5..0.5).contains(&b.v0_dir[0]);
@@ -356,7 +343,7 @@ fn a_steered_walker_presses_the_grass_where_it_walks() {
         forward: 1.0,
         ..WalkInput::default()
     };
-    let most_eta = most_eta_over_150_frames(&gpu, &mut r, &target, &camera, size, |r| {
+    let most_eta = most_eta_over_150_frames(&gpu, &mut r, &target, &camera, |r| {
         w.step(walk, 1.0 / 30.0);
         r.pose_object(w.object, Some(w.pose(&r.terrain)))
             .expect("pose");

@@ -60,20 +60,17 @@ fn frames_with(
 ) -> Vec<image::RgbaImage> {
     let gpu = common::gpu();
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let camera = CameraView::from_scene(&session.scene.camera);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let mut out = Vec::new();
     for k in 0..frames {
         r.taa_settings = settings(k);
-        r.frame(
-            &gpu,
-            DT,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
+        sward::commands::world_frame(&gpu, &mut r, DT, camera, &target).expect("frame");
         gpu.check_errors().expect("no GPU error");
         out.push(target.read_image(&gpu).expect("image"));
     }
@@ -157,18 +154,15 @@ fn the_pass_matches_its_cpu_twin() {
     // The close view in strong gusts: blades moving pixels, so the motion, the moving
     // pixels' weight and the clamp all decide what the pass writes.
     let session = Session::new(close_scene(), None, Some(&gpu)).expect("field");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let camera = CameraView::from_scene(&session.scene.camera);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     for _ in 0..6 {
-        r.frame(
-            &gpu,
-            DT,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
+        sward::commands::world_frame(&gpu, &mut r, DT, camera, &target).expect("frame");
     }
     gpu.check_errors().expect("no GPU error");
     let f = r.read_taa_frame(&gpu).expect("read").expect("a TAA frame");

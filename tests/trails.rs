@@ -57,7 +57,7 @@ fn scene(cache_tiles: u32) -> Scene {
 struct Run {
     gpu: Gpu,
     session: Session,
-    r: Renderer,
+    r: sward::embed::GrassRenderer,
     target: Target,
     camera: CameraView,
 }
@@ -66,8 +66,12 @@ impl Run {
     fn new(scene: Scene) -> Self {
         let gpu = common::gpu();
         let session = Session::new(scene, None, Some(&gpu)).expect("session");
-        let r = Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer");
+        let r = sward::embed::GrassRenderer::wrap_world(
+            &gpu,
+            Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
+                .expect("renderer"),
+            sward::render::target::COLOR_FORMAT,
+        );
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
         let camera = CameraView::from_scene(&session.scene.camera);
         Self {
@@ -81,14 +85,8 @@ impl Run {
 
     fn frames(&mut self, n: usize, dt: f32) {
         for _ in 0..n {
-            self.r.frame(
-                &self.gpu,
-                dt,
-                &self.camera,
-                &self.target.color_view,
-                &self.target.depth_view,
-                SIZE,
-            );
+            sward::commands::world_frame(&self.gpu, &mut self.r, dt, self.camera, &self.target)
+                .expect("frame");
         }
         self.gpu.check_errors().expect("no GPU error");
     }

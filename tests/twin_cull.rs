@@ -41,15 +41,8 @@ fn run(
     let session = Session::new(scene, blades, Some(&gpu)).expect("field");
     let camera = camera(&session);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
-    let mut r = common::stepped(&gpu, &session, 0, 0.0);
-    r.frame(
-        &gpu,
-        1.0 / 30.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        SIZE,
-    );
+    let mut r = common::world(&gpu, &session);
+    sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     let counters = r.cull.read_counters(&gpu).expect("counters");
     if let Ok(path) = std::env::var("TWIN_CULL_PNG") {
         let image = target.read_image(&gpu).expect("image");
@@ -308,7 +301,7 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
     let draw_two = |grass: bool| {
         let mut s = session.scene.clone();
         s.culling.grass_occlusion = grass;
-        let mut r = sward::render::Renderer::new(
+        let r = sward::render::Renderer::new(
             &gpu,
             s,
             session.terrain.clone(),
@@ -316,15 +309,10 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
             sward::render::target::COLOR_FORMAT,
         )
         .expect("renderer");
-        let frame = |r: &mut sward::render::Renderer, c: &CameraView| {
-            r.frame(
-                &gpu,
-                1.0 / 30.0,
-                c,
-                &target.color_view,
-                &target.depth_view,
-                BIG,
-            )
+        let format = sward::render::target::COLOR_FORMAT;
+        let mut r = sward::embed::GrassRenderer::wrap_world(&gpu, r, format);
+        let frame = |r: &mut sward::embed::GrassRenderer, c: &CameraView| {
+            sward::commands::world_frame(&gpu, r, 1.0 / 30.0, *c, &target).expect("frame")
         };
         // Frame 1 sees every blade (nothing was seen before it); frame 2 finds the ones
         // the others hide; frame 3 culls those.

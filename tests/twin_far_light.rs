@@ -22,18 +22,15 @@ fn check(scene: &str) -> f32 {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
     let scene = sward::scene::load_scene(&path).expect("scene");
     let session = Session::new(scene, None, Some(&gpu)).expect("session");
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let camera = CameraView::from_scene(&session.scene.camera);
     let size = (64, 36);
     let target = Target::new(&gpu, size.0, size.1).expect("target");
-    r.frame(
-        &gpu,
-        1.0 / 30.0,
-        &camera,
-        &target.color_view,
-        &target.depth_view,
-        size,
-    );
+    sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     gpu.check_errors().expect("no GPU error");
     let frame = r.frame_uniforms(&camera, size.0, size.1);
     let light = *r.light().uniforms();

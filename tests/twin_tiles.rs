@@ -120,8 +120,12 @@ fn fly(scene: Scene, density: Option<&DensityMap>) -> usize {
     let session = Session::new(scene, None, Some(&gpu)).expect("session");
     let terrain = session.terrain.clone();
     assert!(session.tiles.is_some());
-    let mut r = Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-        .expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
+            .expect("renderer"),
+        sward::render::target::COLOR_FORMAT,
+    );
     gpu.check_errors().expect("no GPU error");
     let (resident, live) = compare_pool(&gpu, &r, &terrain, density);
     assert!(resident > 0 && live > 0, "{resident} tiles, {live} blades");
@@ -131,14 +135,7 @@ fn fly(scene: Scene, density: Option<&DensityMap>) -> usize {
     // Fly 40 m in steps of 2.5 m: tiles leave and enter; compare the pool after each frame.
     for step in 0..16 {
         camera.eye += Vec3::new(2.5, 0.0, 0.8);
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
         let stats = r.stats(&gpu).expect("stats");
         let tiles = stats.tiles.expect("tile stats");
         assert!(tiles.resident <= tiles.slots as usize);
@@ -194,8 +191,12 @@ fn memory_follows_the_radius_not_the_terrain() {
         s.terrain.size = size;
         s.culling.max_distance = radius;
         let session = Session::new(s, None, Some(&gpu)).expect("session");
-        let r = Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer");
+        let r = sward::embed::GrassRenderer::wrap_world(
+            &gpu,
+            Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
+                .expect("renderer"),
+            sward::render::target::COLOR_FORMAT,
+        );
         (r.buffers.count, r.gpu_bytes().1)
     };
     let small = bytes(64.0, 9.0);

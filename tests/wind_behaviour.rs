@@ -143,7 +143,7 @@ fn air_goes_around_a_static_obstacle_and_is_slower_behind_it() {
 fn meadow_wind_behind_a_ball(with_ball: bool) -> ([f32; 2], glam::Vec3) {
     use sward::render::camera::CameraView;
     use sward::render::target::{Target, COLOR_FORMAT};
-    use sward::render::{DynamicSphere, Renderer};
+    use sward::render::Renderer;
     use sward::scene::{GlobalWind, WindSource};
     use sward::session::Session;
     let mut s = sward::commands::load(None, &[]).expect("the default scene");
@@ -162,7 +162,11 @@ fn meadow_wind_behind_a_ball(with_ball: bool) -> ([f32; 2], glam::Vec3) {
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
     let terrain = sward::field::HeightField::from_scene(&session.scene.terrain).unwrap();
-    let mut r = Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     let target = Target::new(&gpu, 64, 36).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     let radius = 0.6;
@@ -171,23 +175,15 @@ fn meadow_wind_behind_a_ball(with_ball: bool) -> ([f32; 2], glam::Vec3) {
     for _ in 0..75 {
         centre += velocity / 30.0;
         centre.y = terrain.height(centre.x, centre.z) + radius;
-        r.dynamic_spheres = if with_ball {
-            vec![DynamicSphere {
-                center: centre,
-                radius,
-                velocity,
-            }]
-        } else {
-            Vec::new()
+        // The ball is a collider handed to the frame, as a host's (or the window's balls).
+        let ball = sward::Collider {
+            center: centre,
+            radius,
+            velocity,
         };
-        r.frame(
-            &gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            (64, 36),
-        );
+        let colliders = if with_ball { vec![ball] } else { Vec::new() };
+        sward::commands::world_frame_with(&gpu, &mut r, 1.0 / 30.0, camera, &colliders, &target)
+            .expect("frame");
     }
     gpu.check_errors().expect("no GPU error");
     let state = r

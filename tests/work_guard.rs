@@ -16,7 +16,6 @@ use std::path::{Path, PathBuf};
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
 use sward::render::work::WorkSummary;
-use sward::render::Renderer;
 use sward::scene::load_scene_with_sets;
 use sward::session::Session;
 
@@ -40,7 +39,7 @@ fn counted_frame(
     scene: &str,
     sets: &[String],
     size: (u32, u32),
-) -> Renderer {
+) -> sward::embed::GrassRenderer {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/scenes/{scene}.ron"));
     let scene = load_scene_with_sets(&path, sets).expect("shipped scene");
     let session = Session::new(scene, None, Some(gpu)).expect("session");
@@ -199,14 +198,7 @@ fn the_overlay_is_timed_and_counted_with_the_frame() {
     let camera = CameraView::from_scene(&over.scene.camera);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     for r in [&mut plain, &mut over] {
-        r.frame(
-            &gpu,
-            0.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            SIZE,
-        );
+        sward::commands::world_frame(&gpu, r, 0.0, camera, &target).expect("frame");
     }
     let ms = over
         .stats(&gpu)

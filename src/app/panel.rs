@@ -440,9 +440,16 @@ fn wind_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
         }
         if rebuild {
             app.rebuild_wind(gpu);
-        } else if let Some(fluid) = &mut app.renderer.fluid {
-            let size = app.renderer.scene.terrain.size;
-            if !fluid.apply_settings(&app.renderer.scene.wind.fluid, size) {
+        } else {
+            // One borrow of the renderer behind the embedding API for the fluid and the
+            // scene it reads.
+            let r = &mut *app.renderer;
+            let size = r.scene.terrain.size;
+            let applied = match &mut r.fluid {
+                Some(fluid) => fluid.apply_settings(&r.scene.wind.fluid, size),
+                None => true,
+            };
+            if !applied {
                 app.rebuild_wind(gpu);
             }
         }

@@ -17,6 +17,7 @@ use super::input::InputState;
 use super::picking::{pick_point, pick_terrain, screen_ray};
 use super::replay::{Button, Event, Key};
 use super::walker::Walker;
+use sward::embed::{Collider, FrameInputs, GrassRenderer, WorldTarget};
 use sward::error::{Error, Result};
 use sward::gpu::Gpu;
 use sward::render::arrows::{ArrowMesh, ArrowPass, ARROW_LIFT};
@@ -24,10 +25,10 @@ use sward::render::camera::{crop_x, CameraView};
 use sward::render::post::HDR_FORMAT;
 use sward::render::timing;
 use sward::render::upscale::{scaled_size, Upscale};
-use sward::render::{DynamicSphere, FrameStats, Renderer};
+use sward::render::FrameStats;
+use sward::scene::limits::MAX_SPHERES;
 use sward::scene::save::save_scene;
 use sward::scene::{load_scene, parse_scene, Scene, WindSource};
-use sward::session::Session;
 
 /// The Stats' frame times and budget line as last refreshed.
 #[derive(Clone, Debug, Default)]
@@ -83,7 +84,7 @@ pub enum Status {
 
 /// Everything the window shows and edits.
 pub struct AppState {
-    pub renderer: Renderer,
+    pub renderer: GrassRenderer,
     pub camera: CameraController,
     pub editor: Editor,
     applied_revision: u64,
@@ -656,17 +657,6 @@ impl AppState {
             &self.renderer.terrain,
             steer,
         );
-        self.renderer.dynamic_spheres = self
-            .balls
-            .spheres()
-            .into_iter()
-            .map(|(center, radius, velocity)| DynamicSphere {
-                center,
-                radius,
-                velocity,
-            })
-            .collect();
-
         self.apply_guides(gpu);
         self.hover = match self.mode {
             Mode::Edit => self.point_under_cursor(),
@@ -718,6 +708,11 @@ impl AppState {
     }
 
     /// Records the frame: simulation step, cull, grass, then the guide arrows.
+    ///
+    /// # Errors
+    ///
+    /// What the embedding API refuses (`GrassRenderer::begin_world`): a frame too large
+    /// for the device, a target that does not match the renderer.
     pub fn encode(
         &mut self,
         gpu: &Gpu,
@@ -725,7 +720,7 @@ impl AppState {
         dt: f32,
         output: &wgpu::TextureView,
         depth: &wgpu::TextureView,
-    ) {
+    ) -> Result<()> {
         let color = output;
         let view = self.view();
         // Beside the panel or below scale 1 the 3D passes draw into a smaller target,
@@ -748,13 +743,39 @@ impl AppState {
         self.renderer.taa_allowed = !self.budget.msaa_off();
         self.renderer.billboard_share = self.budget.billboards();
         self.renderer.grass_shadows = !self.budget.grass_shadows_off();
+        // The balls push the grass as a host's colliders do; a scene whose own spheres
+        // leave less room keeps the newest balls that fit.
+        let room = MAX_SPHERES.saturating_sub(self.renderer.scene_sphere_count());
+        let mut colliders: Vec<Collider> = self
+            .balls
+            .spheres()
+            .into_iter()
+            .map(|(center, radius, velocity)| Collider {
+                center,
+                radius,
+                velocity,
+            })
+            .collect();
+        if colliders.len() > room {
+            colliders.drain(..colliders.len() - room);
+        }
+        let inputs = FrameInputs {
+            camera: view,
+            size,
+            dt,
+            colliders: &colliders,
+            depth: None,
+            wind: None,
+        };
+        let target = WorldTarget { color, depth };
         self.renderer
-            .encode_scene(gpu, encoder, dt, &view, depth, size);
+            .begin_world(&gpu.device, &gpu.queue, encoder, &inputs, &target)?;
         // The arrows are drawn in the multisampled scene, before its resolve: they are
         // depth tested against the multisampled depth (the only one the scene wrote) and
         // their edges are anti-aliased like the grass.
-        if self.arrows.samples != self.renderer.msaa_samples() {
-            self.arrows = ArrowPass::new(gpu, HDR_FORMAT, self.renderer.msaa_samples());
+        let samples = self.renderer.msaa_samples();
+        if self.arrows.samples != samples {
+            self.arrows = ArrowPass::new(gpu, HDR_FORMAT, samples);
         }
         let show_arrows = self.mode == Mode::Edit || self.renderer.overlay_enabled();
         let mesh = if show_arrows {
@@ -772,17 +793,16 @@ impl AppState {
         let sun = Vec3::from(self.renderer.scene.render.sun_direction);
         self.arrows
             .prepare(gpu, &mesh, crop * view.view_proj(aspect), sun);
-        let (scene_color, scene_depth) = self.renderer.scene_views(color, depth);
         let arrows = &self.arrows;
         // Timed only when drawn: a scope whose pass never ran reads the stale timestamps of
         // an earlier frame (the window's Stats showed 5-8 ms of "overlay" with no arrows).
-        if !arrows.is_empty() {
+        if let (false, Some(scene)) = (arrows.is_empty(), self.renderer.world_scene(&target)) {
             self.renderer
                 .encode_timed(encoder, timing::OVERLAY, |e, q| {
-                    arrows.encode(e, scene_color, scene_depth, q)
+                    arrows.encode(e, scene.color, scene.depth, q)
                 });
         }
-        self.renderer.resolve(encoder, color);
+        self.renderer.finish_world(encoder, &target)?;
         if scaled {
             let upscale = &self.upscale;
             let region = self.view_region();
@@ -792,6 +812,7 @@ impl AppState {
                 });
         }
         self.frame += 1;
+        Ok(())
     }
 
     /// Ends the frame's recording after the caller's own passes (the window's panel, timed
@@ -853,10 +874,11 @@ impl AppState {
     }
 }
 
-/// A renderer and an editor for a scene (the field generated, its size checked first).
-fn build(gpu: &Gpu, scene: Scene, format: wgpu::TextureFormat) -> Result<(Renderer, Editor)> {
-    let session = Session::new(scene, None, Some(gpu))?;
-    let renderer = Renderer::from_session(gpu, &session, format)?;
+/// A renderer and an editor for a scene (the field generated, its size checked first): the
+/// window draws sward's whole world through the embedding API (`GrassRenderer::new_world`,
+/// `begin_world` / `finish_world`), as any host may.
+fn build(gpu: &Gpu, scene: Scene, format: wgpu::TextureFormat) -> Result<(GrassRenderer, Editor)> {
+    let renderer = GrassRenderer::world_of_checked(gpu, scene, format)?;
     let editor = Editor::new(
         renderer.scene.wind.guides.clone(),
         renderer.scene.terrain.size,

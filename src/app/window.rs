@@ -421,7 +421,7 @@ impl Running {
             });
         self.app.size = self.surface.size();
         self.app
-            .encode(&self.gpu, &mut encoder, dt, &view, self.surface.depth());
+            .encode(&self.gpu, &mut encoder, dt, &view, self.surface.depth())?;
 
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [self.surface.size().0, self.surface.size().1],

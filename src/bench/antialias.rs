@@ -17,6 +17,7 @@ use serde::Serialize;
 use super::flight::{band_differences, ground_classes, mean_abs_difference};
 use super::measure::{count_frame, fresh_renderer, run_frames, FrameTimes};
 use super::{BenchOptions, BENCH_DT};
+use sward::commands::world_frame;
 use sward::error::{Error, Result};
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
@@ -127,15 +128,7 @@ pub fn run_antialias(o: &BenchOptions) -> Result<AntialiasReport> {
         let (mut far, mut whole) = ((0u64, 0u64), 0.0);
         let mut previous: Option<image::RgbaImage> = None;
         for _ in 0..o.frames {
-            renderer.frame(
-                &gpu,
-                BENCH_DT,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                size,
-            );
-            gpu.check_errors()?;
+            world_frame(&gpu, &mut renderer, BENCH_DT, camera, &target)?;
             let image = target.read_image(&gpu)?;
             if let Some(p) = &previous {
                 // Class 0 of the band: the far field.

@@ -15,6 +15,7 @@
 use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
+use sward::commands::world_frame;
 use sward::compare::{bands, compare_bands, worst_band, Band, BandDiff};
 use sward::error::Result;
 use sward::render::camera::CameraView;
@@ -100,15 +101,7 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
         let mut renderer = super::measure::fresh_renderer(&gpu, &session, scene)?;
         let camera = CameraView::from_scene(&session.scene.camera);
         for _ in 0..o.warmup + o.frames {
-            renderer.frame(
-                &gpu,
-                BENCH_DT,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                (target.width, target.height),
-            );
-            gpu.check_errors()?;
+            world_frame(&gpu, &mut renderer, BENCH_DT, camera, &target)?;
         }
         images.push((name, target.read_image(&gpu)?));
     }

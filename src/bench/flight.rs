@@ -24,6 +24,8 @@ use glam::{Vec2, Vec3};
 use serde::Serialize;
 
 use super::{BenchOptions, BENCH_DT, MIB};
+use sward::commands::world_frame;
+use sward::embed::GrassRenderer;
 use sward::error::{Error, Result};
 use sward::field::HeightField;
 use sward::render::camera::CameraView;
@@ -170,7 +172,11 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
     } = super::start(o, (0..o.frames).map(frame_name))?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let session = Session::new(scene, None, Some(&gpu))?;
-    let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
+    let mut renderer = GrassRenderer::wrap_world(
+        &gpu,
+        Renderer::from_session(&gpu, &session, COLOR_FORMAT)?,
+        COLOR_FORMAT,
+    );
     gpu.check_errors()?;
     eprintln!(
         "bench: flight over {} blades, {} warm-up + {} frames at {FLIGHT_SPEED} m/s",
@@ -202,15 +208,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
             renderer.record_trace();
         }
         let start = Instant::now();
-        renderer.frame(
-            &gpu,
-            BENCH_DT,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        gpu.check_errors()?;
+        world_frame(&gpu, &mut renderer, BENCH_DT, camera, &target)?;
         let stats = renderer.stats(&gpu)?;
         let wall = start.elapsed().as_secs_f64() * 1000.0;
         resets = stats.blades_reset_nonfinite;

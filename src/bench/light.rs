@@ -17,6 +17,7 @@
 use serde::Serialize;
 
 use super::{opt, opt_ratio as ratio, utc_now, BenchOptions, BENCH_DT};
+use sward::commands::world_frame;
 use sward::error::{Error, Result};
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
@@ -115,7 +116,6 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
     let session = Session::new(scene, None, Some(&gpu))?;
     eprintln!("{}", session.describe_field());
     let camera = CameraView::from_scene(&session.scene.camera);
-    let size = (target.width, target.height);
     let mut runs: Vec<LightRun> = Vec::new();
     let mut blades = 0;
     let mut timestamps = true;
@@ -129,15 +129,7 @@ pub fn run_light_bench(o: &BenchOptions) -> Result<LightBenchReport> {
         let mut wall = 0.0;
         for i in 0..o.warmup + o.frames {
             let start = std::time::Instant::now();
-            renderer.frame(
-                &gpu,
-                BENCH_DT,
-                &camera,
-                &target.color_view,
-                &target.depth_view,
-                size,
-            );
-            gpu.check_errors()?;
+            world_frame(&gpu, &mut renderer, BENCH_DT, camera, &target)?;
             let stats = renderer.stats(&gpu)?;
             let elapsed = start.elapsed().as_secs_f64() * 1000.0;
             if i < o.warmup {

@@ -5,6 +5,8 @@
 use std::time::Instant;
 
 use super::{BladeCounts, GpuMs, BENCH_DT};
+use sward::commands::world_frame;
+use sward::embed::GrassRenderer;
 use sward::error::Result;
 use sward::gpu::Gpu;
 use sward::render::camera::CameraView;
@@ -42,8 +44,9 @@ impl Measured {
     }
 }
 
-/// A new renderer of `scene` over `session`'s field, terrain and mesh objects.
-pub(super) fn fresh_renderer(gpu: &Gpu, session: &Session, scene: Scene) -> Result<Renderer> {
+/// A new renderer of `scene` over `session`'s field, terrain and mesh objects, drawn
+/// through the embedding API (`GrassRenderer::render_world`, as the window and `render`).
+pub(super) fn fresh_renderer(gpu: &Gpu, session: &Session, scene: Scene) -> Result<GrassRenderer> {
     let mut renderer = Renderer::new(
         gpu,
         scene,
@@ -54,7 +57,7 @@ pub(super) fn fresh_renderer(gpu: &Gpu, session: &Session, scene: Scene) -> Resu
     renderer.set_objects(gpu, &session.meshes, &session.packings);
     renderer.set_skins(gpu, &session.skins);
     gpu.check_errors()?;
-    Ok(renderer)
+    Ok(GrassRenderer::wrap_world(gpu, renderer, COLOR_FORMAT))
 }
 
 /// Runs `warmup + frames` frames of `scene` over `session`'s field with a fresh renderer.
@@ -69,7 +72,6 @@ pub(super) fn measure(
 ) -> Result<Measured> {
     let camera = CameraView::from_scene(&scene.camera);
     let mut renderer = fresh_renderer(gpu, session, scene)?;
-    let size = (target.width, target.height);
     let mut passes = [0.0f64; timing::PASSES.len()];
     let mut wind = 0.0f64;
     let mut timed = 0u32;
@@ -83,15 +85,7 @@ pub(super) fn measure(
         }
         let start = Instant::now();
         let view = renderer.scene_camera(&camera, BENCH_DT);
-        renderer.frame(
-            gpu,
-            BENCH_DT,
-            &view,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        gpu.check_errors()?;
+        world_frame(gpu, &mut renderer, BENCH_DT, view, target)?;
         let stats = renderer.stats(gpu)?;
         let elapsed = start.elapsed().as_secs_f64() * 1000.0;
         resets = stats.blades_reset_nonfinite;
@@ -167,23 +161,14 @@ pub(super) fn measure(
 /// not counted. `None` when the adapter cannot count.
 pub(super) fn count_frame(
     gpu: &Gpu,
-    renderer: &mut Renderer,
+    renderer: &mut GrassRenderer,
     camera: &CameraView,
     target: &Target,
 ) -> Result<Option<WorkReport>> {
     if !renderer.count_work(gpu, true) {
         return Ok(None);
     }
-    let size = (target.width, target.height);
-    renderer.frame(
-        gpu,
-        BENCH_DT,
-        camera,
-        &target.color_view,
-        &target.depth_view,
-        size,
-    );
-    gpu.check_errors()?;
+    world_frame(gpu, renderer, BENCH_DT, *camera, target)?;
     let work = renderer.read_work(gpu)?;
     renderer.count_work(gpu, false);
     Ok(work.map(|w| WorkReport::of(&w, renderer.samples())))
@@ -202,25 +187,16 @@ pub struct FrameTimes {
 /// measured frame's stats to `each`, and returns the frame's times.
 pub(super) fn run_frames(
     gpu: &Gpu,
-    renderer: &mut Renderer,
+    renderer: &mut GrassRenderer,
     camera: &CameraView,
     target: &Target,
     (warmup, frames): (u32, u32),
     mut each: impl FnMut(&sward::render::FrameStats),
 ) -> Result<FrameTimes> {
-    let size = (target.width, target.height);
     let (mut wall, mut gpu_sum, mut timed) = (0.0, 0.0, 0u32);
     for i in 0..warmup + frames {
         let start = Instant::now();
-        renderer.frame(
-            gpu,
-            BENCH_DT,
-            camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
-        gpu.check_errors()?;
+        world_frame(gpu, renderer, BENCH_DT, *camera, target)?;
         let stats = renderer.stats(gpu)?;
         let elapsed = start.elapsed().as_secs_f64() * 1000.0;
         if i < warmup {

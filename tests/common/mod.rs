@@ -4,6 +4,7 @@
 
 pub mod shapes;
 
+use sward::embed::GrassRenderer;
 use sward::gpu::{AdapterChoice, Gpu};
 use sward::render::target::COLOR_FORMAT;
 use sward::render::Renderer;
@@ -28,6 +29,14 @@ pub fn stepped(gpu: &Gpu, session: &Session, steps: u32, dt: f32) -> Renderer {
     r
 }
 
+/// A renderer over `session` that draws its frames through the embedding API
+/// (`GrassRenderer::render_world` in `sward::commands::world_frame`), as the window and
+/// `sward render` draw theirs.
+pub fn world(gpu: &Gpu, session: &Session) -> GrassRenderer {
+    let r = Renderer::from_session(gpu, session, COLOR_FORMAT).expect("renderer");
+    GrassRenderer::wrap_world(gpu, r, COLOR_FORMAT)
+}
+
 /// One frame of `scene` (a whole-field session, one step of 1/30 s) from its camera, at
 /// `size`, read back.
 pub fn render_frame(scene: Scene, size: (u32, u32)) -> image::RgbaImage {
@@ -42,7 +51,7 @@ pub fn render_frames(
     size: (u32, u32),
     frames: usize,
     setup: impl FnOnce(&mut Renderer),
-) -> (image::RgbaImage, Renderer) {
+) -> (image::RgbaImage, GrassRenderer) {
     let gpu = gpu();
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
     let (r, target) = draw_frames(&gpu, &session, size, frames, false, setup);
@@ -60,8 +69,12 @@ pub fn draw_frames(
     frames: usize,
     count_last: bool,
     setup: impl FnOnce(&mut Renderer),
-) -> (Renderer, sward::render::target::Target) {
-    let mut r = Renderer::from_session(gpu, session, COLOR_FORMAT).expect("renderer");
+) -> (GrassRenderer, sward::render::target::Target) {
+    let mut r = sward::embed::GrassRenderer::wrap_world(
+        gpu,
+        Renderer::from_session(gpu, session, COLOR_FORMAT).expect("renderer"),
+        COLOR_FORMAT,
+    );
     setup(&mut r);
     let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
     let target = sward::render::target::Target::new(gpu, size.0, size.1).expect("target");
@@ -72,14 +85,7 @@ pub fn draw_frames(
                 "lavapipe has pipeline-statistics queries: the frame must be counted"
             );
         }
-        r.frame(
-            gpu,
-            1.0 / 30.0,
-            &camera,
-            &target.color_view,
-            &target.depth_view,
-            size,
-        );
+        sward::commands::world_frame(gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     }
     gpu.check_errors().expect("no GPU error");
     (r, target)

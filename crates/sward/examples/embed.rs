@@ -660,7 +660,8 @@ fn headless(out: &PathBuf, size: (u32, u32), frames: u32) -> Result<(), String> 
     Ok(())
 }
 
-fn read_back(
+/// Copies `texture` (8-bit RGBA, `COPY_SRC` usage) of `size` back into an image (blocks).
+pub fn read_back(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,

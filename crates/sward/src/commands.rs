@@ -11,6 +11,7 @@ use crate::output::Outputs;
 use crate::render::camera::CameraView;
 use crate::render::target::{Target, COLOR_FORMAT};
 use crate::render::timing::PASSES;
+use crate::embed::{FrameInputs, GrassRenderer, WorldTarget};
 use crate::render::Renderer;
 use crate::scene::{load_scene_with_sets, parse_scene_with_sets, Scene};
 use crate::scene::{BladeModel, WindSource};
@@ -24,7 +25,7 @@ use crate::sim::reference;
 use crate::sim::reference::fluid::FluidCpu;
 
 /// The default scene, built into the binary so `sward` runs from any directory.
-pub const DEFAULT_SCENE: &str = include_str!("../scenes/meadow.ron");
+pub const DEFAULT_SCENE: &str = crate::embed::MEADOW_SCENE;
 /// The name the built-in scene's errors and logs use.
 pub const DEFAULT_SCENE_PATH: &str = "assets/scenes/meadow.ron";
 
@@ -121,6 +122,51 @@ fn open_gpu(choice: &AdapterChoice) -> Result<Gpu> {
     Ok(gpu)
 }
 
+/// One frame of `renderer` into `target` through the embedding API
+/// ([`GrassRenderer::render_world`]), submitted and paced as the window's; step `dt`.
+pub fn world_frame(
+    gpu: &Gpu,
+    renderer: &mut GrassRenderer,
+    dt: f32,
+    camera: CameraView,
+    target: &Target,
+) -> Result<()> {
+    world_frame_with(gpu, renderer, dt, camera, &[], target)
+}
+
+/// [`world_frame`] with moving colliders of the caller's pressing the grass (and the
+/// wind), as a host's.
+pub fn world_frame_with(
+    gpu: &Gpu,
+    renderer: &mut GrassRenderer,
+    dt: f32,
+    camera: CameraView,
+    colliders: &[crate::embed::Collider],
+    target: &Target,
+) -> Result<()> {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward.frame"),
+        });
+    let inputs = FrameInputs {
+        camera,
+        size: (target.width, target.height),
+        dt,
+        colliders,
+        depth: None,
+        wind: None,
+    };
+    let views = WorldTarget {
+        color: &target.color_view,
+        depth: &target.depth_view,
+    };
+    renderer.render_world(&gpu.device, &gpu.queue, &mut encoder, &inputs, &views)?;
+    let index = gpu.queue.submit([encoder.finish()]);
+    renderer.renderer.frame_submitted(gpu, index);
+    gpu.check_errors()
+}
+
 /// Runs `sward render`.
 pub fn render(o: &RenderOptions) -> Result<()> {
     check_dt(o.dt)?;
@@ -138,14 +184,14 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let gpu = open_gpu(&o.adapter)?;
     Target::check_size(&gpu, "--size", o.size, scene.render.msaa)?;
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
-    let session = Session::new(scene, None, Some(&gpu))?;
-    eprintln!("{}", session.describe_field());
-    let camera = CameraView::from_scene(&session.scene.camera);
-    let mut renderer = Renderer::from_session(&gpu, &session, COLOR_FORMAT)?;
+    let camera = CameraView::from_scene(&scene.camera);
+    // The headless frames are drawn through the embedding API, as a host draws them.
+    let mut world = GrassRenderer::world_of(gpu.clone(), scene, COLOR_FORMAT)?;
+    eprintln!("{}", world.describe_field());
     if o.wind_overlay {
-        renderer.enable_overlay(&gpu, COLOR_FORMAT);
+        world.renderer.enable_overlay(&gpu, COLOR_FORMAT);
     }
-    let timestamps = o.trace.is_some() && renderer.record_trace();
+    let timestamps = o.trace.is_some() && world.renderer.record_trace();
     gpu.check_errors()?;
     let mut sums = [0.0f64; PASSES.len()];
     let mut wind_sums: Vec<(&'static str, f64)> = Vec::new();
@@ -154,22 +200,14 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     for k in 0..o.frames {
         // The last frame's work is counted (the counts are the same every frame of a still
         // view; counting adds a coverage pass, so the timed frames before it are not).
-        if o.timings && k + 1 == o.frames && !renderer.count_work(&gpu, true) {
+        if o.timings && k + 1 == o.frames && !world.renderer.count_work(&gpu, true) {
             println!("work counters: the adapter has no pipeline-statistics queries");
         }
         // A camera that follows an object goes where the object will be this frame.
-        let view = renderer.scene_camera(&camera, o.dt);
-        renderer.frame(
-            &gpu,
-            o.dt,
-            &view,
-            &target.color_view,
-            &target.depth_view,
-            o.size,
-        );
-        gpu.check_errors()?;
+        let view = world.renderer.scene_camera(&camera, o.dt);
+        world_frame(&gpu, &mut world, o.dt, view, &target)?;
         if o.timings {
-            let stats = renderer.stats(&gpu)?;
+            let stats = world.renderer.stats(&gpu)?;
             if let Some(ms) = stats.pass_ms {
                 for (s, m) in sums.iter_mut().zip(ms) {
                     *s += m;
@@ -190,7 +228,7 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     let image = target.read_image(&gpu)?;
     outputs.write_png(&o.out, &image)?;
     if let Some(path) = &o.trace {
-        let scopes = renderer.take_trace(&gpu)?;
+        let scopes = world.renderer.take_trace(&gpu)?;
         let tracks = [crate::render::timing::TraceTrack {
             name: "sward render".into(),
             scopes,
@@ -208,13 +246,13 @@ pub fn render(o: &RenderOptions) -> Result<()> {
     if o.timings {
         let stats = match last {
             Some(s) => s,
-            None => renderer.stats(&gpu)?,
+            None => world.renderer.stats(&gpu)?,
         };
         let c = stats.counters;
         println!("adapter: {}", gpu.describe());
         println!(
             "blades: {} total, {} drawn (LOD {:?}, {} late), culled: {} patch, {} orientation, {} frustum, {} distance, {} occlusion ({} by grass)",
-            renderer.buffers.count,
+            world.renderer.buffers.count,
             c.drawn(),
             c.per_level(),
             c.drawn_late(),
@@ -253,8 +291,8 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         } else {
             println!("gpu timings: the adapter has no timestamp queries");
         }
-        if let Some(work) = renderer.read_work(&gpu)? {
-            for line in crate::render::work::table(&work, renderer.samples()) {
+        if let Some(work) = world.renderer.read_work(&gpu)? {
+            for line in crate::render::work::table(&work, world.renderer.samples()) {
                 println!("{line}");
             }
         }

@@ -5,8 +5,10 @@
 //! A wgpu program embeds the grass through [`GrassRenderer`] (module [`embed`]): created
 //! from the host's device, queue and target formats, [`GrassRenderer::prepare`] records a
 //! frame's simulation, cull and shadow maps into the host's encoder and
-//! [`GrassRenderer::render`] draws the blades into the host's render pass. The crate's
-//! `examples/embed.rs` is a whole host. [`scene`] describes a field in code or in a RON
+//! [`GrassRenderer::render`] draws the blades into the host's render pass; made with
+//! [`GrassRenderer::new_world`], [`GrassRenderer::render_world`] draws sward's whole world
+//! (sky, terrain, far field, anti-aliasing, tone curve) into a texture of the host's, as the
+//! `sward` application draws every frame. The crate's `examples/embed.rs` is a whole host. [`scene`] describes a field in code or in a RON
 //! file. The other modules are the layers the `sward` application is built on (field,
 //! simulation, rendering, headless commands; see the repository's `docs/layers.md`): they
 //! are crate-private, and public only with the `internals` feature, which the application
@@ -40,7 +42,7 @@ internal!(commands, compare, field, gpu, input, mesh, output, render, session, s
 
 pub use embed::{
     Collider, ColorOutput, FrameInputs, GrassRenderer, GrassRendererDescriptor, SceneSource,
-    ShadowCaster, ShadowReceiver, WindInput,
+    ShadowCaster, ShadowReceiver, WindInput, WorldDescriptor, WorldScene, WorldTarget,
 };
 pub use error::{Error, Result};
 pub use render::camera::CameraView;

@@ -37,7 +37,9 @@ impl FromStr for AdapterChoice {
 pub const INSTALL_HINT: &str = "install a Vulkan driver for your GPU, or Mesa's software \
 Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers libvulkan1)";
 
-/// An open device and what it can do.
+/// An open device and what it can do. A clone shares the device, the queue and the error
+/// slot (a renderer holding a clone reports into the same [`Gpu::check_errors`]).
+#[derive(Clone)]
 pub struct Gpu {
     /// The instance and adapter the device was opened on; `None` for a host's device
     /// ([`Gpu::from_host`]), which sward did not open.

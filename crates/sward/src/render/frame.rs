@@ -1,6 +1,6 @@
-//! Recording a frame: the passes of [`Renderer::encode_frame`] in frame order (see the
+//! Recording a frame: the passes of [`Renderer::encode_scene`] in frame order (see the
 //! module above), into the scene target (`post`) or the multisampled one (`msaa`), and the
-//! one-call [`Renderer::frame`] the headless paths use.
+//! frame's end ([`Renderer::frame_submitted`]).
 
 use super::camera::CameraView;
 use super::deferred::DeferredTargets;
@@ -67,28 +67,12 @@ impl Renderer {
         self.pyramid_depth = Some(depth.clone());
     }
 
-    /// Records a whole frame (step by `dt`, cull, draw into `color`, resolve) into
-    /// `encoder`, so the caller can add its own passes (panel) before one submit.
-    #[allow(clippy::too_many_arguments)]
-    pub fn encode_frame(
-        &mut self,
-        gpu: &Gpu,
-        encoder: &mut wgpu::CommandEncoder,
-        dt: f32,
-        camera: &CameraView,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-        size: (u32, u32),
-    ) {
-        self.encode_scene(gpu, encoder, dt, camera, depth, size);
-        self.resolve(encoder, color);
-        self.resolve_queries(encoder);
-    }
-
-    /// [`Renderer::encode_frame`] without the resolve: the 3D passes are left in
-    /// [`Renderer::scene_views`] (the scene target, not the caller's colour: the resolve
-    /// tone-maps into that), for the caller to add its own 3D passes (the window's guide
-    /// arrows) and then [`Renderer::resolve`]. `depth` is the caller's single-sample depth
+    /// Records a frame up to its resolve (step by `dt`, cull, every draw); the 3D passes
+    /// are left in [`Renderer::scene_views`] (the scene target, not the caller's colour:
+    /// the resolve tone-maps into that), for the caller to add its own 3D passes (the
+    /// window's guide arrows) and then [`Renderer::resolve`]. Frames are recorded through
+    /// the embedding API (`embed::GrassRenderer::begin_world`), which checks their inputs
+    /// first. `depth` is the caller's single-sample depth
     /// of `size`; with MSAA it is not touched.
     pub fn encode_scene(
         &mut self,
@@ -418,28 +402,8 @@ impl Renderer {
         }
     }
 
-    /// One whole frame: step by `dt`, cull, draw into `color`, submit.
-    pub fn frame(
-        &mut self,
-        gpu: &Gpu,
-        dt: f32,
-        camera: &CameraView,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-        size: (u32, u32),
-    ) {
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("sward.frame"),
-            });
-        self.encode_frame(gpu, &mut encoder, dt, camera, color, depth, size);
-        let index = gpu.queue.submit([encoder.finish()]);
-        self.frame_submitted(gpu, index);
-    }
-
     /// Tells the renderer that the frame's commands were submitted as `index` (the window
-    /// calls it after its own submit; [`Renderer::frame`] does it itself): it waits for the
+    /// and `commands::world_frame` call it after their submit): it waits for the
     /// frame [`crate::gpu::MAX_FRAMES_IN_FLIGHT`] submits back, so the CPU never runs
     /// further ahead than that, and hands the frame to the GPU timer.
     pub fn frame_submitted(&mut self, gpu: &Gpu, index: wgpu::SubmissionIndex) {

@@ -13,9 +13,9 @@
 //!     depth_format: wgpu::TextureFormat::Depth32Float,
 //!     sample_count: 1,
 //!     output: ColorOutput::ToneMapped,
-//!     scene: sward::embed::SceneSource::Ron(sward::commands::DEFAULT_SCENE.into()),
+//!     scene: sward::embed::SceneSource::Ron(sward::embed::MEADOW_SCENE.into()),
 //! })?;
-//! let camera = sward::render::camera::CameraView {
+//! let camera = sward::CameraView {
 //!     eye: glam::Vec3::new(0.0, 1.7, 6.0), target: glam::Vec3::ZERO,
 //!     fov_y: 60.0, near: 0.1, far: 500.0,
 //! };
@@ -46,27 +46,41 @@
 //!
 //! Conventions the host's camera and depth follow: a right-handed world with y up, wgpu's
 //! depth from 0 (near) to 1 (far) compared with `LessEqual` (not reversed), the projection
-//! of [`CameraView::view_proj`] (the host should draw its own world with that matrix so
+//! of [`crate::CameraView::view_proj`] (the host should draw its own world with that matrix so
 //! that the depths agree). The grass is sward's near level: every blade simulated, culled
-//! by orientation, distance, frustum and the host's depth. Billboards, the far ground,
-//! sward's terrain and sky stay the application's: the host has its own ground.
+//! by orientation, distance, frustum and the host's depth, with the billboards of the far
+//! level beyond them; the far ground, sward's terrain and sky are not drawn: the host has
+//! its own ground.
+//!
+//! A host that wants sward's whole world instead (sky, terrain, far ground, objects,
+//! grass, anti-aliasing, tone mapping) in a texture of its own makes the renderer with
+//! [`GrassRenderer::new_world`] and draws each frame with
+//! [`GrassRenderer::render_world`] (module `world`'s example). sward's own window, `sward
+//! render` and the bench draw their frames that way.
 //!
 //! Shadows: the grass receives the sun's shadows of the blades, of sward's terrain and of
 //! the host's colliders (drawn into sward's shadow maps as spheres); the host's shaders
 //! receive the same shadows through [`GrassRenderer::shadow_receiver`]. The host's own
 //! meshes do not cast into sward's maps.
 
+mod inputs;
+mod world;
+
 use std::path::Path;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::render::camera::CameraView;
 use crate::render::host::{HostPipelines, HostTarget};
 use crate::render::{DynamicSphere, Renderer};
 use crate::scene::{DirectionalWind, ObjectPose, Scene, WindSource};
 use crate::session::Session;
+use inputs::{check_inputs, check_view};
+pub use inputs::{Collider, FrameInputs, WindInput};
+pub use world::{
+    WorldDescriptor, WorldScene, WorldTarget, WORLD_DEPTH_FORMAT, WORLD_RADIANCE_FORMAT,
+};
 
 /// The features sward cannot work without: none beyond WebGPU's core (compute, storage
 /// buffers, indirect draws).
@@ -95,6 +109,11 @@ pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
 
 /// The most storage buffers one of sward's shader stages binds (the blade update's).
 pub const MIN_STORAGE_BUFFERS_PER_STAGE: u32 = 16;
+
+/// The text of sward's default scene, the meadow (`assets/scenes/meadow.ron`): hills of
+/// grass streamed in tiles around the camera, a ball rolling through it, wind from the
+/// west and the sun.
+pub const MEADOW_SCENE: &str = include_str!("../../scenes/meadow.ron");
 
 /// Where the grass's scene (field, blades, wind, light) comes from.
 #[derive(Clone, Debug)]
@@ -135,47 +154,6 @@ pub struct GrassRendererDescriptor {
     pub scene: SceneSource,
 }
 
-/// A moving object of the host that pushes the grass (and the wind, where the scene has
-/// the fluid solver).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Collider {
-    /// World position of the sphere's centre (m).
-    pub center: Vec3,
-    /// Radius (m).
-    pub radius: f32,
-    /// Velocity (m/s).
-    pub velocity: Vec3,
-}
-
-/// The directional wind this frame (replaces the scene's `wind.directional` direction and
-/// strength; its gusts are kept).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WindInput {
-    /// Direction in the x/z plane (any length but zero).
-    pub direction: Vec2,
-    /// Mean force in m/s² (0 to 1000).
-    pub strength: f32,
-}
-
-/// What a frame needs from the host.
-pub struct FrameInputs<'a> {
-    /// The camera the host draws with (its projection: [`CameraView::view_proj`]).
-    pub camera: CameraView,
-    /// The size in pixels of the host's colour and depth attachments.
-    pub size: (u32, u32),
-    /// Seconds since the last frame (0 to 1; larger steps are clamped by the simulation).
-    pub dt: f32,
-    /// The host's moving objects this frame (at most [`crate::scene::limits::MAX_SPHERES`] spheres
-    /// with the scene's own).
-    pub colliders: &'a [Collider],
-    /// The host's depth after its opaque pass (a view of a texture with `TEXTURE_BINDING`
-    /// usage and the descriptor's sample count): blades behind the host's objects are
-    /// culled before they are drawn. `None`: no occlusion.
-    pub depth: Option<&'a wgpu::TextureView>,
-    /// The directional wind, when the host steers it.
-    pub wind: Option<WindInput>,
-}
-
 /// What a host binds to receive sward's sun shadows ([`GrassRenderer::shadow_receiver`]).
 pub struct ShadowReceiver<'a> {
     /// The layout of the light's group (uniforms, the cascades' depth array, the comparison
@@ -209,12 +187,29 @@ pub const SHADOW_DEPTH_BIAS: wgpu::DepthBiasState = crate::render::pipelines::SH
 /// sward's grass in a host's frame. See the module's example.
 pub struct GrassRenderer {
     gpu: Gpu,
-    renderer: Renderer,
-    host: HostPipelines,
+    /// The renderer behind the API (the crate's own commands reach it; the application
+    /// through `Deref` with the `internals` feature).
+    pub(crate) renderer: Renderer,
+    /// Where the frame goes: the host's pass, or sward's whole world into a host texture.
+    kind: Kind,
     /// The layout of the light's group, for hosts that receive the shadows (made once).
     light_layout: wgpu::BindGroupLayout,
     /// The last prepared frame's size (the draw's lists were culled for it).
     prepared: Option<(u32, u32)>,
+    /// The size of the world frame `begin_world` recorded and `finish_world` has not ended.
+    world_begun: Option<(u32, u32)>,
+    /// One line describing the grown field.
+    field_line: String,
+}
+
+/// What a [`GrassRenderer`] draws into.
+enum Kind {
+    /// The host's render pass, with the grass pipelines built for it
+    /// ([`GrassRenderer::new`]).
+    HostPass(Box<HostPipelines>),
+    /// sward's whole world into a host's colour texture of this format
+    /// ([`GrassRenderer::new_world`]).
+    World(wgpu::TextureFormat),
 }
 
 impl GrassRenderer {
@@ -259,7 +254,7 @@ impl GrassRenderer {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let built = build(&gpu, scene, &desc);
         let error = crate::gpu::block_on(scope.pop());
-        let (renderer, host) = built?;
+        let (renderer, host, field_line) = built?;
         if let Some(e) = error {
             return Err(Error::Gpu(format!(
                 "building the grass for the host failed: {e}"
@@ -274,35 +269,37 @@ impl GrassRenderer {
                 renderer.samples()
             )));
         }
-        Ok(Self {
+        Ok(Self::assemble(
+            gpu,
+            renderer,
+            Kind::HostPass(Box::new(host)),
+            field_line,
+        ))
+    }
+
+    fn assemble(gpu: Gpu, renderer: Renderer, kind: Kind, field_line: String) -> Self {
+        Self {
             light_layout: crate::render::light::layout(&gpu.device),
             gpu,
             renderer,
-            host,
+            kind,
             prepared: None,
-        })
+            world_begun: None,
+            field_line,
+        }
     }
 
-    /// Records this frame's compute work and sward's own passes into `encoder`: the step of
-    /// the simulation by `dt` with the host's colliders and wind, the tiles entering the
-    /// field, the cull (against `inputs.depth`), and the sun's shadow maps. Call it after
-    /// the host's opaque pass wrote the depth and before the pass that calls
-    /// [`GrassRenderer::render`]; submit the encoder before that pass's.
-    ///
-    /// # Errors
-    ///
-    /// Inputs out of range (non-finite camera, zero size, a collider with a bad radius,
-    /// too many colliders, wind out of range), or a device other than the renderer's.
-    pub fn prepare(
+    /// Checks this frame's inputs and hands them to the renderer: the host's colliders
+    /// (with the scene's, within [`crate::scene::limits::MAX_SPHERES`]) and its wind.
+    fn apply_inputs(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
         inputs: &FrameInputs,
     ) -> Result<()> {
         if device != &self.gpu.device || queue != &self.gpu.queue {
             return Err(Error::Invalid(
-                "prepare got another device or queue than the one the grass was built on".into(),
+                "the frame got another device or queue than the one the grass was built on".into(),
             ));
         }
         check_inputs(inputs, &self.gpu)?;
@@ -338,8 +335,50 @@ impl GrassRenderer {
                 r.scene.wind.source = WindSource::Both;
             }
         }
+        Ok(())
+    }
+
+    /// Records this frame's compute work and sward's own passes into `encoder`: the step of
+    /// the simulation by `dt` with the host's colliders and wind, the tiles entering the
+    /// field, the cull (against `inputs.depth`), and the sun's shadow maps. Call it after
+    /// the host's opaque pass wrote the depth and before the pass that calls
+    /// [`GrassRenderer::render`]; submit the encoder before that pass's.
+    ///
+    /// # Errors
+    ///
+    /// Inputs out of range (non-finite camera, zero size, a collider with a bad radius,
+    /// too many colliders, wind out of range), or a device other than the renderer's.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &FrameInputs,
+    ) -> Result<()> {
+        let Kind::HostPass(host) = &self.kind else {
+            return Err(Error::Invalid(
+                "prepare: this renderer was made with GrassRenderer::new_world and draws the \
+                 whole world (render_world); a renderer for the host's pass is made with new"
+                    .into(),
+            ));
+        };
+        if let Some(depth) = inputs.depth {
+            let samples = host.target().samples;
+            check_view(
+                "FrameInputs::depth",
+                depth,
+                inputs.size,
+                samples,
+                &[host.target().depth_format],
+                wgpu::TextureUsages::TEXTURE_BINDING,
+            )?;
+        }
+        self.apply_inputs(device, queue, inputs)?;
+        let r = &mut self.renderer;
         r.sync_for_host(&self.gpu);
-        self.host.sync(&self.gpu.device, r);
+        if let Kind::HostPass(host) = &mut self.kind {
+            host.sync(&self.gpu.device, r);
+        }
         r.encode_before_draw(
             &self.gpu,
             encoder,
@@ -358,8 +397,8 @@ impl GrassRenderer {
     /// colour and depth formats and sample count). Draws nothing before the first
     /// `prepare`.
     pub fn render(&self, pass: &mut wgpu::RenderPass<'_>) {
-        if self.prepared.is_some() {
-            self.renderer.draw_into_host(pass, &self.host);
+        if let (Some(_), Kind::HostPass(host)) = (self.prepared, &self.kind) {
+            self.renderer.draw_into_host(pass, host);
         }
     }
 
@@ -437,6 +476,31 @@ impl GrassRenderer {
     pub fn drawn_billboards(&self) -> Result<u32> {
         self.renderer.billboards_kept(&self.gpu)
     }
+
+    /// One line describing the grown field: its blades and patches, or its tiles and the
+    /// pool that streams them.
+    pub fn describe_field(&self) -> &str {
+        &self.field_line
+    }
+}
+
+/// The application (the `internals` feature) reaches through the embedding API into the
+/// renderer it wraps: its panel edits the scene live, reads the counters and timers, and
+/// draws its own passes (the guide arrows, the panel) timed like sward's.
+#[cfg(feature = "internals")]
+impl std::ops::Deref for GrassRenderer {
+    type Target = Renderer;
+
+    fn deref(&self) -> &Renderer {
+        &self.renderer
+    }
+}
+
+#[cfg(feature = "internals")]
+impl std::ops::DerefMut for GrassRenderer {
+    fn deref_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
 }
 
 /// The scene of `source`, checked.
@@ -456,7 +520,7 @@ fn build(
     gpu: &Gpu,
     scene: Scene,
     desc: &GrassRendererDescriptor,
-) -> Result<(Renderer, HostPipelines)> {
+) -> Result<(Renderer, HostPipelines, String)> {
     let session = Session::new(scene, None, Some(gpu))?;
     let renderer = Renderer::from_session(gpu, &session, desc.color_format)?;
     let host = HostPipelines::new(
@@ -469,60 +533,5 @@ fn build(
             display: desc.output == ColorOutput::ToneMapped,
         },
     );
-    Ok((renderer, host))
-}
-
-/// Refuses inputs that would make the frame meaningless or unsafe.
-fn check_inputs(inputs: &FrameInputs, gpu: &Gpu) -> Result<()> {
-    let c = &inputs.camera;
-    let finite = c.eye.is_finite() && c.target.is_finite() && c.fov_y.is_finite();
-    if !finite || c.eye == c.target {
-        return Err(Error::Invalid(format!(
-            "camera eye {:?} and target {:?} must be finite and apart",
-            c.eye, c.target
-        )));
-    }
-    let lens = c.fov_y > 0.0 && c.fov_y < 180.0 && c.near > 0.0 && c.far > c.near;
-    if !lens {
-        return Err(Error::Invalid(format!(
-            "camera fov_y {} (allowed 0 < fov_y < 180 degrees), near {} and far {} \
-             (allowed 0 < near < far)",
-            c.fov_y, c.near, c.far
-        )));
-    }
-    gpu.check_texture("the host's target", inputs.size.0, inputs.size.1)?;
-    if !(inputs.dt.is_finite() && (0.0..=1.0).contains(&inputs.dt)) {
-        return Err(Error::Invalid(format!(
-            "dt {} is out of range: allowed 0 <= dt <= 1 s",
-            inputs.dt
-        )));
-    }
-    for (i, k) in inputs.colliders.iter().enumerate() {
-        let ok = k.center.is_finite()
-            && k.velocity.is_finite()
-            && k.radius.is_finite()
-            && k.radius > 0.0
-            && k.radius <= 1000.0;
-        if !ok {
-            return Err(Error::Invalid(format!(
-                "colliders[{i}]: centre {:?}, radius {} and velocity {:?} must be finite, \
-                 with 0 < radius <= 1000 m",
-                k.center, k.radius, k.velocity
-            )));
-        }
-    }
-    if let Some(w) = inputs.wind {
-        let ok = w.direction.is_finite()
-            && w.direction.length() > 1e-6
-            && w.strength.is_finite()
-            && (0.0..=1000.0).contains(&w.strength);
-        if !ok {
-            return Err(Error::Invalid(format!(
-                "wind: direction {:?} must be finite and not zero, strength {} within \
-                 0..=1000 m/s²",
-                w.direction, w.strength
-            )));
-        }
-    }
-    Ok(())
+    Ok((renderer, host, session.describe_field()))
 }
