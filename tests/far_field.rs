@@ -19,9 +19,16 @@
 //! pixel's fragment at its centre even off a sub-pixel blade and made the blades at 28-50 m
 //! about 20 levels brighter than one sample, 2 x 2 or 4 x 4 supersampling and the deferred
 //! light show them (band 48 here: 148.8 forward, 125.3 deferred, 123.8 with one sample).
-//! Against the blades as they are, the cards in that ring read up to 26 levels too bright
-//! (measured 23.8 at band 56): the bound below holds that figure so that it cannot grow,
-//! and issue 27, point 1, stays open on it.
+//! Against the blades as they are, the cards in that ring read up to 23.9 levels too bright.
+//!
+//! Since `render::far_gain` the cards and the far ground are lit at the blades' light model
+//! (`far_grass_light`) by measurement: they read 1.02-1.14 times the model before it, and
+//! the gain (0.89, 0.91, 0.89 here) takes that out. The ring is then 13.3 and 17.8 levels
+//! too bright (bands 48 and 56) and the band at the horizon 0.1: what is left is the model
+//! itself, which the blades beyond 28 m fall short of (they show 0.88-0.92 times it there,
+//! 1.0 within 28 m, measured with the gain pass's sums in the blades-to-50 m frame). The
+//! bound below holds that figure so that it cannot grow, and issue 27, point 1, stays open
+//! on it.
 
 mod common;
 
@@ -30,8 +37,9 @@ use sward::compare::{bands, compare_bands, worst_band};
 const SIZE: (u32, u32) = (240, 136);
 const FRAMES: usize = 4;
 /// Every band's luminance difference, at most (levels): the ring where the cards take over
-/// from the blades, measured 23.8 against the deferred-lit blades (the issue's target is 5).
-const RING_BOUND: f64 = 27.0;
+/// from the blades, measured 17.8 against the deferred-lit blades with the far gain (23.9
+/// without; the issue's target is 5).
+const RING_BOUND: f64 = 20.0;
 
 fn prairie(sets: &[&str]) -> image::RgbaImage {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");

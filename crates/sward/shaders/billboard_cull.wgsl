@@ -14,6 +14,7 @@
 //!include light.wgsl
 //!include blade_shade.wgsl
 //!include far_grass.wgsl
+//!include far_gain_math.wgsl
 //!include terrain_height.wgsl
 //!include wind.wgsl
 //!include billboard_place.wgsl
@@ -26,8 +27,9 @@
 @group(0) @binding(9) var density_map: texture_2d<f32>;
 @group(0) @binding(10) var<storage, read_write> cards: array<DrawnCard>;
 @group(0) @binding(11) var<storage, read_write> args: CardDrawArgs;
-// The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`, `wave_blades`).
-@group(0) @binding(12) var<storage, read> waves: array<u32, 2>;
+// The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
+// `wave_blades`), and in words 4-7 the far levels' measured light gain (far_gain_math.wgsl).
+@group(0) @binding(12) var<storage, read> waves: array<u32, 8>;
 // The trail map (`trails.wgsl`): cards over a trail lie down as its blades did.
 @group(0) @binding(13) var<storage, read> trails: array<u32>;
 
@@ -103,7 +105,9 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = frame.view_proj;
     let p11 = length(vec3<f32>(m[0][1], m[1][1], m[2][1]));
     let footprint = 2.0 * clip.w / max(p11 * frame.viewport_time.y, 1e-6);
-    let patchy = grass_texture(grass_octaves(c.pos.xz), footprint);
+    // Calibrated on the blades the cards stand for (`far_gain`).
+    let patchy = grass_texture(grass_octaves(c.pos.xz), footprint)
+        * far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]));
     out.light_ambient = vec4<f32>(patchy * l.ambient / albedo, 0.0);
     for (var j = 0u; j < 4u; j++) {
         out.light_sun[j] = vec4<f32>(patchy * l.sun[j] / albedo, 0.0);

@@ -10,12 +10,14 @@
 //!include blade_shade.wgsl
 //!include far_grass.wgsl
 //!include terrain_height.wgsl
+//!include far_gain_math.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(3) var density_map: texture_2d<f32>;
 @group(0) @binding(4) var density_sampler: sampler;
-// The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`, `wave_blades`).
-@group(0) @binding(5) var<storage, read> waves: array<u32, 2>;
+// The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
+// `wave_blades`), and in words 4-7 the far levels' measured light gain (far_gain_math.wgsl).
+@group(0) @binding(5) var<storage, read> waves: array<u32, 8>;
 // The trail map (`trails.wgsl`): a path pressed into the grass shows on the far ground.
 @group(0) @binding(6) var<storage, read> trails: array<u32>;
 
@@ -91,8 +93,10 @@ fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) 
     let to_p = out.world - frame.camera_pos.xyz;
     out.sky = sky_radiance(to_p / max(length(to_p), 1e-4));
     let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb, mean_wave(waves[0], waves[1]));
-    out.grass_ambient = grass.ambient;
-    out.grass_sun = grass.sun;
+    // Calibrated on the blades this light stands for (`far_gain`).
+    let gain = far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]));
+    out.grass_ambient = grass.ambient * gain;
+    out.grass_sun = grass.sun * gain;
     // A pixel spans 2 w / (P11 · height) metres across the view at view depth w (P11 the
     // projection's y scale: the length of clip y's row, whatever the camera's rotation),
     // stretched by the grazing angle along the ground.

@@ -267,6 +267,14 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             "blades reset (non-finite state, since start): {}",
             stats.blades_reset_nonfinite
         );
+        match world.renderer.far_gain(&gpu)? {
+            Some(g) => println!(
+                "far levels' light gain (measured against the blades' light model): \
+                 {:.3} {:.3} {:.3}",
+                g.x, g.y, g.z
+            ),
+            None => println!("far levels' light gain: not measured (none in view)"),
+        }
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
             let total: f64 = sums.iter().sum::<f64>() / timed as f64 + wind_total;

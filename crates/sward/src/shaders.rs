@@ -20,6 +20,23 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/far_grass_probe.wgsl"),
     ),
     (
+        "far_gain_math.wgsl",
+        include_str!("../shaders/far_gain_math.wgsl"),
+    ),
+    (
+        "far_gain_common.wgsl",
+        include_str!("../shaders/far_gain_common.wgsl"),
+    ),
+    ("far_gain.wgsl", include_str!("../shaders/far_gain.wgsl")),
+    (
+        "far_gain_msaa.wgsl",
+        include_str!("../shaders/far_gain_msaa.wgsl"),
+    ),
+    (
+        "far_gain_probe.wgsl",
+        include_str!("../shaders/far_gain_probe.wgsl"),
+    ),
+    (
         "grass_texture_probe.wgsl",
         include_str!("../shaders/grass_texture_probe.wgsl"),
     ),
@@ -181,6 +198,9 @@ pub const ENTRY_FILES: &[&str] = &[
     "terrain.wgsl",
     "terrain_probe.wgsl",
     "far_grass_probe.wgsl",
+    "far_gain.wgsl",
+    "far_gain_msaa.wgsl",
+    "far_gain_probe.wgsl",
     "grass_texture_probe.wgsl",
     "trail_probe.wgsl",
     "sky.wgsl",

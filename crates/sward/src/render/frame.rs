@@ -111,6 +111,7 @@ impl Renderer {
             None => (&scene, depth),
         };
         let deferred = self.encode_passes(gpu, encoder, dt, camera, color, pass_depth, size);
+        self.frame_depth = Some(pass_depth.clone());
         self.msaa = target;
         // Multisampled, the deferred grass is lit after the hardware resolve (`resolve`):
         // it reads the samples the window's arrows may still draw into.

@@ -13,6 +13,7 @@ mod coverage;
 pub mod cull;
 pub mod deferred;
 pub mod draw;
+pub mod far_gain;
 pub mod far_light;
 pub mod far_texture;
 mod frame;
@@ -159,6 +160,12 @@ pub struct Renderer {
     /// The multisampled deferred light's bind groups for this frame, recorded by
     /// [`Renderer::resolve`] after the hardware resolve (taken there: one frame's only).
     pending_grass_light: Option<[wgpu::BindGroup; 2]>,
+    /// The far levels' light gain, measured on the blades at the edge of their reach after
+    /// each frame's grass is lit (`far_gain`).
+    far_gain: far_gain::FarGainPass,
+    /// The depth the frame's 3D passes drew into (the multisampled one with MSAA), for the
+    /// far gain's measurement in [`Renderer::resolve`]; `None` outside a frame.
+    frame_depth: Option<wgpu::TextureView>,
     /// Frames drawn, for the physics throttle's round robin.
     frame_count: u32,
     /// The cull uniforms of the last frame drawn (tests replay them on the CPU twin).
@@ -429,6 +436,8 @@ impl Renderer {
             pyramid_depth: None,
             deferred: None,
             pending_grass_light: None,
+            far_gain: far_gain::FarGainPass::new(gpu),
+            frame_depth: None,
             frame_count: 0,
             last_cull: CullParams::default(),
             dynamic_spheres: Vec::new(),

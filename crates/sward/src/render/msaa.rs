@@ -211,6 +211,8 @@ impl Renderer {
                 d.encode_light(e, p, groups, &light, (q.row(super::work::GRASS_PIXELS), q))
             });
         }
+        // The far levels' gain, measured on this frame's lit blades for the next frame's.
+        self.measure_far_gain(encoder);
         // With TAA the tone mapping reads the history the frame was blended into.
         let source = self
             .taa
@@ -240,6 +242,31 @@ impl Renderer {
         f: impl FnOnce(&mut wgpu::CommandEncoder, crate::gpu::queries::PassQueries),
     ) {
         timed(self.meters(), encoder, index, f);
+    }
+
+    /// Records the far gain's measurement (`far_gain`) over the frame's resolved radiance
+    /// and the depth its passes drew, when the frame has both.
+    fn measure_far_gain(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        let (Some(depth), Some(color)) = (self.frame_depth.take(), self.post.current()) else {
+            return;
+        };
+        let tallest = super::light::blade_heights(&self.scene.field).1;
+        self.far_gain.prepare(self.last_cull.max_distance, tallest);
+        let inputs = super::far_gain::GainInputs {
+            frame: self.draw.frame_buffer(),
+            terrain: self.draw.terrain_buffers(),
+            state: self.draw.waves_buffer(),
+            color,
+            depth: &depth,
+            samples: self.samples,
+            light: self.light.group(),
+        };
+        let meters = super::timing::Meters {
+            timer: self.timer.as_ref(),
+            work: self.work.as_ref(),
+        };
+        let gain = &mut self.far_gain;
+        timed(meters, encoder, timing::FAR_GAIN, |e, q| gain.encode(e, &inputs, q));
     }
 
     /// Records the resolve of the frame's timestamp and work queries (the last thing a

@@ -27,8 +27,9 @@ pub struct TerrainPass {
     grid: wgpu::Buffer,
     density: wgpu::Texture,
     group: wgpu::BindGroup,
-    /// The gusts' bend at the edge of the blades' reach (two words: the sum in 1/1024ths
-    /// and the blades counted), for the far grass's shading waves.
+    /// The far state: the gusts' bend at the edge of the blades' reach (two words: the sum
+    /// in 1/1024ths and the blades counted), for the far grass's shading waves, and the far
+    /// levels' measured light gain (from word `far_gain::GAIN_WORD`).
     pub waves: wgpu::Buffer,
     indices: wgpu::Buffer,
     ranges: [(u32, u32); VARIANTS],
@@ -155,12 +156,17 @@ impl TerrainPass {
                 read_storage(6, wgpu::ShaderStages::FRAGMENT),
             ],
         });
-        // The gusts' bend at the edge of the blades' reach, copied from the cull's counters
-        // each frame (`CullCounters::wave_sum`, `wave_blades`): the far grass's shading waves.
+        // The far state: the gusts' bend at the edge of the blades' reach, copied from the
+        // cull's counters each frame (`CullCounters::wave_sum`, `wave_blades`: the far
+        // grass's shading waves), and from word 4 the far levels' light gains the frame's
+        // measurement writes (`far_gain`; zero: not measured yet).
         let waves = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.terrain.waves"),
-            size: 16,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            size: super::far_gain::STATE_BYTES,
+            // Read back for the far gain's figure (`Renderer::far_gain`).
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let params = params_buffer(device, "sward.terrain.params");

@@ -17,9 +17,9 @@ use crate::gpu::{Gpu, MAX_FRAMES_IN_FLIGHT};
 /// tiles entering a streamed field, the billboards' cull, the sun's shadow maps, the
 /// tone mapping, the overlays and the window's upscale; the deferred grass shading (its
 /// pixel list and its light, one scope); the window's panel (egui); the temporal
-/// anti-aliasing; and the animated objects' skinning. A pass that did not
-/// run in a frame reads 0.
-pub const PASSES: [&str; 19] = [
+/// anti-aliasing; the animated objects' skinning; and the far levels' light gain measured
+/// on the lit blades. A pass that did not run in a frame reads 0.
+pub const PASSES: [&str; 20] = [
     "occluders",
     "pyramid",
     "patches",
@@ -39,6 +39,7 @@ pub const PASSES: [&str; 19] = [
     "ui",
     "taa",
     "skinning",
+    "far gain",
 ];
 /// Indices into [`PASSES`].
 pub const OCCLUDERS: usize = 0;
@@ -79,6 +80,8 @@ pub const UI: usize = 16;
 pub const TAA: usize = 17;
 /// The animated mesh objects' skinning (`render::skinning`).
 pub const SKINNING: usize = 18;
+/// The far levels' light gain measured on the lit blades (`far_gain`).
+pub const FAR_GAIN: usize = 19;
 
 /// Frames the profiler may hold before their results are read: a trace keeps every frame,
 /// so this covers the window's few frames in flight with room to spare (beyond it the

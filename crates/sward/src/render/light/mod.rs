@@ -540,7 +540,7 @@ impl LightPass {
 
 /// The shortest and tallest blade the field can grow (its own heights, its species' and its
 /// flowers' stems), for which levels of detail a cascade's casters can have.
-fn blade_heights(field: &crate::scene::Field) -> (f32, f32) {
+pub(crate) fn blade_heights(field: &crate::scene::Field) -> (f32, f32) {
     let ranges = std::iter::once(field.height)
         .chain(field.species.iter().map(|s| s.height))
         .chain(field.flowers.iter().map(|f| f.height));
