@@ -23,12 +23,12 @@
 //!
 //! Since `render::far_gain` the cards and the far ground are lit at the blades' light model
 //! (`far_grass_light`) by measurement: they read 1.02-1.14 times the model before it, and
-//! the gain (0.89, 0.91, 0.89 here) takes that out. The ring is then 13.3 and 17.8 levels
-//! too bright (bands 48 and 56) and the band at the horizon 0.1: what is left is the model
-//! itself, which the blades beyond 28 m fall short of (they show 0.88-0.92 times it there,
-//! 1.0 within 28 m, measured with the gain pass's sums in the blades-to-50 m frame). The
-//! bound below holds that figure so that it cannot grow, and issue 27, point 1, stays open
-//! on it.
+//! the gain (0.89, 0.91, 0.89 here) takes that out. The model then counted every blade as
+//! tall as the canopy; since `canopy_v` it takes the blades' spread of heights (the top of
+//! the canopy is the tallest blades' tips alone, so a distant eye sees lower on the blades
+//! than it did). The ring is now 8.5 and 13.4 levels too bright (bands 48 and 56: 19.9 and
+//! 23.9 before both), the band at the horizon 0.6 levels dark. The bound below holds that
+//! figure so that it cannot grow, and issue 27, point 1, stays open on it.
 
 mod common;
 
@@ -37,9 +37,9 @@ use sward::compare::{bands, compare_bands, worst_band};
 const SIZE: (u32, u32) = (240, 136);
 const FRAMES: usize = 4;
 /// Every band's luminance difference, at most (levels): the ring where the cards take over
-/// from the blades, measured 17.8 against the deferred-lit blades with the far gain (23.9
-/// without; the issue's target is 5).
-const RING_BOUND: f64 = 20.0;
+/// from the blades, measured 13.4 against the deferred-lit blades with the far gain and the
+/// canopy's spread of heights (23.9 without either; the issue's target is 5).
+const RING_BOUND: f64 = 16.0;
 
 fn prairie(sets: &[&str]) -> image::RgbaImage {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");

@@ -8,8 +8,8 @@
 // Which blades a distant eye sees: a view ray entering the canopy at elevation e meets
 // leaf area `G · LAI / sin e` on its way to the ground (G = 0.5: blades at random angles,
 // LAI the canopy's leaf area, `shading_b.z`), so the share of what it sees at depth d
-// below the tips (in canopy heights) falls off as e^(−k d), k = G · LAI / sin e
-// (Beer-Lambert). At grazing angles the eye sees the tips, from above the whole blade.
+// below the tips (in shares of the canopy's leaf area, `canopy_v`) falls off as e^(−k d),
+// k = G · LAI / sin e (Beer-Lambert). At grazing angles the eye sees the tips, from above the whole blade.
 // The light is averaged at the quartiles of that depth, over four blade facings spread
 // around the ground's normal, each turned to the viewer as the blades' shading turns them,
 // and over both halves of the blade's width (the rounded normal turns them apart).
@@ -38,6 +38,34 @@ fn mean_wave(sum: u32, blades: u32) -> f32 {
     return f32(sum) / (1024.0 * f32(blades)) * light.shading_b.y;
 }
 
+// Where on its blade a distant eye's view ray meets the canopy `depth` into its leaf area
+// (0 at the top, 1 at the ground: the share of the canopy's leaf area above the point):
+// the blade's own v there. The blades' heights spread evenly from r = `light.shading_b.w`
+// times the tallest to the tallest (far blades are drawn as quads, Eq. 24, so each keeps
+// its width to the tip), so the leaf area by height falls off above the shortest blade's
+// tip and the top of the canopy is the tallest blades' tips alone; a point at height z
+// (in tallest blades) lies on a blade of height h > z at v = z / h, whose mean over the
+// taller blades is z ln(1/m) / (1 − m), m = max(z, r). With one height (r = 1) this is
+// 1 − depth.
+fn canopy_v(depth: f32, r: f32) -> f32 {
+    if r >= 0.999 {
+        return clamp(1.0 - depth, 0.0, 1.0);
+    }
+    let spread = 1.0 - r;
+    let mean_h = 0.5 * (1.0 + r);
+    let above = clamp(depth, 0.0, 1.0) * mean_h;
+    var z = r - (above - 0.5 * spread);
+    if above <= 0.5 * spread {
+        z = 1.0 - sqrt(2.0 * spread * above);
+    }
+    let m = max(z, r);
+    var inv_h = 1.0;
+    if 1.0 - m > 1e-4 {
+        inv_h = log(1.0 / m) / (1.0 - m);
+    }
+    return clamp(z * inv_h, 0.0, 1.0);
+}
+
 // `wave`: the blades' mean shading wave (`mean_wave`): gusts bend them and they show their
 // paler side (`blade_albedo`, linear in the wave, so the mean wave gives the mean albedo).
 fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>, wave: f32) -> FarGrassFacings {
@@ -59,7 +87,7 @@ fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>, wave:
     }
     for (var q = 0u; q < 2u; q++) {
         let depth = -log(1.0 - (0.25 + 0.5 * f32(q)) * span) / k;
-        let v = clamp(1.0 - depth, 0.0, 1.0);
+        let v = canopy_v(depth, light.shading_b.w);
         // The blade's albedo along it (`blade_albedo`: 0.55 at the root to 1.25 at the
         // tip) relative to its value at the mean height the far albedo is taken at.
         let still = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));

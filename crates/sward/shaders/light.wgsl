@@ -34,8 +34,8 @@ struct LightUniforms {
     // w: theta_s, the sun's zenith angle.
     zenith: vec4<f32>,
     // Blade shading strengths: rounded normal, translucency, specular, ambient occlusion;
-    // colour variation, wind waves, canopy leaf area (m²/m²), the canopy's mean sunlit
-    // share (1 without grass shadows; `light::sunlit_share`).
+    // colour variation, wind waves, canopy leaf area (m²/m²), the shortest blade's height
+    // over the tallest's (`canopy_v` in far_grass.wgsl).
     shading_a: vec4<f32>,
     shading_b: vec4<f32>,
 }

@@ -408,7 +408,8 @@ pub struct LightUniforms {
     pub zenith: [f32; 4],
     /// Blade shading strengths (`shading_a`, `shading_b`): rounded normal, translucency,
     /// specular, ambient occlusion; colour variation, wind waves, canopy leaf area (m²/m²),
-    /// the canopy's mean sunlit share.
+    /// the shortest blade's height over the tallest's (the canopy's height spread,
+    /// `canopy_v` in far_grass.wgsl).
     pub shading: [[f32; 4]; 2],
 }
 

@@ -392,11 +392,6 @@ impl LightPass {
                 last * FADE_START,
                 0.0,
             ];
-            // Where the blades cast shadows, the billboards and the far ground (which stand
-            // for blades) take the canopy's mean sunlit share, so the levels match.
-            if grass_radius > 0.0 {
-                u.shading[1][3] = sunlit_share(u.shading[1][2], sun.y);
-            }
             gpu.queue
                 .write_buffer(&self.frames, 0, bytemuck::cast_slice(&frames));
             self.cascades = cs.len() as u32;
@@ -549,20 +544,6 @@ pub(crate) fn blade_heights(field: &crate::scene::Field) -> (f32, f32) {
     })
 }
 
-/// The mean sunlit share of the blades' area in a canopy of `leaf_area` m² of blades per m²
-/// of ground under a sun of height `sun_y` (sine of its elevation): Beer-Lambert with a
-/// projection factor G = 0.5 (blades at random angles), averaged over the canopy's depth,
-/// (1 − e^(−k)) / k with k = G · leaf_area / sun_y (Monsi & Saeki's canopy model). The
-/// shadowed near blades average to this; the billboards and the far ground use it.
-pub fn sunlit_share(leaf_area: f32, sun_y: f32) -> f32 {
-    let k = 0.5 * leaf_area.max(0.0) / sun_y.max(0.02);
-    if k < 1e-4 {
-        1.0
-    } else {
-        (1.0 - (-k).exp()) / k
-    }
-}
-
 /// The sky's colour along `dir` (without the sun's disk) as the sRGB output stores it: the
 /// CPU twin of the sky pass's `sky_radiance(dir)` through the tone-mapping pass
 /// (`tonemap` in `shaders/light.wgsl`, run by `render::post`).
@@ -596,6 +577,14 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
     let field = &scene.field;
     // The canopy's leaf area per ground area: blades per m² times a blade's mean area.
     let leaf_area = field.density * field.height.lerp(0.5) * field.width.lerp(0.5);
+    // The shortest blade over the tallest: how the canopy's leaf area thins towards its top
+    // (`canopy_v` in far_grass.wgsl).
+    let (shortest, tallest) = blade_heights(field);
+    let height_spread = if tallest > 0.0 {
+        (shortest / tallest).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     LightUniforms {
         sun: sun_rgb
             .extend(tone::exposure_multiplier(l.tone_mapping, l.exposure))
@@ -616,7 +605,7 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
                 sh.specular,
                 sh.ambient_occlusion,
             ],
-            [sh.color_variation, sh.wind_waves, leaf_area, 1.0],
+            [sh.color_variation, sh.wind_waves, leaf_area, height_spread],
         ],
         ..Default::default()
     }
