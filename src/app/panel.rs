@@ -745,6 +745,11 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 "blades reset (non-finite state, since start): {}",
                 app.stats.blades_reset_nonfinite
             ));
+            // The far levels' calibration on the blades' light model (`render::far_gain`).
+            ui.label(match app.far_gain {
+                Some(g) => format!("far levels' light gain: {:.2} {:.2} {:.2}", g.x, g.y, g.z),
+                None => "far levels' light gain: not measured yet".to_string(),
+            });
             match app.stats.pass_ms {
                 Some(ms) => {
                     let text: Vec<String> = PASSES
