@@ -357,6 +357,34 @@ fn world_frames_refuse_what_does_not_fit() {
     .expect("a host-pass renderer");
     let e = err(grass.render_world(device, queue, &mut encoder, &good, &target));
     assert!(e.contains("GrassRenderer::new"), "{e}");
+    // A frame finished into a target other than the one it was begun for: refused, and the
+    // frame stays begun until finished right.
+    let small = texture(
+        device,
+        COLOR,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+        (SIZE.0 / 2, SIZE.1 / 2),
+    )
+    .create_view(&Default::default());
+    world
+        .begin_world(device, queue, &mut encoder, &good, &target)
+        .expect("begin");
+    let wrong = WorldTarget {
+        color: &small,
+        depth: &host.depth_view,
+    };
+    let e = err(world.finish_world(&mut encoder, &wrong));
+    assert!(
+        e.contains("WorldTarget::color") && e.contains("64x36"),
+        "{e}"
+    );
+    assert!(
+        world.world_scene(&target).is_some(),
+        "the frame stays begun"
+    );
+    world
+        .finish_world(&mut encoder, &target)
+        .expect("finished right");
     // Nothing was recorded by the refusals: a good frame follows without a device error.
     world
         .render_world(device, queue, &mut encoder, &good, &target)

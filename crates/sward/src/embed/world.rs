@@ -262,21 +262,32 @@ impl GrassRenderer {
 
     /// Ends the world frame [`GrassRenderer::begin_world`] began: resolves the samples,
     /// lights the deferred grass, blends the TAA history and tone-maps into
-    /// `target.color`.
+    /// `target.color`. (A frame begun and never finished, its encoder dropped, is simply
+    /// left behind: the next `begin_world` starts afresh.)
     ///
     /// # Errors
     ///
-    /// No frame was begun.
+    /// No frame was begun, or `target.color` is not a colour texture of the frame's size and
+    /// the descriptor's format (the frame stays begun: finish it with the right target).
     pub fn finish_world(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         target: &WorldTarget,
     ) -> Result<()> {
-        if self.world_begun.take().is_none() {
+        let (Some(size), Kind::World(color_format)) = (self.world_begun, &self.kind) else {
             return Err(Error::Invalid(
                 "finish_world without begin_world: no world frame is being recorded".into(),
             ));
-        }
+        };
+        check_view(
+            "WorldTarget::color",
+            target.color,
+            size,
+            1,
+            &[*color_format],
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )?;
+        self.world_begun = None;
         self.renderer.resolve(encoder, target.color);
         Ok(())
     }
