@@ -307,11 +307,33 @@ fn world_frames_refuse_what_does_not_fit() {
     .err()
     .expect("a depth colour format");
     assert!(e.to_string().contains("color_format"), "{e}");
+    // A scene file that is not there is named.
+    let e = GrassRenderer::new_world(
+        device,
+        queue,
+        WorldDescriptor {
+            color_format: COLOR,
+            scene: SceneSource::File("no/such/scene.ron".into()),
+        },
+    )
+    .err()
+    .expect("a missing file");
+    assert!(e.to_string().contains("no/such/scene.ron"), "{e}");
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let mut encoder = device.create_command_encoder(&Default::default());
     let good = inputs(&world);
     let target = host.target();
     let err = |r: sward::Result<()>| r.expect_err("refused").to_string();
+    // An empty frame and one larger than any texture the device can make.
+    for size in [(0, 72), (1 << 20, 72)] {
+        let mut odd = inputs(&world);
+        odd.size = size;
+        let e = err(world.render_world(device, queue, &mut encoder, &odd, &target));
+        assert!(
+            e.contains("out of range") || e.contains("allowed"),
+            "{size:?}: {e}"
+        );
+    }
     // A host-pass call on a world renderer, and finishing what was not begun.
     let e = err(world.prepare(device, queue, &mut encoder, &good));
     assert!(e.contains("new_world"), "{e}");
