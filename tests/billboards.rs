@@ -249,8 +249,8 @@ fn cards_sway_with_the_wind_and_bend_away_from_spheres() {
 #[test]
 fn billboards_fill_the_middle_distance_with_grass() {
     use sward::render::camera::CameraView;
-    use sward::render::target::{Target, COLOR_FORMAT};
-    use sward::render::Renderer;
+    use sward::render::target::Target;
+
     use sward::session::Session;
     const SIZE: (u32, u32) = (128, 72);
     let render = |distance: f32| {
@@ -265,11 +265,7 @@ fn billboards_fill_the_middle_distance_with_grass() {
         s.camera.target = (30.0, 0.0, 30.0);
         let gpu = common::gpu();
         let session = Session::new(s, None, Some(&gpu)).expect("session");
-        let mut r = sward::embed::GrassRenderer::wrap_world(
-            &gpu,
-            Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-            COLOR_FORMAT,
-        );
+        let mut r = common::world(&gpu, &session);
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
         let camera = CameraView::from_scene(&session.scene.camera);
         sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
@@ -332,8 +328,8 @@ fn billboards_fill_the_middle_distance_with_grass() {
 fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
     use sward::render::billboard::drawn_cells;
     use sward::render::camera::CameraView;
-    use sward::render::target::{Target, COLOR_FORMAT};
-    use sward::render::Renderer;
+    use sward::render::target::Target;
+
     use sward::session::Session;
     const SIZE: (u32, u32) = (96, 64);
     let mut s = common::still_scene();
@@ -347,11 +343,7 @@ fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
     s.camera.target = (20.0, 0.0, 25.0);
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");

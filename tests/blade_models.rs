@@ -168,12 +168,7 @@ fn verlet_keeps_its_length_and_stays_above_ground() {
         .colliders
         .push(common::rolling_sphere(2.5, 0.1, 0.5, -1.5));
     let session = Session::new(scene, Some(2048), Some(&gpu)).expect("field");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        sward::render::Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer"),
-        sward::render::target::COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let mut worst_len = 0.0f32;
     let mut lowest = f32::INFINITY;
     let mut flattest = f32::INFINITY;
@@ -222,12 +217,7 @@ fn render(model: BladeModel) -> Vec<u8> {
     scene.physics.model = model;
     scene.terrain.size = 5.0;
     let session = Session::new(scene, Some(6000), Some(&gpu)).expect("field");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        sward::render::Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer"),
-        sward::render::target::COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
     let size = (160, 100);
     let target = sward::render::target::Target::new(&gpu, size.0, size.1).expect("target");

@@ -8,8 +8,7 @@ mod common;
 
 use glam::Vec3;
 use sward::render::camera::CameraView;
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
 use sward_app::bench::flight::mean_abs_difference;
@@ -32,11 +31,7 @@ fn scene(offset: f32) -> Scene {
 fn creep(offset: f32) -> ([f64; 3], f64) {
     let gpu = common::gpu();
     let session = Session::new(scene(offset), None, Some(&gpu)).expect("session");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let mut camera = CameraView::from_scene(&session.scene.camera);
     let mut previous: Option<image::RgbaImage> = None;

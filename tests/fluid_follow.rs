@@ -191,8 +191,8 @@ fn a_guide_stays_anchored_in_the_world_while_the_grid_follows_the_camera() {
 #[test]
 fn the_renderer_moves_the_grid_with_the_camera() {
     use sward::render::camera::CameraView;
-    use sward::render::target::{Target, COLOR_FORMAT};
-    use sward::render::Renderer;
+    use sward::render::target::Target;
+
     use sward::scene::WindSource;
     use sward::session::Session;
     let mut s = common::still_scene();
@@ -203,11 +203,7 @@ fn the_renderer_moves_the_grid_with_the_camera() {
     s.render.msaa = 1;
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let target = Target::new(&gpu, 32, 18).expect("target");
     let mut corners = Vec::new();
     for x in [0.0f32, 0.2, 7.9] {

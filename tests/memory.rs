@@ -14,8 +14,7 @@ mod common;
 
 use sward::gpu::Gpu;
 use sward::render::camera::CameraView;
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::session::Session;
 
 /// Resident memory may grow by this much from frame 50 to frame 300 (allocator noise and
@@ -75,11 +74,7 @@ fn frames_keep_nothing_they_allocate() {
     let scene = sward::commands::load(None, &sets).expect("scene");
     assert!(scene.field.tile_size > 0.0 && scene.render.billboard_distance > 0.0);
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     // The work counter too: its queries, ring of read-back buffers and coverage pass.
     assert!(r.count_work(&gpu, true));
     let size = (48, 27);

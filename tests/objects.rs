@@ -13,8 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use sward::render::camera::CameraView;
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::scene::MeshObject;
 use sward::session::Session;
 
@@ -45,11 +44,7 @@ fn render(with_bunny: bool) -> (image::RgbaImage, u32, u32) {
     }
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let target = Target::new(&gpu, 128, 72).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     for _ in 0..3 {

@@ -8,8 +8,7 @@
 mod common;
 
 use sward::render::camera::CameraView;
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::scene::{Range, SelfShadow};
 use sward::session::Session;
 
@@ -26,11 +25,7 @@ fn render(shadow: SelfShadow, bend: f32) -> image::RgbaImage {
     s.camera.target = (0.0, 0.0, 0.0);
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     sward::commands::world_frame(&gpu, &mut r, 1.0 / 60.0, camera, &target).expect("frame");

@@ -11,7 +11,7 @@ use glam::Vec3;
 use sward::embed::GrassRenderer;
 use sward::mesh::skin::SkinnedMesh;
 use sward::render::camera::CameraView;
-use sward::render::target::{Target, COLOR_FORMAT};
+use sward::render::target::Target;
 use sward::render::Renderer;
 use sward::session::Session;
 
@@ -24,8 +24,7 @@ fn setup(
 ) -> (Session, GrassRenderer, Target, CameraView) {
     let scene = sward::commands::load(None, sets).expect("scene");
     let session = Session::new(scene, None, Some(gpu)).expect("session");
-    let r = Renderer::from_session(gpu, &session, COLOR_FORMAT).expect("renderer");
-    let r = GrassRenderer::wrap_world(gpu, r, COLOR_FORMAT);
+    let r = common::world(gpu, &session);
     let target = Target::new(gpu, size.0, size.1).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     (session, r, target, camera)

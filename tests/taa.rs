@@ -13,8 +13,7 @@ mod common;
 
 use sward::render::camera::CameraView;
 use sward::render::taa::{jitter, TaaSettings, JITTER_PHASES};
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::scene::Scene;
 use sward::session::Session;
 
@@ -60,11 +59,7 @@ fn frames_with(
 ) -> Vec<image::RgbaImage> {
     let gpu = common::gpu();
     let session = Session::new(scene, None, Some(&gpu)).expect("field");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let camera = CameraView::from_scene(&session.scene.camera);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let mut out = Vec::new();
@@ -154,11 +149,7 @@ fn the_pass_matches_its_cpu_twin() {
     // The close view in strong gusts: blades moving pixels, so the motion, the moving
     // pixels' weight and the clamp all decide what the pass writes.
     let session = Session::new(close_scene(), None, Some(&gpu)).expect("field");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let camera = CameraView::from_scene(&session.scene.camera);
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     for _ in 0..6 {

@@ -20,7 +20,6 @@ use sward::field::trails::{self, TrailLayout};
 use sward::gpu::Gpu;
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
-use sward::render::Renderer;
 use sward::scene::{HeightSource, Motion, Scene, Sphere, Trails};
 use sward::session::Session;
 
@@ -66,12 +65,7 @@ impl Run {
     fn new(scene: Scene) -> Self {
         let gpu = common::gpu();
         let session = Session::new(scene, None, Some(&gpu)).expect("session");
-        let r = sward::embed::GrassRenderer::wrap_world(
-            &gpu,
-            Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-                .expect("renderer"),
-            sward::render::target::COLOR_FORMAT,
-        );
+        let r = common::world(&gpu, &session);
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
         let camera = CameraView::from_scene(&session.scene.camera);
         Self {

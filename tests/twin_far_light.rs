@@ -9,8 +9,7 @@ mod common;
 use glam::Vec3;
 use sward::render::camera::CameraView;
 use sward::render::far_light::{far_grass_facings, probe_far_grass, FarPoint};
-use sward::render::target::{Target, COLOR_FORMAT};
-use sward::render::Renderer;
+use sward::render::target::Target;
 use sward::session::Session;
 
 /// Largest difference allowed relative to 1 + the value: the GPU's exp, log, pow and
@@ -22,11 +21,7 @@ fn check(scene: &str) -> f32 {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene);
     let scene = sward::scene::load_scene(&path).expect("scene");
     let session = Session::new(scene, None, Some(&gpu)).expect("session");
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let camera = CameraView::from_scene(&session.scene.camera);
     let size = (64, 36);
     let target = Target::new(&gpu, size.0, size.1).expect("target");

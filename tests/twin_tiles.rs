@@ -120,12 +120,7 @@ fn fly(scene: Scene, density: Option<&DensityMap>) -> usize {
     let session = Session::new(scene, None, Some(&gpu)).expect("session");
     let terrain = session.terrain.clone();
     assert!(session.tiles.is_some());
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-            .expect("renderer"),
-        sward::render::target::COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     gpu.check_errors().expect("no GPU error");
     let (resident, live) = compare_pool(&gpu, &r, &terrain, density);
     assert!(resident > 0 && live > 0, "{resident} tiles, {live} blades");
@@ -191,12 +186,7 @@ fn memory_follows_the_radius_not_the_terrain() {
         s.terrain.size = size;
         s.culling.max_distance = radius;
         let session = Session::new(s, None, Some(&gpu)).expect("session");
-        let r = sward::embed::GrassRenderer::wrap_world(
-            &gpu,
-            Renderer::from_session(&gpu, &session, sward::render::target::COLOR_FORMAT)
-                .expect("renderer"),
-            sward::render::target::COLOR_FORMAT,
-        );
+        let r = common::world(&gpu, &session);
         (r.buffers.count, r.gpu_bytes().1)
     };
     let small = bytes(64.0, 9.0);

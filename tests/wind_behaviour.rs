@@ -142,8 +142,8 @@ fn air_goes_around_a_static_obstacle_and_is_slower_behind_it() {
 /// ends, and the ball's last position.
 fn meadow_wind_behind_a_ball(with_ball: bool) -> ([f32; 2], glam::Vec3) {
     use sward::render::camera::CameraView;
-    use sward::render::target::{Target, COLOR_FORMAT};
-    use sward::render::Renderer;
+    use sward::render::target::Target;
+
     use sward::scene::{GlobalWind, WindSource};
     use sward::session::Session;
     let mut s = sward::commands::load(None, &[]).expect("the default scene");
@@ -162,11 +162,7 @@ fn meadow_wind_behind_a_ball(with_ball: bool) -> ([f32; 2], glam::Vec3) {
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
     let terrain = sward::field::HeightField::from_scene(&session.scene.terrain).unwrap();
-    let mut r = sward::embed::GrassRenderer::wrap_world(
-        &gpu,
-        Renderer::from_session(&gpu, &session, COLOR_FORMAT).expect("renderer"),
-        COLOR_FORMAT,
-    );
+    let mut r = common::world(&gpu, &session);
     let target = Target::new(&gpu, 64, 36).expect("target");
     let camera = CameraView::from_scene(&session.scene.camera);
     let radius = 0.6;
