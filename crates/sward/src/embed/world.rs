@@ -217,22 +217,14 @@ impl GrassRenderer {
         let size = inputs.size;
         self.gpu
             .check_frame_size("the world's target", size, self.renderer.samples())?;
-        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        check_view(
-            "WorldTarget::color",
-            target.color,
-            size,
-            1,
-            &[color_format],
-            attachment,
-        )?;
+        check_color(target, size, color_format)?;
         check_view(
             "WorldTarget::depth",
             target.depth,
             size,
             1,
             &[WORLD_DEPTH_FORMAT],
-            attachment | wgpu::TextureUsages::TEXTURE_BINDING,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         )?;
         self.apply_inputs(device, queue, inputs)?;
         self.renderer.encode_scene(
@@ -279,16 +271,22 @@ impl GrassRenderer {
                 "finish_world without begin_world: no world frame is being recorded".into(),
             ));
         };
-        check_view(
-            "WorldTarget::color",
-            target.color,
-            size,
-            1,
-            &[*color_format],
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )?;
+        check_color(target, size, *color_format)?;
         self.world_begun = None;
         self.renderer.resolve(encoder, target.color);
         Ok(())
     }
+}
+
+/// Refuses a world target whose colour is not a one-sample render attachment of the frame's
+/// `size` and the descriptor's `format` (what `begin_world` and `finish_world` draw into).
+fn check_color(target: &WorldTarget, size: (u32, u32), format: wgpu::TextureFormat) -> Result<()> {
+    check_view(
+        "WorldTarget::color",
+        target.color,
+        size,
+        1,
+        &[format],
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    )
 }
