@@ -427,7 +427,8 @@ const SKY: wgpu::Color = wgpu::Color {
     a: 1.0,
 };
 
-fn attachment(
+/// A colour attachment of `view`, cleared to `clear` or loaded, stored.
+pub fn attachment(
     view: &wgpu::TextureView,
     clear: Option<wgpu::Color>,
 ) -> wgpu::RenderPassColorAttachment<'_> {
@@ -442,7 +443,8 @@ fn attachment(
     }
 }
 
-fn depth_attachment(
+/// A depth attachment of `view`, cleared to 1 or loaded, stored.
+pub fn depth_attachment(
     view: &wgpu::TextureView,
     clear: bool,
 ) -> wgpu::RenderPassDepthStencilAttachment<'_> {

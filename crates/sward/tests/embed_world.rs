@@ -192,23 +192,8 @@ fn world_frames(msaa: u32, frames: u32, far_plane: bool) -> (image::RgbaImage, u
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("world-host.far_plane"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: scene.color,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: scene.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
+                    color_attachments: &[Some(example::attachment(scene.color, None))],
+                    depth_stencil_attachment: Some(example::depth_attachment(scene.depth, false)),
                     ..Default::default()
                 });
                 pass.set_pipeline(&pipeline);
