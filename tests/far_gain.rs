@@ -1,107 +1,290 @@
-//! The far levels' light gain (issue 27, point 1; `render::far_gain`): its WGSL arithmetic
-//! against the CPU twin, and on the prairie the measurement settling: the cards and the far
-//! ground just beyond the blades' reach are lit with the gain so far, so one measurement
-//! brings them to the blades' light model and the next ones stay. Were the gain not applied
-//! to the far levels, each frame would measure the same correction and the gain would keep
-//! moving by a quarter of it per frame.
+//! The far levels' calibration on the blades (issue 27, point 1; `render::far_gain`): its
+//! WGSL arithmetic against the CPU twin, the rules it follows, and on the prairie the
+//! measurement settling. The cards and the far ground just beyond the blades' reach are
+//! lit with the gain so far, so a measurement brings them to the blades' ratio to the light
+//! model at once and the next ones stay; the cards' texels are shown about their mean with
+//! the contrast gain so far, which brings their variation to the blades'.
 //!
-//! Measured on lavapipe at 240 x 136: the prairie's gain after 4 frames (0.89, 0.91, 0.89),
-//! after 10 within 1 % of it; the GPU arithmetic within 1e-5 (relative) of the twin.
+//! Measured on lavapipe at 240 x 136: the prairie's gain after 4 frames (0.71, 0.73, 0.88)
+//! and after 10 within 2.2 % of it, the contrast gain (2.03) within 4.3 %; the GPU
+//! arithmetic within 1e-5 (relative) of the twin.
 
 mod common;
 
 use glam::Vec3;
-use sward::render::far_gain::{self, GainPixel};
+use sward::render::far_gain::{self, GainPixel, RingSums};
 
-/// `n` pixels whose radiance is `scale` times the model's, with fog (the linear
-/// congruential generator of Numerical Recipes).
-fn pixels(n: usize, seed: u32, scale: f32) -> Vec<GainPixel> {
+/// How far the gain and the contrast gain may move from frame 4 to frame 10 of the prairie:
+/// each frame measures other pixels of each grid cell, and the wind moves the blades the
+/// near ring measures (measured 2.2 % and 4.3 %).
+const SETTLED: f32 = 0.06;
+
+/// The linear congruential generator of Numerical Recipes, in [0, 1).
+fn lcg(seed: u32) -> impl FnMut() -> f32 {
     let mut s = seed;
-    let mut next = || {
+    move || {
         s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
         (s >> 8) as f32 / 16_777_216.0
+    }
+}
+
+/// `n` far pixels whose radiance is `scale` times the model's, varying by `spread` about
+/// it, with fog; then `near` pixels of blades `ratio` times the model's, varying by
+/// `near_spread`.
+fn pixels(n: usize, seed: u32, scale: f32, spread: f32, near: (usize, f32, f32)) -> Vec<GainPixel> {
+    let mut next = lcg(seed);
+    let mut pixel = |k: f32, s: f32, near: bool| {
+        let model = Vec3::new(next(), next(), next()) + Vec3::splat(0.05);
+        let sky = Vec3::new(0.4, 0.5, 0.7) * next();
+        let f = 0.4 * next();
+        let wobble = 1.0 + s * (2.0 * next() - 1.0);
+        GainPixel {
+            actual: (model * k * wobble) * (1.0 - f) + sky * f,
+            sky,
+            f,
+            model,
+            near,
+            standing: true,
+        }
     };
-    (0..n)
-        .map(|_| {
-            let model = Vec3::new(next(), next(), next()) + Vec3::splat(0.05);
-            let sky = Vec3::new(0.4, 0.5, 0.7) * next();
-            let f = 0.4 * next();
+    let mut out: Vec<GainPixel> = (0..n).map(|_| pixel(scale, spread, false)).collect();
+    out.extend((0..near.0).map(|_| pixel(near.1, near.2, true)));
+    out
+}
+
+/// `n` far pixels of one model radiance, without fog, varying by `far` about it, and as
+/// many near pixels varying by `near`.
+fn steady_pixels(n: usize, seed: u32, far: f32, near: f32) -> Vec<GainPixel> {
+    let mut next = lcg(seed);
+    let model = Vec3::new(0.3, 0.5, 0.2);
+    (0..2 * n)
+        .map(|i| {
+            let spread = if i < n { far } else { near };
             GainPixel {
-                actual: (model * scale) * (1.0 - f) + sky * f,
-                sky,
-                f,
+                actual: model * (1.0 + spread * (2.0 * next() - 1.0)),
+                sky: Vec3::ZERO,
+                f: 0.0,
                 model,
+                near: i >= n,
+                standing: true,
             }
         })
         .collect()
 }
 
-fn twin(pixels: &[GainPixel], previous: (Vec3, bool), blend: f32) -> (Vec3, Vec3, (Vec3, bool)) {
-    let (mut shown, mut model) = (Vec3::ZERO, Vec3::ZERO);
-    for p in pixels {
-        let (s, m) = far_gain::gain_terms(p.actual, p.sky, p.f, p.model);
-        shown += s;
-        model += m;
+/// The same pixels with the near ones on the ground between blades (not standing on one),
+/// but for one in four.
+fn on_the_ground(mut pixels: Vec<GainPixel>) -> Vec<GainPixel> {
+    for (i, p) in pixels.iter_mut().enumerate() {
+        p.standing = !p.near || i % 4 == 0;
     }
-    let next = far_gain::next_gain(shown, model, pixels.len() as f32, previous, blend);
-    (shown, model, next)
+    pixels
 }
+
+/// The twin's sums, next gain and next contrast gain.
+fn twin(
+    pixels: &[GainPixel],
+    previous: (Vec3, f32),
+    contrast: f32,
+    blend: f32,
+) -> (RingSums, RingSums, (Vec3, f32), f32) {
+    let (mut far, mut near) = (RingSums::default(), RingSums::default());
+    for p in pixels {
+        let terms = far_gain::gain_terms(p.actual, p.sky, p.f, p.model);
+        if p.near {
+            near.add(terms, p.standing);
+        } else {
+            far.add(terms, p.standing);
+        }
+    }
+    let next = far_gain::next_gain(&far, &near, previous, blend);
+    let n = if previous.1 > 0.5 { previous.1 } else { 0.0 };
+    let k = far_gain::next_contrast(&far, &near, contrast, n, blend);
+    (far, near, next, k)
+}
+
+/// A probe case: its name, pixels, previous gain and measurements, previous contrast gain.
+type Case = (&'static str, Vec<GainPixel>, (Vec3, f32), f32);
 
 fn close(a: Vec3, b: Vec3, what: &str) {
     let d = (a - b).abs().max_element() / b.abs().max_element().max(1e-3);
     assert!(d < 1e-5, "{what}: gpu {a} cpu {b}");
 }
 
+fn close_sums(a: &RingSums, b: &RingSums, what: &str) {
+    close(a.shown, b.shown, what);
+    close(a.model, b.model, what);
+    assert_eq!(a.count, b.count, "{what}: count");
+    assert_eq!(a.standing, b.standing, "{what}: standing");
+    close(
+        Vec3::new(a.luma, a.luma2, 0.0),
+        Vec3::new(b.luma, b.luma2, 0.0),
+        what,
+    );
+}
+
 #[test]
 fn the_gpu_far_gain_arithmetic_matches_its_twin() {
     let gpu = common::gpu();
-    let cases: [(&str, Vec<GainPixel>, (Vec3, bool)); 5] = [
-        ("first measurement", pixels(200, 1, 1.3), (Vec3::ONE, false)),
+    let cases: [Case; 8] = [
         (
-            "blended into a measured gain",
-            pixels(300, 2, 0.8),
-            (Vec3::new(0.9, 1.1, 0.7), true),
+            "first measurement, no blades in view",
+            pixels(200, 1, 1.3, 0.2, (0, 1.0, 0.0)),
+            (Vec3::ONE, 0.0),
+            0.0,
         ),
         (
-            "too few pixels keep the gain",
-            pixels(10, 3, 1.0),
-            (Vec3::splat(0.6), true),
+            "first measurement against the blades",
+            pixels(200, 5, 1.3, 0.1, (120, 1.2, 0.4)),
+            (Vec3::ONE, 0.0),
+            0.0,
         ),
-        ("clamped", pixels(200, 4, 0.01), (Vec3::ONE, false)),
-        ("nothing to measure", Vec::new(), (Vec3::ZERO, false)),
+        (
+            "into a running mean",
+            pixels(300, 2, 0.8, 0.3, (80, 0.9, 0.3)),
+            (Vec3::new(0.9, 1.1, 0.7), 2.0),
+            1.4,
+        ),
+        (
+            "blended once the mean is full",
+            pixels(300, 6, 0.8, 0.3, (80, 0.9, 0.3)),
+            (Vec3::new(0.9, 1.1, 0.7), 4.0),
+            2.0,
+        ),
+        (
+            "too few pixels keep both gains",
+            pixels(10, 3, 1.0, 0.2, (5, 1.0, 0.2)),
+            (Vec3::splat(0.6), 3.0),
+            1.7,
+        ),
+        (
+            "clamped",
+            pixels(200, 4, 0.01, 0.0, (50, 1.0, 0.9)),
+            (Vec3::ONE, 0.0),
+            0.0,
+        ),
+        ("nothing to measure", Vec::new(), (Vec3::ZERO, 0.0), 0.0),
+        (
+            "a near ring of bare ground",
+            on_the_ground(pixels(200, 8, 1.3, 0.1, (120, 1.2, 0.4))),
+            (Vec3::ONE, 0.0),
+            0.0,
+        ),
     ];
-    for (what, px, previous) in cases {
-        let (shown, model, next, lit) =
-            far_gain::probe(&gpu, &px, previous, far_gain::BLEND).expect("probe");
-        let (ts, tm, tnext) = twin(&px, previous, far_gain::BLEND);
-        close(shown, ts, what);
-        close(model, tm, what);
-        assert_eq!(next.1, tnext.1, "{what}: measured");
+    for (what, px, previous, contrast) in cases {
+        let (far, near, next, lit, (k, k_lit)) =
+            far_gain::probe(&gpu, &px, previous, contrast, far_gain::BLEND).expect("probe");
+        let (tf, tn, tnext, tk) = twin(&px, previous, contrast, far_gain::BLEND);
+        close_sums(&far, &tf, what);
+        close_sums(&near, &tn, what);
+        assert_eq!(next.1, tnext.1, "{what}: measurements");
         close(next.0, tnext.0, what);
         // The far levels light with the gain once measured, with 1 before.
-        let expected = if tnext.1 { tnext.0 } else { Vec3::ONE };
+        let expected = if tnext.1 > 0.5 { tnext.0 } else { Vec3::ONE };
         close(lit, expected, what);
-        eprintln!("{what}: gain {} ({})", next.0, next.1);
+        close(Vec3::splat(k), Vec3::splat(tk), what);
+        close(
+            Vec3::splat(k_lit),
+            Vec3::splat(if tk > 0.0 { tk } else { 1.0 }),
+            what,
+        );
+        eprintln!("{what}: gain {} ({}), contrast {k}", next.0, next.1);
     }
-    // The rules the cases rely on: pixels shown at `scale` times the model are brought back
-    // by 1 / scale at once; too few keep the gain; the range holds.
-    let (_, _, first) = twin(&pixels(200, 1, 1.3), (Vec3::ONE, false), far_gain::BLEND);
+}
+
+/// The rules the measurement follows, on the twin.
+#[test]
+fn the_far_gain_brings_the_far_levels_to_the_blades() {
+    let b = far_gain::BLEND;
+    // No blades measured: the far pixels shown at `scale` times the model come back by
+    // 1 / scale at once.
+    let (_, _, first, _) = twin(
+        &pixels(200, 1, 1.3, 0.0, (0, 1.0, 0.0)),
+        (Vec3::ONE, 0.0),
+        0.0,
+        b,
+    );
     assert!(
         (first.0 - Vec3::splat(1.0 / 1.3)).abs().max_element() < 1e-4,
         "{first:?}"
     );
-    let (_, _, kept) = twin(
-        &pixels(10, 3, 1.0),
-        (Vec3::splat(0.6), true),
-        far_gain::BLEND,
+    assert_eq!(first.1, 1.0);
+    // Blades 1.2 times the model: the far levels aim at 1.2 times it.
+    let (_, near, aimed, _) = twin(
+        &pixels(200, 5, 1.3, 0.0, (120, 1.2, 0.0)),
+        (Vec3::ONE, 0.0),
+        0.0,
+        b,
     );
-    assert_eq!(kept, (Vec3::splat(0.6), true));
-    let (_, _, clamped) = twin(&pixels(200, 4, 0.01), (Vec3::ONE, false), far_gain::BLEND);
+    assert!(
+        (far_gain::blades_ratio(&near) - Vec3::splat(1.2))
+            .abs()
+            .max_element()
+            < 1e-4
+    );
+    assert!(
+        (aimed.0 - Vec3::splat(1.2 / 1.3)).abs().max_element() < 1e-4,
+        "{aimed:?}"
+    );
+    // A near ring where few pixels stand on blades (bare ground) is not taken for blades.
+    let (_, near, bare, _) = twin(
+        &on_the_ground(pixels(200, 5, 1.3, 0.0, (120, 1.2, 0.0))),
+        (Vec3::ONE, 0.0),
+        0.0,
+        b,
+    );
+    assert_eq!(far_gain::blades_ratio(&near), Vec3::ONE);
+    assert!(
+        (bare.0 - Vec3::splat(1.0 / 1.3)).abs().max_element() < 1e-4,
+        "{bare:?}"
+    );
+    // A running mean: the second measurement moves the gain half way, the fifth a quarter.
+    let px = pixels(200, 7, 0.5, 0.0, (0, 1.0, 0.0));
+    let (_, _, second, _) = twin(&px, (Vec3::ONE, 1.0), 0.0, b);
+    assert!(
+        (second.0 - Vec3::splat(1.5)).abs().max_element() < 1e-4,
+        "{second:?}"
+    );
+    let (_, _, fifth, _) = twin(&px, (Vec3::ONE, 4.0), 0.0, b);
+    assert!(
+        (fifth.0 - Vec3::splat(1.25)).abs().max_element() < 1e-4,
+        "{fifth:?}"
+    );
+    assert_eq!(fifth.1, 4.0, "the mean stops growing at 1 / blend");
+    // Too few pixels keep the gain; the range holds.
+    let (_, _, kept, _) = twin(
+        &pixels(10, 3, 1.0, 0.0, (0, 1.0, 0.0)),
+        (Vec3::splat(0.6), 2.0),
+        0.0,
+        b,
+    );
+    assert_eq!(kept, (Vec3::splat(0.6), 2.0));
+    let (_, _, clamped, _) = twin(
+        &pixels(200, 4, 0.01, 0.0, (0, 1.0, 0.0)),
+        (Vec3::ONE, 0.0),
+        0.0,
+        b,
+    );
     assert_eq!(clamped.0, Vec3::splat(far_gain::GAIN_RANGE.1));
+    // Cards that vary half as much as the blades about their mean: the contrast gain
+    // doubles (the first measurement taken as it is).
+    let px = steady_pixels(4000, 9, 0.2, 0.4);
+    let (far, near, _, k) = twin(&px, (Vec3::ONE, 0.0), 0.0, b);
+    let want = near.variation() / far.variation();
+    assert!((want - 2.0).abs() < 0.15, "variation ratio {want}");
+    assert!((k - want).abs() < 1e-5, "contrast gain {k} against {want}");
+    // No blades in view: the contrast gain is kept.
+    let (_, _, _, kept) = twin(
+        &pixels(200, 9, 1.0, 0.2, (0, 1.0, 0.0)),
+        (Vec3::ONE, 2.0),
+        1.7,
+        b,
+    );
+    assert_eq!(kept, 1.7);
 }
 
 #[test]
-fn the_prairies_far_gain_settles() {
+fn the_prairies_far_calibration_settles() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
     let scene = sward::scene::load_scene(&path).expect("prairie");
     let gpu = common::gpu();
@@ -114,20 +297,33 @@ fn the_prairies_far_gain_settles() {
         None,
         "measured before any frame"
     );
-    let mut gains = Vec::new();
+    assert_eq!(r.far_calibration(&gpu).expect("read"), (Vec3::ONE, 1.0));
+    let mut seen = Vec::new();
     for frame in 1..=10 {
         sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
         if frame == 4 || frame == 10 {
-            gains.push(r.far_gain(&gpu).expect("read").expect("measured"));
+            let gain = r.far_gain(&gpu).expect("read").expect("measured");
+            let (ratio, contrast) = r.far_calibration(&gpu).expect("read");
+            seen.push((gain, ratio, contrast));
         }
     }
-    let (early, late) = (gains[0], gains[1]);
-    eprintln!("far gain after 4 frames {early}, after 10 {late}");
-    let drift = ((late - early) / early).abs().max_element();
-    assert!(drift < 0.02, "the gain drifts: {early} -> {late}");
+    let ((g4, r4, k4), (g10, r10, k10)) = (seen[0], seen[1]);
+    eprintln!("after 4 frames: gain {g4}, blades {r4}, contrast {k4}");
+    eprintln!("after 10 frames: gain {g10}, blades {r10}, contrast {k10}");
+    let drift = ((g10 - g4) / g4).abs().max_element();
+    assert!(drift < SETTLED, "the gain drifts: {g4} -> {g10}");
+    let drift = ((k10 - k4) / k4).abs();
+    assert!(drift < SETTLED, "the contrast gain drifts: {k4} -> {k10}");
     let (lo, hi) = far_gain::GAIN_RANGE;
     assert!(
-        late.min_element() > lo && late.max_element() < hi,
-        "the gain ran to its clamp: {late}"
+        g10.min_element() > lo && g10.max_element() < hi,
+        "the gain ran to its clamp: {g10}"
     );
+    let (lo, hi) = far_gain::CONTRAST_RANGE;
+    assert!(
+        k10 > lo && k10 < hi,
+        "the contrast gain ran to its clamp: {k10}"
+    );
+    // The blades were measured (a ratio that is not the default).
+    assert!(r10 != Vec3::ONE, "no blades measured");
 }

@@ -745,11 +745,17 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 "blades reset (non-finite state, since start): {}",
                 app.stats.blades_reset_nonfinite
             ));
-            // The far levels' calibration on the blades' light model (`render::far_gain`).
+            // The far levels' calibration on the blades (`render::far_gain`).
             ui.label(match app.far_gain {
                 Some(g) => format!("far levels' light gain: {:.2} {:.2} {:.2}", g.x, g.y, g.z),
                 None => "far levels' light gain: not measured yet".to_string(),
             });
+            let (ratio, contrast) = app.far_calibration;
+            ui.label(format!(
+                "blades against the far light model: {:.2} {:.2} {:.2}; cards' contrast gain: \
+                 {contrast:.2}",
+                ratio.x, ratio.y, ratio.z
+            ));
             match app.stats.pass_ms {
                 Some(ms) => {
                     let text: Vec<String> = PASSES

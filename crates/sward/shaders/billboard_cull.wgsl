@@ -28,8 +28,9 @@
 @group(0) @binding(10) var<storage, read_write> cards: array<DrawnCard>;
 @group(0) @binding(11) var<storage, read_write> args: CardDrawArgs;
 // The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
-// `wave_blades`), and in words 4-7 the far levels' measured light gain (far_gain_math.wgsl).
-@group(0) @binding(12) var<storage, read> waves: array<u32, 8>;
+// `wave_blades`), in words 4-7 the far levels' measured light gain and in word 11 the cards'
+// contrast gain (far_gain_math.wgsl).
+@group(0) @binding(12) var<storage, read> waves: array<u32, 12>;
 // The trail map (`trails.wgsl`): cards over a trail lie down as its blades did.
 @group(0) @binding(13) var<storage, read> trails: array<u32>;
 
@@ -108,7 +109,8 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     // Calibrated on the blades the cards stand for (`far_gain`).
     let patchy = grass_texture(grass_octaves(c.pos.xz), footprint)
         * far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]));
-    out.light_ambient = vec4<f32>(patchy * l.ambient / albedo, 0.0);
+    // w: the contrast the atlas's texels are shown with about its mean (`far_gain`).
+    out.light_ambient = vec4<f32>(patchy * l.ambient / albedo, contrast_gain(waves[11]));
     for (var j = 0u; j < 4u; j++) {
         out.light_sun[j] = vec4<f32>(patchy * l.sun[j] / albedo, 0.0);
     }

@@ -1,13 +1,17 @@
 // The far levels' light gain, measured (far_gain_math.wgsl): one workgroup looks at a
 // grid of the frame's pixels once its grass is lit (the resolved radiance, before TAA and
-// the tone curve). A pixel whose point lies beyond the blades' reach, within `params.ring`
-// (the far levels' first metres), on the ground or below the tallest blade's height over
-// it (a card, or the far ground between the cards; not the sky, not a taller object),
-// should show the far grass's light at the ground below it (`far_grass_light`, shadowed as
-// the point is, without the gain). (Cards and ground are measured together: the terrain's
-// mesh is coarse that far out, and its pixels stand above or below the height function by
-// more than a card's root.) The sums are reduced across the workgroup and the gain written
-// into the far state's words 4-7, which the next frame's billboards and far ground read.
+// the tone curve). A pixel whose point lies on the ground or below the tallest blade's
+// height over it (a blade, a card, or the ground between them; not the sky, not a taller
+// object) is compared with the far grass's light at the ground below it
+// (`far_grass_light`, shadowed as the point is, without the gain): beyond the blades'
+// reach, within `params.ring` (the far levels' first metres), for the far ring's sums; a
+// little inside the reach, within `params.near` (blades only: the cards fade in later),
+// for the near ring's. (Cards and ground are measured together: the terrain's mesh is
+// coarse that far out, and its pixels stand above or below the height function by more
+// than a card's root.) The sums, and the luminance's sums and squares for the contrast,
+// are reduced across the workgroup; the light gain is written into the far state's words
+// 4-7, the blades' ratio and the contrast gain into words 8-11 (`render::far_gain`), which
+// the next frame's billboards and far ground read.
 // The depth texture's binding and `frame_depth` come from the including file (one sample
 // or multisampled).
 //!include common.wgsl
@@ -21,22 +25,31 @@ struct GainParams {
     // x, y: the ring's inner and outer distance (m); z: the tallest blade (m); w: the blend
     // of a new measurement into a gain.
     ring: vec4<f32>,
-    // x, y: the sample grid's columns and rows.
+    // x, y: the sample grid's columns and rows; z: the frame's number.
     grid: vec4<u32>,
+    // x, y: the near ring's inner and outer distance (m); z: 1 when cards are drawn (the
+    // contrast gain is theirs, and measured only then).
+    near: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Bindings 1 and 2: the terrain's parameters and grid (terrain_height.wgsl).
-// The far state: words 0-1 the gusts' bend at the blades' edge, 4-7 the gain.
-@group(0) @binding(3) var<storage, read_write> far_state: array<u32, 8>;
+// The far state: words 0-1 the gusts' bend at the blades' edge, 4-7 the gain, 8-10 the
+// blades' ratio to the model, 11 the contrast gain.
+@group(0) @binding(3) var<storage, read_write> far_state: array<u32, 12>;
 @group(0) @binding(4) var<uniform> params: GainParams;
 @group(0) @binding(5) var scene_color: texture_2d<f32>;
 
-const GAIN_THREADS: u32 = 256u;
-// Per invocation: the sums (shown, model) and the pixels counted.
-var<workgroup> sum_shown: array<vec3<f32>, 256>;
-var<workgroup> sum_model: array<vec3<f32>, 256>;
-var<workgroup> counts: array<f32, 256>;
+const GAIN_THREADS: u32 = 128u;
+// Per invocation, for the far and the near ring: the radiance shown (rgb) with the pixels
+// counted (w), and the model's radiance.
+var<workgroup> far_shown: array<vec4<f32>, 128>;
+var<workgroup> far_model: array<vec4<f32>, 128>;
+var<workgroup> near_shown: array<vec4<f32>, 128>;
+var<workgroup> near_model: array<vec4<f32>, 128>;
+// Per invocation: the luminance's sums and sums of squares, far ring (xy) and near ring
+// (zw) (`variation`).
+var<workgroup> shown_d: array<vec4<f32>, 128>;
 
 // The world point pixel `p` of the frame shows at depth `z`.
 fn world_at(p: vec2<u32>, z: f32) -> vec3<f32> {
@@ -59,50 +72,78 @@ fn store_gain(at: u32, g: vec4<f32>) {
     far_state[at + 3u] = w.w;
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(128)
 fn measure(@builtin(local_invocation_index) i: u32) {
     let wave = mean_wave(far_state[0], far_state[1]);
     let size = vec2<u32>(frame.viewport_time.xy);
     let cells = params.grid.x * params.grid.y;
-    let zero = vec3<f32>(0.0);
-    var shown = zero;
-    var model = zero;
-    var count = 0.0;
+    let zero = vec4<f32>(0.0);
+    var shown_f = zero;
+    var model_f = zero;
+    var shown_n = zero;
+    var model_n = zero;
+    var disp = zero;
     for (var k = i; k < cells; k += GAIN_THREADS) {
         let cell = vec2<u32>(k % params.grid.x, k / params.grid.x);
-        // The middle pixel of the grid's cell.
-        let p = min((2u * cell + 1u) * size / (2u * params.grid.xy), size - 1u);
+        // A pixel of the grid's cell, a different one each frame: the blades, cards and
+        // gaps a fixed pixel would land on are a sample of the field, and the means of
+        // `next_gain` average the frames' samples into the field's.
+        let seed = hash32(k ^ hash32(params.grid.z));
+        let jitter = vec2<f32>(f32(seed & 0xffffu), f32(seed >> 16u)) / 65536.0;
+        let at = (vec2<f32>(cell) + jitter) * vec2<f32>(size) / vec2<f32>(params.grid.xy);
+        let p = min(vec2<u32>(at), size - 1u);
         let z = frame_depth(p);
         let world = world_at(p, z);
         let to_p = world - frame.camera_pos.xyz;
         let dist = length(to_p);
         let h = terrain_height(world.xz);
         let above = world.y - h.x;
-        let far = z < 1.0 && dist >= params.ring.x && dist < params.ring.y
-            && abs(above) <= params.ring.z;
+        let grass = z < 1.0 && abs(above) <= params.ring.z;
+        let far = grass && dist >= params.ring.x && dist < params.ring.y;
+        let near = grass && dist >= params.near.x && dist < params.near.y;
         let n = normalize(vec3<f32>(-h.y, 1.0, -h.z));
         let l = far_grass_light(vec3<f32>(world.x, h.x, world.z), n, terrain.grass_albedo.rgb, wave);
         let should = l.ambient + sun_visibility(world) * l.sun;
         let sky = sky_radiance(to_p / max(dist, 1e-4));
         let f = clamp(1.0 - exp(-dist / max(frame.viewport_time.w, 1.0)), 0.0, 1.0);
         let t = gain_terms(textureLoad(scene_color, p, 0).rgb, sky, f, should);
-        shown += select(zero, t.shown, far);
-        model += select(zero, t.model, far);
-        count += select(0.0, 1.0, far);
+        let shown = vec4<f32>(t.shown, 1.0);
+        // The model's sums count in w the pixels standing on a blade (above the ground by
+        // a tenth of the tallest blade: the ground's mesh is fine near the camera).
+        let standing = select(0.0, 1.0, above > 0.1 * params.ring.z);
+        let model = vec4<f32>(t.model, standing);
+        let d = dot(t.shown, LUMA);
+        let d2 = vec2<f32>(d, d * d);
+        shown_f += select(zero, shown, far);
+        model_f += select(zero, model, far);
+        shown_n += select(zero, shown, near);
+        model_n += select(zero, model, near);
+        disp += select(zero, vec4<f32>(d2, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
     }
-    sum_shown[i] = shown;
-    sum_model[i] = model;
-    counts[i] = count;
+    far_shown[i] = shown_f;
+    far_model[i] = model_f;
+    near_shown[i] = shown_n;
+    near_model[i] = model_n;
+    shown_d[i] = disp;
     workgroupBarrier();
     for (var s = GAIN_THREADS / 2u; s > 0u; s = s / 2u) {
         if i < s {
-            sum_shown[i] += sum_shown[i + s];
-            sum_model[i] += sum_model[i + s];
-            counts[i] += counts[i + s];
+            far_shown[i] += far_shown[i + s];
+            far_model[i] += far_model[i + s];
+            near_shown[i] += near_shown[i + s];
+            near_model[i] += near_model[i + s];
+            shown_d[i] += shown_d[i + s];
         }
         workgroupBarrier();
     }
     if i == 0u {
-        store_gain(4u, next_gain(sum_shown[0], sum_model[0], counts[0], state_gain(4u), params.ring.w));
+        let next = next_gain(far_shown[0], far_model[0].rgb, near_shown[0], near_model[0], state_gain(4u), params.ring.w);
+        let n = select(0.0, state_gain(4u).w, state_gain(4u).w > 0.5);
+        var k = bitcast<f32>(far_state[11]);
+        if params.near.z > 0.5 {
+            k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, near_shown[0].w, k, n, params.ring.w);
+        }
+        store_gain(4u, next);
+        store_gain(8u, vec4<f32>(blades_ratio(near_shown[0], near_model[0]), k));
     }
 }

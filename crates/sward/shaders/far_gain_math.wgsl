@@ -2,10 +2,13 @@
 // pass (far_gain_common.wgsl) and its probe. The billboards and the far ground stand for
 // the blades beyond their reach and are lit with the blades' own light model
 // (`far_grass_light`), but through textures and card coverage of their own, which need not
-// average to it. Each frame compares what the cards, and the ground between them, show
-// just beyond the reach with what the model says for the same points, and keeps the ratio
-// as the gain each is lit with, per colour channel. Their radiance is proportional to the
-// gain they were lit with, so a measurement corrects it in one step and is not fed back.
+// average to it, and the model itself only approximates what the blades show. Each frame
+// measures, against the model at the same points, what the blades show a little inside
+// their reach (the near ring, where no card stands yet) and what the cards and the ground
+// between them show just beyond it (the far ring), and keeps as the gain each far level is
+// lit with, per colour channel, what makes the far ring show the blades' ratio. The far
+// ring's radiance is proportional to the gain it was lit with, so a measurement corrects
+// it in one step and is not fed back; the blades are not lit with the gain.
 //
 // Per pixel: the radiance `actual` (fogged, as the frame holds it), the fog's colour `sky`
 // and amount `f` there, and the model's radiance `model` (unfogged, without the gain). The
@@ -25,25 +28,88 @@ fn gain_terms(actual: vec3<f32>, sky: vec3<f32>, f: f32, model: vec3<f32>) -> Ga
     return GainTerms(max(actual - f * sky, vec3<f32>(0.0)), model * clear);
 }
 
-// The smallest and largest gain kept, and the fewest pixels a measurement needs.
+// The smallest and largest gain kept, the fewest pixels a measurement needs, and the
+// range kept of the blades' own ratio to the model.
 const GAIN_MIN: f32 = 0.25;
 const GAIN_MAX: f32 = 4.0;
 const GAIN_MIN_SAMPLES: f32 = 16.0;
+const BLADES_MIN: f32 = 0.5;
+const BLADES_MAX: f32 = 2.0;
 
-// The gain after a frame's sums over `count` pixels, from `previous` (rgb the gain the
-// pixels were lit with, w 1 once measured): the first measurement is taken as it is, later
-// ones move the gain `blend` of the way (a change of light settles in a few frames without
-// flicker); fewer than GAIN_MIN_SAMPLES pixels (the level out of view) keep it.
-fn next_gain(shown: vec3<f32>, model: vec3<f32>, count: f32, previous: vec4<f32>, blend: f32) -> vec4<f32> {
-    if count < GAIN_MIN_SAMPLES || any(shown <= vec3<f32>(1e-6)) || any(model <= vec3<f32>(1e-6)) {
+// The share of the near ring's pixels that must stand above the ground (on a blade) for
+// it to be measured as blades.
+const BLADES_STANDING: f32 = 0.5;
+
+// What the blades show against the model, measured in the near ring (their sums, rgb, and
+// pixel count, w; the model's sums, rgb, and the pixels standing above the ground, w): 1
+// where too few pixels were measured, or too few stand on blades (bare ground, a density
+// map's hole, a field seen from outside), so that nothing but blades sets the far levels.
+fn blades_ratio(shown: vec4<f32>, model: vec4<f32>) -> vec3<f32> {
+    if shown.w < GAIN_MIN_SAMPLES || model.w < BLADES_STANDING * shown.w || any(shown.rgb <= vec3<f32>(1e-6)) || any(model.rgb <= vec3<f32>(1e-6)) {
+        return vec3<f32>(1.0);
+    }
+    return clamp(shown.rgb / model.rgb, vec3<f32>(BLADES_MIN), vec3<f32>(BLADES_MAX));
+}
+
+// The gain after a frame's sums: `far_shown` / `far_model` over the far ring's pixels
+// (rgb, and their count in w), `near_shown` / `near_model` over the near ring's (the
+// blades, not lit with the gain; the pixels standing on blades in `near_model.w`). The far levels should show what the model says times
+// what the blades show against the model (`blades_ratio`): the blades, carried out past
+// their reach by the model's change with distance and view. `previous` is the gain the far
+// pixels were lit with (rgb) and the measurements it averages (w, 0 before the first):
+// each frame's aim enters as into a running mean until there are 1 / `blend` of them, then
+// moves the gain `blend` of the way (the pixels measured move between frames, so the mean
+// settles on the field's, and a change of light settles in a few frames without flicker);
+// fewer than GAIN_MIN_SAMPLES far pixels (the level out of view) keep it.
+fn next_gain(far_shown: vec4<f32>, far_model: vec3<f32>, near_shown: vec4<f32>, near_model: vec4<f32>, previous: vec4<f32>, blend: f32) -> vec4<f32> {
+    if far_shown.w < GAIN_MIN_SAMPLES || any(far_shown.rgb <= vec3<f32>(1e-6)) || any(far_model <= vec3<f32>(1e-6)) {
         return previous;
     }
-    let old = select(vec3<f32>(1.0), previous.rgb, previous.w > 0.5);
-    let aim = clamp(old * model / shown, vec3<f32>(GAIN_MIN), vec3<f32>(GAIN_MAX));
-    if previous.w < 0.5 {
-        return vec4<f32>(aim, 1.0);
+    let measured = previous.w > 0.5;
+    let old = select(vec3<f32>(1.0), previous.rgb, measured);
+    let wanted = far_model * blades_ratio(near_shown, near_model);
+    let aim = clamp(old * wanted / far_shown.rgb, vec3<f32>(GAIN_MIN), vec3<f32>(GAIN_MAX));
+    let n = select(0.0, previous.w, measured);
+    let cap = 1.0 / max(blend, 1e-3);
+    return vec4<f32>(mix(old, aim, max(1.0 / (n + 1.0), blend)), min(n + 1.0, cap));
+}
+
+// The smallest and largest contrast gain kept.
+const CONTRAST_MIN: f32 = 0.5;
+const CONTRAST_MAX: f32 = 4.0;
+// Luminance weights (Rec. 709) of linear radiance.
+const LUMA: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
+
+// The variation of a ring's pixels: the standard deviation of their luminance (of the
+// radiance without the fog) over its mean, from its sums (x) and sums of squares (y) over
+// `n` pixels.
+fn variation(d: vec2<f32>, n: f32) -> f32 {
+    let k = max(n, 1.0);
+    let m = d.x / k;
+    return sqrt(max(d.y / k - m * m, 0.0)) / max(m, 1e-6);
+}
+
+// The cards' contrast gain after a frame's sums (issue 27, point 1: texture of the same
+// contrast): the cards show the atlas's texels around its mean this many times as far as
+// lit, so that the far ring's pixels vary about their mean as much as the near ring's
+// blades do about theirs. `previous` is the gain they were lit with (0 before the first
+// measurement), `n` the measurements the light gain averages before this one (the two
+// settle together, as `next_gain`); either ring with too few pixels keeps it.
+fn next_contrast(far_d: vec2<f32>, far_n: f32, near_d: vec2<f32>, near_n: f32, previous: f32, n: f32, blend: f32) -> f32 {
+    let far_v = variation(far_d, far_n);
+    let near_v = variation(near_d, near_n);
+    if far_n < GAIN_MIN_SAMPLES || near_n < GAIN_MIN_SAMPLES || far_v <= 1e-4 || near_v <= 1e-4 {
+        return previous;
     }
-    return vec4<f32>(mix(old, aim, blend), 1.0);
+    let old = select(1.0, previous, previous > 0.0);
+    let aim = clamp(old * near_v / far_v, CONTRAST_MIN, CONTRAST_MAX);
+    return mix(old, aim, max(1.0 / (n + 1.0), blend));
+}
+
+// A contrast gain from its state word: 1 until measured.
+fn contrast_gain(word: u32) -> f32 {
+    let k = bitcast<f32>(word);
+    return select(1.0, k, k > 0.0);
 }
 
 // A gain from the state's words: 1 until measured.

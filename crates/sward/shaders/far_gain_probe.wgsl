@@ -1,13 +1,16 @@
-// Probe: the far gain's arithmetic (far_gain_math.wgsl) over a list of pixels of one
-// level, for the test that compares it with its CPU twin (`render::far_gain`). In: per
-// pixel the radiance and f, the fog's colour, the model's radiance; then the previous gain
-// and the blend. Out: the sums (shown, model), the pixels, the next gain and the gain the
-// level would light with.
+// Probe: the far gain's arithmetic (far_gain_math.wgsl) over a list of pixels, for the
+// test that compares it with its CPU twin (`render::far_gain`). In: per pixel the radiance
+// and f, the fog's colour and the ring (w: 1 near, 0 far), the model's radiance and
+// whether the pixel stands on a blade (w); then the
+// previous gain with its measurements, the blend, the pixels and the previous contrast
+// gain. Out: the far ring's sums (shown with the count, model), the near ring's, the next
+// gain, the gain the level would light with, the luminance sums (far, near) and the next
+// contrast gain with the one the cards would be shown with.
 //!include far_gain_math.wgsl
 
 struct GainPixel {
     actual_f: vec4<f32>,
-    sky: vec4<f32>,
+    sky_near: vec4<f32>,
     model: vec4<f32>,
 }
 
@@ -20,19 +23,38 @@ fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x != 0u {
         return;
     }
-    var shown = vec3<f32>(0.0);
-    var model = vec3<f32>(0.0);
+    var far_shown = vec4<f32>(0.0);
+    var far_model = vec4<f32>(0.0);
+    var near_shown = vec4<f32>(0.0);
+    var near_model = vec4<f32>(0.0);
+    var d = vec4<f32>(0.0);
     // The count comes in: a buffer is never empty, so an empty list is one unread pixel.
-    let n = u32(probe_previous[1].y);
-    for (var k = 0u; k < n; k++) {
+    let count = u32(probe_previous[1].y);
+    for (var k = 0u; k < count; k++) {
         let s = probe_pixels[k];
-        let t = gain_terms(s.actual_f.rgb, s.sky.rgb, s.actual_f.w, s.model.rgb);
-        shown += t.shown;
-        model += t.model;
+        let t = gain_terms(s.actual_f.rgb, s.sky_near.rgb, s.actual_f.w, s.model.rgb);
+        let l = dot(t.shown, LUMA);
+        if s.sky_near.w > 0.5 {
+            near_shown += vec4<f32>(t.shown, 1.0);
+            // model.w: 1 for a pixel standing on a blade.
+            near_model += vec4<f32>(t.model, s.model.w);
+            d += vec4<f32>(0.0, 0.0, l, l * l);
+        } else {
+            far_shown += vec4<f32>(t.shown, 1.0);
+            far_model += vec4<f32>(t.model, s.model.w);
+            d += vec4<f32>(l, l * l, 0.0, 0.0);
+        }
     }
-    let next = next_gain(shown, model, f32(n), probe_previous[0], probe_previous[1].x);
-    probe_out[0] = vec4<f32>(shown, f32(n));
-    probe_out[1] = vec4<f32>(model, 0.0);
-    probe_out[2] = next;
-    probe_out[3] = vec4<f32>(far_gain(bitcast<vec4<u32>>(next)), 0.0);
+    let previous = probe_previous[0];
+    let next = next_gain(far_shown, far_model.rgb, near_shown, near_model, previous, probe_previous[1].x);
+    let n = select(0.0, previous.w, previous.w > 0.5);
+    let k = next_contrast(d.xy, far_shown.w, d.zw, near_shown.w, probe_previous[1].z, n, probe_previous[1].x);
+    probe_out[0] = far_shown;
+    probe_out[1] = far_model;
+    probe_out[2] = near_shown;
+    probe_out[3] = near_model;
+    probe_out[4] = next;
+    probe_out[5] = vec4<f32>(far_gain(bitcast<vec4<u32>>(next)), 0.0);
+    probe_out[6] = d;
+    probe_out[7] = vec4<f32>(k, contrast_gain(bitcast<u32>(k)), 0.0, 0.0);
 }

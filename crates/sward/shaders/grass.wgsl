@@ -223,9 +223,11 @@ fn blade_shape(blade: Blade) -> u32 {
 // at a distance where the cull keeps `keep` blades in n (cull.wgsl), each kept blade is n /
 // keep times as wide (issue 27: thinning keeps the coverage, as in Ghost of Tsushima).
 // Within the first level, and without thinning, 1.
-// At most this much wider: past it (the last levels, where keep is 1 or 2 in 8) the blades
-// would read as broad leaves, and the billboards fading in there cover the ground.
-const MAX_WIDEN: f32 = 3.0;
+// At most this much wider: past it (from half the reach, where keep falls below 4 in 8) the
+// blades read as broad leaves (at 3, the prairie's last levels at 960x540 were a band of
+// bright blobs), and the billboards fading in there (from half the reach) fill the gaps:
+// since `far_gain` calibrates them on the blades they look like the blades they replace.
+const MAX_WIDEN: f32 = 2.0;
 
 fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
     let n = frame.thinning.w;

@@ -269,12 +269,18 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         );
         match world.renderer.far_gain(&gpu)? {
             Some(g) => println!(
-                "far levels' light gain (measured against the blades' light model): \
+                "far levels' light gain (measured against the blades): \
                  {:.3} {:.3} {:.3}",
                 g.x, g.y, g.z
             ),
             None => println!("far levels' light gain: not measured (none in view)"),
         }
+        let (ratio, contrast) = world.renderer.far_calibration(&gpu)?;
+        println!(
+            "blades against the far light model: {:.3} {:.3} {:.3}; cards' contrast gain: \
+             {contrast:.3}",
+            ratio.x, ratio.y, ratio.z
+        );
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
             let total: f64 = sums.iter().sum::<f64>() / timed as f64 + wind_total;

@@ -180,5 +180,9 @@ impl AppState {
             Ok(g) => self.far_gain = g,
             Err(e) => log::warn!("far gain: {e}"),
         }
+        match self.renderer.far_calibration(gpu) {
+            Ok(c) => self.far_calibration = c,
+            Err(e) => log::warn!("far calibration: {e}"),
+        }
     }
 }

@@ -2,19 +2,38 @@
 //! billboards and the far ground stand for the blades beyond their reach and are lit with
 //! the blades' own light model (`far_grass_light`, far_grass.wgsl, which a blade's shading
 //! averaged over what a distant eye sees of a canopy), but through an atlas, card coverage
-//! and a ground texture of their own, which need not average to it. Every frame, after its
-//! grass is lit, one workgroup (`shaders/far_gain_common.wgsl`) compares what the cards and
-//! the ground between them show just beyond the blades' reach ([`RING`]) with what the
-//! model says at the same points, before the fog, and keeps the ratio per colour channel
-//! as the gain both are lit with in the next frame. Their radiance is proportional to the
-//! gain they were lit with, so a measurement corrects it in one step; later ones move it
-//! [`BLEND`] of the way, so a change of light settles in a few frames without flicker. The
-//! gain lives in the far state beside the gusts' bend (`terrain::TerrainPass::waves`, from
-//! word [`GAIN_WORD`]); until measured it is 1. A host's pass (`embed`, `prepare` /
-//! `render`) is not measured: its cards keep the gain 1.
+//! and a ground texture of their own, which need not average to it, and the model itself
+//! is not the blades (the prairie's blades read 0.95-1.4 times it, more as the wind bends
+//! them). Every frame, after its grass is lit, one workgroup
+//! (`shaders/far_gain_common.wgsl`) looks at one pixel of each cell of a grid ([`GRID`], a
+//! different pixel each frame) and compares, with what the model says at the same points
+//! before the fog:
+//! - what the blades show a little inside their reach ([`NEAR_RING`], where no card has
+//!   faded in yet): their ratio to the model;
+//! - what the cards and the ground between them show just beyond it ([`RING`]).
 //!
-//! The prairie (4x MSAA, lit deferred), before the gains: the cards at 28-50 m read 20-24
-//! levels brighter than the blades there (`tests/far_field.rs`).
+//! Two gains follow, both kept in the far state beside the gusts' bend
+//! (`terrain::TerrainPass::waves`):
+//! - **the light gain** (per colour channel, from word [`GAIN_WORD`]): the far levels should
+//!   show the model times the blades' ratio to it (the blades, carried past their reach by
+//!   the model's change with distance and view). Their radiance is proportional to the
+//!   gain they were lit with, so a measurement corrects it in one step.
+//! - **the contrast gain** (word [`CALIBRATION_WORD`] + 3, beside the blades' ratio): the
+//!   cards show each texel's ratio to their mean raised to it, so that the far ring's
+//!   pixels vary about their mean (standard deviation of luminance over the mean) as the
+//!   near ring's blades do about theirs.
+//!
+//! Each measurement enters a running mean until there are 1 / [`BLEND`] of them, then moves
+//! the gains [`BLEND`] of the way: the jittered pixels average into the field's, and a
+//! change of light settles in a few frames without flicker. Until measured both are 1. A
+//! host's pass (`embed`, `prepare` / `render`) is not measured: its cards keep both at 1.
+//!
+//! The prairie (4x MSAA, lit deferred), at 480 x 270 after 4 frames, against blades to
+//! 50 m (`sward bench --far-field`): before the gains the cards at 28-50 m read 20-24
+//! levels brighter and 67 % flatter than the blades; on the model alone 8-16 levels
+//! brighter; on the blades within 3 levels and 8 % of the blades' contrast, the band where
+//! the thinned blades' last levels meet the first cards 7.4 levels bright
+//! (`tests/far_field.rs`).
 
 use glam::Vec3;
 
@@ -22,8 +41,8 @@ use crate::error::Result;
 use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
 
-/// Columns and rows of the frame's pixels the measurement looks at (2,048 samples: 8 per
-/// invocation of its one workgroup).
+/// Columns and rows of the frame's pixels the measurement looks at (2,048 samples: 16 per
+/// invocation of its one workgroup), one pixel of each cell, a different one each frame.
 pub const GRID: (u32, u32) = (64, 32);
 
 /// How far a frame's measurement moves a gain (after the first, taken as it is).
@@ -31,6 +50,13 @@ pub const BLEND: f32 = 0.25;
 
 /// The ring measured, as multiples of the blades' reach: the far levels' first metres.
 pub const RING: (f32, f32) = (1.0, 1.5);
+
+/// The ring where the blades are measured, as multiples of their reach: inside the band
+/// where the cards fade in (from 0.6 of the reach, `render::billboard`).
+pub const NEAR_RING: (f32, f32) = (0.25, 0.5);
+
+/// The range kept of the blades' ratio to the model (twin of `BLADES_MIN`, `BLADES_MAX`).
+pub const BLADES_RANGE: (f32, f32) = (0.5, 2.0);
 
 /// The smallest and largest gain kept (twin of `GAIN_MIN`, `GAIN_MAX`).
 pub const GAIN_RANGE: (f32, f32) = (0.25, 4.0);
@@ -41,8 +67,12 @@ pub const MIN_SAMPLES: f32 = 16.0;
 /// Word of the far state where the gain starts (rgb, then 1 once measured).
 pub const GAIN_WORD: usize = 4;
 
+/// Word of the far state where the blades' ratio to the model (rgb) and the cards'
+/// contrast gain (w, 0 before the first measurement) start.
+pub const CALIBRATION_WORD: usize = 8;
+
 /// Bytes of the far state.
-pub const STATE_BYTES: u64 = 32;
+pub const STATE_BYTES: u64 = 48;
 
 /// One pixel's terms: its radiance without the fog and the model's, both weighed by
 /// (1 − f) (twin of `gain_terms`).
@@ -51,24 +81,110 @@ pub fn gain_terms(actual: Vec3, sky: Vec3, f: f32, model: Vec3) -> (Vec3, Vec3) 
     ((actual - f * sky).max(Vec3::ZERO), model * clear)
 }
 
-/// The gain after a frame's sums over `count` pixels (twin of `next_gain`): `previous` is
-/// (the gain the pixels were lit with, measured).
+/// Luminance weights (Rec. 709) of linear radiance (twin of `LUMA`).
+pub const LUMA: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
+/// The smallest and largest contrast gain kept (twin of `CONTRAST_MIN`, `CONTRAST_MAX`).
+pub const CONTRAST_RANGE: (f32, f32) = (0.5, 4.0);
+
+/// A ring's sums: the radiance shown, the model's, the pixels counted, and the shown
+/// luminance's sum and sum of squares.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RingSums {
+    /// Radiance shown, without the fog, weighed by (1 − f).
+    pub shown: Vec3,
+    /// The model's radiance, weighed the same.
+    pub model: Vec3,
+    /// Pixels counted.
+    pub count: f32,
+    /// The luminance of `shown`, summed over the pixels.
+    pub luma: f32,
+    /// Its square, summed.
+    pub luma2: f32,
+    /// Pixels standing on a blade (above the ground by a tenth of the tallest blade).
+    pub standing: f32,
+}
+
+impl RingSums {
+    /// Adds one pixel's terms ([`gain_terms`]), standing on a blade or not.
+    pub fn add(&mut self, terms: (Vec3, Vec3), standing: bool) {
+        let l = terms.0.dot(LUMA);
+        self.shown += terms.0;
+        self.model += terms.1;
+        self.count += 1.0;
+        self.luma += l;
+        self.luma2 += l * l;
+        self.standing += if standing { 1.0 } else { 0.0 };
+    }
+
+    fn measured(&self) -> bool {
+        self.count >= MIN_SAMPLES
+            && self.shown.min_element() > 1e-6
+            && self.model.min_element() > 1e-6
+    }
+
+    /// The standard deviation of the pixels' luminance over its mean (twin of
+    /// `variation`).
+    pub fn variation(&self) -> f32 {
+        let n = self.count.max(1.0);
+        let m = self.luma / n;
+        (self.luma2 / n - m * m).max(0.0).sqrt() / m.max(1e-6)
+    }
+}
+
+/// The share of the near ring's pixels that must stand on a blade for it to be measured
+/// as blades (twin of `BLADES_STANDING`).
+pub const BLADES_STANDING: f32 = 0.5;
+
+/// What the blades show against the model in the near ring (twin of `blades_ratio`): 1
+/// where too few pixels were measured or too few stand on blades (bare ground, a hole in
+/// the density map, a field seen from outside).
+pub fn blades_ratio(near: &RingSums) -> Vec3 {
+    if !near.measured() || near.standing < BLADES_STANDING * near.count {
+        return Vec3::ONE;
+    }
+    (near.shown / near.model).clamp(Vec3::splat(BLADES_RANGE.0), Vec3::splat(BLADES_RANGE.1))
+}
+
+/// How far a measurement moves a value averaged over `n` measurements before it: a running
+/// mean until there are 1 / `blend`, then `blend` of the way.
+fn step(n: f32, blend: f32) -> f32 {
+    (1.0 / (n + 1.0)).max(blend)
+}
+
+/// The gain after a frame's sums over the far and the near ring (twin of `next_gain`):
+/// `previous` is (the gain the far pixels were lit with, the measurements it averages: 0
+/// before the first). The far levels aim at the model times the blades' ratio to it.
 pub fn next_gain(
-    shown: Vec3,
-    model: Vec3,
-    count: f32,
-    previous: (Vec3, bool),
+    far: &RingSums,
+    near: &RingSums,
+    previous: (Vec3, f32),
     blend: f32,
-) -> (Vec3, bool) {
-    if count < MIN_SAMPLES || shown.min_element() <= 1e-6 || model.min_element() <= 1e-6 {
+) -> (Vec3, f32) {
+    if !far.measured() {
         return previous;
     }
-    let old = if previous.1 { previous.0 } else { Vec3::ONE };
-    let aim = (old * model / shown).clamp(Vec3::splat(GAIN_RANGE.0), Vec3::splat(GAIN_RANGE.1));
-    if !previous.1 {
-        return (aim, true);
+    let measured = previous.1 > 0.5;
+    let old = if measured { previous.0 } else { Vec3::ONE };
+    let target = far.model * blades_ratio(near);
+    let aim =
+        (old * target / far.shown).clamp(Vec3::splat(GAIN_RANGE.0), Vec3::splat(GAIN_RANGE.1));
+    let n = if measured { previous.1 } else { 0.0 };
+    let cap = 1.0 / blend.max(1e-3);
+    (old.lerp(aim, step(n, blend)), (n + 1.0).min(cap))
+}
+
+/// The cards' contrast gain after a frame's sums (twin of `next_contrast`): `previous` the
+/// gain they were lit with (0 before the first measurement), `n` the measurements the
+/// light gain averaged before this frame's.
+pub fn next_contrast(far: &RingSums, near: &RingSums, previous: f32, n: f32, blend: f32) -> f32 {
+    let (far_v, near_v) = (far.variation(), near.variation());
+    if far.count < MIN_SAMPLES || near.count < MIN_SAMPLES || far_v <= 1e-4 || near_v <= 1e-4 {
+        return previous;
     }
-    (old.lerp(aim, blend), true)
+    let old = if previous > 0.0 { previous } else { 1.0 };
+    let aim = (old * near_v / far_v).clamp(CONTRAST_RANGE.0, CONTRAST_RANGE.1);
+    old + (aim - old) * step(n, blend)
 }
 
 impl super::Renderer {
@@ -79,6 +195,19 @@ impl super::Renderer {
         let words: &[f32] = bytemuck::cast_slice(&bytes);
         let g = &words[GAIN_WORD..GAIN_WORD + 4];
         Ok((g[3] > 0.5).then(|| Vec3::new(g[0], g[1], g[2])))
+    }
+
+    /// The blades' ratio to the far light model in the near ring (rgb) and the cards'
+    /// contrast gain, as the last frame measured them (1 and 1 before the first;
+    /// blocking read-back, for statistics and tests).
+    pub fn far_calibration(&self, gpu: &Gpu) -> Result<(Vec3, f32)> {
+        let bytes = crate::gpu::read_buffer(gpu, self.draw.waves_buffer(), STATE_BYTES)?;
+        let words: &[f32] = bytemuck::cast_slice(&bytes);
+        let g = &words[CALIBRATION_WORD..CALIBRATION_WORD + 4];
+        if g[3] <= 0.0 {
+            return Ok((Vec3::ONE, 1.0));
+        }
+        Ok((Vec3::new(g[0], g[1], g[2]), g[3]))
     }
 }
 
@@ -98,6 +227,7 @@ pub struct FarGainPass {
 struct GainParams {
     ring: [f32; 4],
     grid: [u32; 4],
+    near: [f32; 4],
 }
 
 /// What a frame's measurement reads.
@@ -138,11 +268,19 @@ impl FarGainPass {
         }
     }
 
-    /// Writes the ring (metres, from the blades' reach `reach`) and the tallest blade.
-    pub fn prepare(&self, reach: f32, tallest: f32) {
+    /// Writes the rings (metres, from the blades' reach `reach`), the tallest blade, the
+    /// frame's number (which pixel of each grid cell is measured) and whether cards are
+    /// drawn (the contrast gain is measured only then).
+    pub fn prepare(&self, reach: f32, tallest: f32, frame: u32, cards: bool) {
         let p = GainParams {
             ring: [RING.0 * reach, RING.1 * reach, tallest, BLEND],
-            grid: [GRID.0, GRID.1, 0, 0],
+            grid: [GRID.0, GRID.1, frame, 0],
+            near: [
+                NEAR_RING.0 * reach,
+                NEAR_RING.1 * reach,
+                if cards { 1.0 } else { 0.0 },
+                0.0,
+            ],
         };
         self.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
     }
@@ -296,7 +434,8 @@ impl FarGainPass {
     }
 }
 
-/// One pixel of the probe: its radiance, the fog's amount and colour, the model's.
+/// One pixel of the probe: its radiance, the fog's amount and colour, the model's, and
+/// its ring.
 #[derive(Clone, Copy, Debug)]
 pub struct GainPixel {
     /// The frame's (fogged) radiance.
@@ -307,26 +446,35 @@ pub struct GainPixel {
     pub f: f32,
     /// The model's radiance (unfogged, without the gain).
     pub model: Vec3,
+    /// In the near ring (the blades), not the far one.
+    pub near: bool,
+    /// Standing on a blade (above the ground).
+    pub standing: bool,
 }
 
-/// What the probe returns: the sums (shown, model), the next gain and whether it is
-/// measured, and the gain the level would light with (`far_gain`).
-pub type ProbeResult = (Vec3, Vec3, (Vec3, bool), Vec3);
+/// What the probe returns: the far and the near ring's sums, the next gain and the
+/// measurements it averages, the gain the level would light with (`far_gain`), and the
+/// next contrast gain with the one the cards would be shown with (`contrast_gain`).
+pub type ProbeResult = (RingSums, RingSums, (Vec3, f32), Vec3, (f32, f32));
 
-/// Runs the WGSL arithmetic (`far_gain_math.wgsl`) over `pixels` from `previous`, on the
-/// GPU, for the test against [`gain_terms`] and [`next_gain`].
+/// Runs the WGSL arithmetic (`far_gain_math.wgsl`) over `pixels` from `previous` (gain,
+/// measurements) and `contrast` (the previous contrast gain), on the GPU, for the test
+/// against [`gain_terms`], [`next_gain`] and [`next_contrast`].
 pub fn probe(
     gpu: &Gpu,
     pixels: &[GainPixel],
-    previous: (Vec3, bool),
+    previous: (Vec3, f32),
+    contrast: f32,
     blend: f32,
 ) -> Result<ProbeResult> {
     let mut flat: Vec<[f32; 12]> = pixels
         .iter()
         .map(|s| {
+            let near = if s.near { 1.0 } else { 0.0 };
+            let standing = if s.standing { 1.0 } else { 0.0 };
             [
-                s.actual.x, s.actual.y, s.actual.z, s.f, s.sky.x, s.sky.y, s.sky.z, 0.0, s.model.x,
-                s.model.y, s.model.z, 0.0,
+                s.actual.x, s.actual.y, s.actual.z, s.f, s.sky.x, s.sky.y, s.sky.z, near,
+                s.model.x, s.model.y, s.model.z, standing,
             ]
         })
         .collect();
@@ -338,10 +486,10 @@ pub fn probe(
         previous.0.x,
         previous.0.y,
         previous.0.z,
-        if previous.1 { 1.0 } else { 0.0 },
+        previous.1,
         blend,
         pixels.len() as f32,
-        0.0,
+        contrast,
         0.0,
     ];
     let out = crate::gpu::run_vec4_probe(
@@ -349,13 +497,23 @@ pub fn probe(
         "sward.far_gain_probe",
         "far_gain_probe.wgsl",
         &[bytemuck::cast_slice(&flat), bytemuck::cast_slice(&prev)],
-        4,
+        8,
     )?;
     let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
+    let sums = |shown: [f32; 4], model: [f32; 4], luma: f32, luma2: f32| RingSums {
+        shown: v(shown),
+        model: v(model),
+        count: shown[3],
+        luma,
+        luma2,
+        standing: model[3],
+    };
+    let d = out[6];
     Ok((
-        v(out[0]),
-        v(out[1]),
-        (v(out[2]), out[2][3] > 0.5),
-        v(out[3]),
+        sums(out[0], out[1], d[0], d[1]),
+        sums(out[2], out[3], d[2], d[3]),
+        (v(out[4]), out[4][3]),
+        v(out[5]),
+        (out[7][0], out[7][1]),
     ))
 }

@@ -251,7 +251,8 @@ impl Renderer {
             return;
         };
         let tallest = super::light::blade_heights(&self.scene.field).1;
-        self.far_gain.prepare(self.last_cull.max_distance, tallest);
+        let cards = self.billboards.is_some();
+        self.far_gain.prepare(self.last_cull.max_distance, tallest, self.frame_count, cards);
         let inputs = super::far_gain::GainInputs {
             frame: self.draw.frame_buffer(),
             terrain: self.draw.terrain_buffers(),

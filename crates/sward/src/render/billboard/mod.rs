@@ -17,10 +17,15 @@
 //! grazing angles; the nested cells are 1.5 m near the blades and each card is turned a
 //! little off the camera (±20°), so no regular structure is left.
 //!
-//! Cards fade in over the band where the blades thin out (from 0.6 of `culling.max_distance`
-//! to it: Eq. 20's half of the cross-fade) and out over the last 15 % of the billboard
-//! radius, where the ground's grass colour takes over; sway with the wind the blades read
-//! and bend away from colliders and balls ([`top_offset`]).
+//! Cards fade in over the band where the blades thin out (from 0.5 to 0.75 of
+//! `culling.max_distance`: Eq. 20's last levels keep fewer than half the blades, which
+//! widen at most twice, `grass.wgsl`, so the cards fill what the thinning leaves) and out
+//! over the last 15 % of the billboard radius, where the ground's grass colour takes over;
+//! sway with the wind the blades read and bend away from colliders and balls
+//! ([`top_offset`]). A card's texels are sampled three mip levels sharper than its
+//! footprint (`billboard.wgsl`): a pixel shows a few of the strip's blades, as a pixel of
+//! the blades shows one, not their average, and the measured contrast gain (`far_gain`)
+//! brings their spread to the blades'.
 
 pub mod atlas;
 mod pass;
@@ -163,7 +168,7 @@ impl BillboardLayout {
         } else {
             0.0
         };
-        let fade_in = (0.6 * blades, blades.max(1e-3));
+        let fade_in = (0.5 * blades, 0.75 * blades);
         BillboardParams {
             cells: [cx, cz, level_side(), self.cell_q],
             fade: [fade_in.0, fade_in.1, 0.85 * self.radius, self.radius],
