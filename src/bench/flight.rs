@@ -12,8 +12,9 @@
 //!
 //! The **handover ratio** (issue 27, point 4) measures the pops where they would happen:
 //! the mean frame-to-frame difference of the pixels whose ground lies in the band where
-//! the blades thin out and the billboards fade in (0.6 to 1 of `culling.max_distance`
-//! from the camera), over that of the other ground pixels. Which ground a pixel sees is
+//! the blades thin out and the billboards fade in (from where the cards start fading in,
+//! half of `culling.max_distance`, to the blades' reach), over that of the other ground
+//! pixels. Which ground a pixel sees is
 //! found by marching its view ray over the terrain's height function on the CPU, once per
 //! block of [`HANDOVER_BLOCK`] pixels. A handover without popping changes no more than
 //! the rest of the moving picture: a ratio of about 1 or less.
@@ -38,9 +39,9 @@ use sward::session::Session;
 pub const FLIGHT_SPEED: f32 = 4.0;
 /// Side of the pixel blocks whose ground distance one view ray decides.
 pub const HANDOVER_BLOCK: u32 = 16;
-/// The handover band, in blade radii from the camera (the blades' thinning and the cards'
-/// fade-in).
-pub const HANDOVER_BAND: (f32, f32) = (0.6, 1.0);
+/// The handover band, in blade radii from the camera (the cards' fade-in and the blades'
+/// last levels).
+pub const HANDOVER_BAND: (f32, f32) = (sward::render::billboard::FADE_IN.0, 1.0);
 
 /// The report of one flight (JSON keys as the issue names them).
 #[derive(Clone, Debug, Serialize)]

@@ -58,6 +58,10 @@ pub const LEVEL_HALF: i32 = 19;
 const MAX_LEVELS: u32 = 12;
 /// How far a card is turned off facing the camera, at most (radians).
 pub const CARD_TURN: f32 = 0.35;
+/// Where the cards fade in, as multiples of the blades' reach (`culling.max_distance`):
+/// Eq. 20's levels from half the reach keep fewer than half the blades, which widen at
+/// most twice (`grass.wgsl`), and the cards fill what they leave.
+pub const FADE_IN: (f32, f32) = (0.5, 0.75);
 /// Card width per cell side, and card height per tallest blade.
 const CARD_WIDTH: f32 = 2.0;
 const CARD_HEIGHT: f32 = 0.9;
@@ -168,7 +172,7 @@ impl BillboardLayout {
         } else {
             0.0
         };
-        let fade_in = (0.5 * blades, 0.75 * blades);
+        let fade_in = (FADE_IN.0 * blades, FADE_IN.1 * blades);
         BillboardParams {
             cells: [cx, cz, level_side(), self.cell_q],
             fade: [fade_in.0, fade_in.1, 0.85 * self.radius, self.radius],
