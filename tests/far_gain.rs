@@ -106,9 +106,14 @@ fn twin(
 /// A probe case: its name, pixels, previous gain and measurements, previous contrast gain.
 type Case = (&'static str, Vec<GainPixel>, (Vec3, f32), f32);
 
+/// `a` within 1e-5 of `b` relative to its largest component; sums a NaN or an infinity
+/// entered match where both are the same non-finite value.
 fn close(a: Vec3, b: Vec3, what: &str) {
-    let d = (a - b).abs().max_element() / b.abs().max_element().max(1e-3);
-    assert!(d < 1e-5, "{what}: gpu {a} cpu {b}");
+    let scale = b.abs().max_element().max(1e-3);
+    for (x, y) in a.to_array().into_iter().zip(b.to_array()) {
+        let same = (x.is_nan() && y.is_nan()) || x == y || (x - y).abs() / scale < 1e-5;
+        assert!(same, "{what}: gpu {a} cpu {b}");
+    }
 }
 
 fn close_sums(a: &RingSums, b: &RingSums, what: &str) {
@@ -126,7 +131,10 @@ fn close_sums(a: &RingSums, b: &RingSums, what: &str) {
 #[test]
 fn the_gpu_far_gain_arithmetic_matches_its_twin() {
     let gpu = common::gpu();
-    let cases: [Case; 8] = [
+    let mut poisoned = pixels(200, 10, 1.3, 0.1, (120, 1.2, 0.4));
+    poisoned[7].actual = Vec3::new(f32::NAN, 0.2, 0.2);
+    poisoned[150].actual = Vec3::splat(f32::INFINITY);
+    let cases: [Case; 9] = [
         (
             "first measurement, no blades in view",
             pixels(200, 1, 1.3, 0.2, (0, 1.0, 0.0)),
@@ -164,6 +172,12 @@ fn the_gpu_far_gain_arithmetic_matches_its_twin() {
             0.0,
         ),
         ("nothing to measure", Vec::new(), (Vec3::ZERO, 0.0), 0.0),
+        (
+            "a frame with a NaN and an infinity keeps both gains",
+            poisoned,
+            (Vec3::splat(0.8), 3.0),
+            1.5,
+        ),
         (
             "a near ring of bare ground",
             on_the_ground(pixels(200, 8, 1.3, 0.1, (120, 1.2, 0.4))),
@@ -273,6 +287,23 @@ fn the_far_gain_brings_the_far_levels_to_the_blades() {
     let want = near.variation() / far.variation();
     assert!((want - 2.0).abs() < 0.15, "variation ratio {want}");
     assert!((k - want).abs() < 1e-5, "contrast gain {k} against {want}");
+    // A frame with an infinite pixel measures nothing; a NaN pixel reads as black.
+    let clean = pixels(200, 10, 1.3, 0.1, (120, 1.2, 0.4));
+    let mut px = clean.clone();
+    px[7].actual = Vec3::splat(f32::INFINITY);
+    let (_, _, kept_inf, k_inf) = twin(&px, (Vec3::splat(0.8), 3.0), 1.5, b);
+    assert_eq!((kept_inf, k_inf), ((Vec3::splat(0.8), 3.0), 1.5));
+    let (mut nan, mut black) = (clean.clone(), clean);
+    nan[7].actual = Vec3::splat(f32::NAN);
+    black[7].actual = Vec3::ZERO;
+    black[7].f = 0.0;
+    nan[7].f = 0.0;
+    let (_, _, g_nan, _) = twin(&nan, (Vec3::splat(0.8), 3.0), 1.5, b);
+    let (_, _, g_black, _) = twin(&black, (Vec3::splat(0.8), 3.0), 1.5, b);
+    assert!(
+        g_nan.0.is_finite() && g_nan == g_black,
+        "{g_nan:?} against {g_black:?}"
+    );
     // No blades in view: the contrast gain is kept.
     let (_, _, _, kept) = twin(
         &pixels(200, 9, 1.0, 0.2, (0, 1.0, 0.0)),

@@ -36,6 +36,13 @@ const GAIN_MIN_SAMPLES: f32 = 16.0;
 const BLADES_MIN: f32 = 0.5;
 const BLADES_MAX: f32 = 2.0;
 
+// Whether every component of `v` is finite, read from its bits (an implementation may
+// assume that no float is NaN and fold a comparison of one with itself away).
+fn finite3(v: vec3<f32>) -> bool {
+    let e = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
+    return all(e != vec3<u32>(0x7f800000u));
+}
+
 // The share of the near ring's pixels that must stand above the ground (on a blade) for
 // it to be measured as blades.
 const BLADES_STANDING: f32 = 0.5;
@@ -48,7 +55,11 @@ fn blades_ratio(shown: vec4<f32>, model: vec4<f32>) -> vec3<f32> {
     if shown.w < GAIN_MIN_SAMPLES || model.w < BLADES_STANDING * shown.w || any(shown.rgb <= vec3<f32>(1e-6)) || any(model.rgb <= vec3<f32>(1e-6)) {
         return vec3<f32>(1.0);
     }
-    return clamp(shown.rgb / model.rgb, vec3<f32>(BLADES_MIN), vec3<f32>(BLADES_MAX));
+    let r = shown.rgb / model.rgb;
+    if !finite3(r) {
+        return vec3<f32>(1.0);
+    }
+    return clamp(r, vec3<f32>(BLADES_MIN), vec3<f32>(BLADES_MAX));
 }
 
 // The gain after a frame's sums: `far_shown` / `far_model` over the far ring's pixels
@@ -62,6 +73,11 @@ fn blades_ratio(shown: vec4<f32>, model: vec4<f32>) -> vec3<f32> {
 // settles on the field's, and a change of light settles in a few frames without flicker);
 // fewer than GAIN_MIN_SAMPLES far pixels (the level out of view) keep it.
 fn next_gain(far_shown: vec4<f32>, far_model: vec3<f32>, near_shown: vec4<f32>, near_model: vec4<f32>, previous: vec4<f32>, blend: f32) -> vec4<f32> {
+    // An infinite pixel (a NaN reads as black: `gain_terms` takes the fog off with a max)
+    // would drag the gain to its bound: such a frame measures nothing.
+    if !finite3(far_shown.rgb) {
+        return previous;
+    }
     if far_shown.w < GAIN_MIN_SAMPLES || any(far_shown.rgb <= vec3<f32>(1e-6)) || any(far_model <= vec3<f32>(1e-6)) {
         return previous;
     }
@@ -69,6 +85,11 @@ fn next_gain(far_shown: vec4<f32>, far_model: vec3<f32>, near_shown: vec4<f32>, 
     let old = select(vec3<f32>(1.0), previous.rgb, measured);
     let wanted = far_model * blades_ratio(near_shown, near_model);
     let aim = clamp(old * wanted / far_shown.rgb, vec3<f32>(GAIN_MIN), vec3<f32>(GAIN_MAX));
+    // A frame whose radiance is not finite somewhere (a NaN fails every comparison, so it
+    // passed the tests above, and a clamp may turn it into either bound) measures nothing.
+    if !finite3(old * wanted / far_shown.rgb) {
+        return previous;
+    }
     let n = select(0.0, previous.w, measured);
     let cap = 1.0 / max(blend, 1e-3);
     return vec4<f32>(mix(old, aim, max(1.0 / (n + 1.0), blend)), min(n + 1.0, cap));
@@ -102,6 +123,10 @@ fn next_contrast(far_d: vec2<f32>, far_n: f32, near_d: vec2<f32>, near_n: f32, p
         return previous;
     }
     let old = select(1.0, previous, previous > 0.0);
+    // Not finite (a NaN in the frame's radiance): kept out, as `next_gain` does.
+    if !finite3(vec3<f32>(old * near_v / far_v)) {
+        return previous;
+    }
     let aim = clamp(old * near_v / far_v, CONTRAST_MIN, CONTRAST_MAX);
     return mix(old, aim, max(1.0 / (n + 1.0), blend));
 }

@@ -143,7 +143,11 @@ pub fn blades_ratio(near: &RingSums) -> Vec3 {
     if !near.measured() || near.standing < BLADES_STANDING * near.count {
         return Vec3::ONE;
     }
-    (near.shown / near.model).clamp(Vec3::splat(BLADES_RANGE.0), Vec3::splat(BLADES_RANGE.1))
+    let r = near.shown / near.model;
+    if !r.is_finite() {
+        return Vec3::ONE;
+    }
+    r.clamp(Vec3::splat(BLADES_RANGE.0), Vec3::splat(BLADES_RANGE.1))
 }
 
 /// How far a measurement moves a value averaged over `n` measurements before it: a running
@@ -161,14 +165,19 @@ pub fn next_gain(
     previous: (Vec3, f32),
     blend: f32,
 ) -> (Vec3, f32) {
-    if !far.measured() {
+    // An infinite pixel would drag the gain to its bound (a NaN reads as black).
+    if !far.shown.is_finite() || !far.measured() {
         return previous;
     }
     let measured = previous.1 > 0.5;
     let old = if measured { previous.0 } else { Vec3::ONE };
     let target = far.model * blades_ratio(near);
-    let aim =
-        (old * target / far.shown).clamp(Vec3::splat(GAIN_RANGE.0), Vec3::splat(GAIN_RANGE.1));
+    let raw = old * target / far.shown;
+    // A frame whose radiance is not finite somewhere measures nothing.
+    if !raw.is_finite() {
+        return previous;
+    }
+    let aim = raw.clamp(Vec3::splat(GAIN_RANGE.0), Vec3::splat(GAIN_RANGE.1));
     let n = if measured { previous.1 } else { 0.0 };
     let cap = 1.0 / blend.max(1e-3);
     (old.lerp(aim, step(n, blend)), (n + 1.0).min(cap))
@@ -183,7 +192,12 @@ pub fn next_contrast(far: &RingSums, near: &RingSums, previous: f32, n: f32, ble
         return previous;
     }
     let old = if previous > 0.0 { previous } else { 1.0 };
-    let aim = (old * near_v / far_v).clamp(CONTRAST_RANGE.0, CONTRAST_RANGE.1);
+    let raw = old * near_v / far_v;
+    // Not finite (a NaN in the frame's radiance): kept out.
+    if !raw.is_finite() {
+        return previous;
+    }
+    let aim = raw.clamp(CONTRAST_RANGE.0, CONTRAST_RANGE.1);
     old + (aim - old) * step(n, blend)
 }
 
