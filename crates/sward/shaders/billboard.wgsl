@@ -40,13 +40,10 @@ struct VertexOut {
     // The card's mean colour as lit (the atlas's mean albedo under the mean of the
     // facings' light), and the contrast its texels are shown with about it (w).
     @location(10) @interpolate(flat) mean_contrast: vec4<f32>,
-    // The mip bias of the card's texels (`CARD_SHARPEN`, handed over as the contrast is).
+    // The mip bias of the card's texels (`CARD_SHARPEN`, handed over as the contrast is,
+    // by the cull).
     @location(11) @interpolate(flat) sharpen: f32,
 }
-
-// A pixel's height over the card's at which the cards start to hand their contrast over to
-// the far ground's, and at which they have (see `vs_main`).
-const CONTRAST_FOOTPRINT: vec2<f32> = vec2<f32>(0.3, 1.0);
 
 // How far a card is turned off facing the camera, at most (radians; `billboard::CARD_TURN`).
 const CARD_TURN: f32 = 0.35;
@@ -96,30 +93,15 @@ fn vs_main(@builtin(vertex_index) vi: u32) -> VertexOut {
     out.sun2 = lit * c.light_sun[2].rgb;
     out.sun3 = lit * c.light_sun[3].rgb;
     let mean_sun = 0.25 * (out.sun0 + out.sun1 + out.sun2 + out.sun3);
-    // The contrast the blades have where the cards take over from them (a pixel spans a
-    // fraction of a blade's height there), handed over to the far ground's (1: the atlas's
-    // own) as a pixel grows to span half a card: further out a pixel of blades would show
-    // the mean of many, as the far ground does (`CONTRAST_FOOTPRINT`).
-    let m = frame.view_proj;
-    let p11 = length(vec3<f32>(m[0][1], m[1][1], m[2][1]));
-    let w_mid = (frame.view_proj * vec4<f32>(middle, 1.0)).w;
-    let pixel = 2.0 * w_mid / max(p11 * frame.viewport_time.y, 1e-6);
-    let handover = smoothstep(CONTRAST_FOOTPRINT.x, CONTRAST_FOOTPRINT.y, pixel / max(h, 1e-3));
-    let contrast = mix(c.light_ambient.w, 1.0, handover);
-    out.sharpen = CARD_SHARPEN * (1.0 - handover);
-    out.mean_contrast = vec4<f32>(bb.albedo.rgb * (out.light_rgb + mean_sun), contrast);
+    // The contrast and the mip bias, handed over to the far ground's by the cull.
+    out.sharpen = c.light_sun[0].w;
+    out.mean_contrast = vec4<f32>(bb.albedo.rgb * (out.light_rgb + mean_sun), c.light_ambient.w);
     let to_p = middle - frame.camera_pos.xyz;
     let dist = length(to_p);
     let f = 1.0 - exp(-dist / max(frame.viewport_time.w, 1.0));
     out.fog_sky = vec4<f32>(sky_radiance(to_p / max(dist, 1e-4)), clamp(f, 0.0, 1.0));
     return out;
 }
-
-// Luminance weights (Rec. 709) of linear radiance, as the contrast gain is measured.
-const LUMA_709: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
-
-// The mip bias of the card's texels (see `fs_main`).
-const CARD_SHARPEN: f32 = -3.0;
 
 // 4×4 ordered dither in [0, 1): the screen-door fade of the single-sample path.
 fn bayer(p: vec2<f32>) -> f32 {
@@ -158,8 +140,8 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // 4 frames it left one band 7.4 levels bright where this leaves none past 3.5, after
     // 30 frames it was 2 levels closer.)
     let c = tex.rgb * (in.light_rgb + sun);
-    let l = max(dot(c, LUMA_709), 1e-8);
-    let ml = dot(in.mean_contrast.rgb, LUMA_709);
+    let l = max(dot(c, LUMA), 1e-8);
+    let ml = dot(in.mean_contrast.rgb, LUMA);
     let lit = c * (max(ml + in.mean_contrast.w * (l - ml), 0.0) / l);
     let color = mix(lit, in.fog_sky.rgb, in.fog_sky.w);
     if DISPLAY_OUTPUT {

@@ -109,10 +109,18 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     // Calibrated on the blades the cards stand for (`far_gain`).
     let patchy = grass_texture(grass_octaves(c.pos.xz), footprint)
         * far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]));
+    // The contrast the blades have where the cards take over from them (a pixel spans a
+    // fraction of a blade's height there), handed over to the far ground's (1: the atlas's
+    // own) as a pixel grows to span half a card: further out a pixel of blades would show
+    // the mean of many, as the far ground does (`CONTRAST_FOOTPRINT`). The texels' mip bias
+    // hands over with it.
+    let handover = smoothstep(CONTRAST_FOOTPRINT.x, CONTRAST_FOOTPRINT.y, footprint / max(h, 1e-3));
     // w: the contrast the atlas's texels are shown with about its mean (`far_gain`).
-    out.light_ambient = vec4<f32>(patchy * l.ambient / albedo, contrast_gain(waves[11]));
+    out.light_ambient = vec4<f32>(patchy * l.ambient / albedo, mix(contrast_gain(waves[11]), 1.0, handover));
     for (var j = 0u; j < 4u; j++) {
         out.light_sun[j] = vec4<f32>(patchy * l.sun[j] / albedo, 0.0);
     }
+    // w of the first facing: the mip bias of the card's texels.
+    out.light_sun[0].w = CARD_SHARPEN * (1.0 - handover);
     cards[at] = out;
 }

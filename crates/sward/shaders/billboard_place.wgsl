@@ -55,6 +55,12 @@ struct DrawnCard {
     light_sun: array<vec4<f32>, 4>,
 }
 
+// The mip bias of a card's texels near the blades (`billboard.wgsl`'s `fs_main` says why).
+const CARD_SHARPEN: f32 = -3.0;
+// A pixel's height over the card's at which the cards start to hand their contrast and
+// sharpness over to the far ground's, and at which they have (`billboard_cull.wgsl`).
+const CONTRAST_FOOTPRINT: vec2<f32> = vec2<f32>(0.3, 1.0);
+
 const BB_QUANTUM: f32 = 1.0 / 1024.0;
 const BB_UNIT: f32 = 1.0 / 16777216.0;
 

@@ -193,6 +193,9 @@ struct Frame {
 
 const TAU: f32 = 6.283185307179586;
 
+// Luminance weights (Rec. 709) of linear radiance.
+const LUMA: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
+
 // Width direction and front direction of a blade from its up vector and direction angle;
 // the twin of `reference::blade_frame`.
 fn blade_frame(up: vec3<f32>, angle: f32) -> array<vec3<f32>, 2> {

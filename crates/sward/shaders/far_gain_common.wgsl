@@ -137,8 +137,9 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         workgroupBarrier();
     }
     if i == 0u {
-        let next = next_gain(far_shown[0], far_model[0].rgb, near_shown[0], near_model[0], state_gain(4u), params.ring.w);
-        let n = select(0.0, state_gain(4u).w, state_gain(4u).w > 0.5);
+        let previous = state_gain(4u);
+        let next = next_gain(far_shown[0], far_model[0].rgb, near_shown[0], near_model[0], previous, params.ring.w);
+        let n = select(0.0, previous.w, previous.w > 0.5);
         var k = bitcast<f32>(far_state[11]);
         if params.near.z > 0.5 {
             k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, near_shown[0].w, k, n, params.ring.w);

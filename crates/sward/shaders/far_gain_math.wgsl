@@ -98,8 +98,6 @@ fn next_gain(far_shown: vec4<f32>, far_model: vec3<f32>, near_shown: vec4<f32>, 
 // The smallest and largest contrast gain kept.
 const CONTRAST_MIN: f32 = 0.5;
 const CONTRAST_MAX: f32 = 4.0;
-// Luminance weights (Rec. 709) of linear radiance.
-const LUMA: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
 
 // The variation of a ring's pixels: the standard deviation of their luminance (of the
 // radiance without the fog) over its mean, from its sums (x) and sums of squares (y) over

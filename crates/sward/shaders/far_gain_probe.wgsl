@@ -6,6 +6,7 @@
 // gain. Out: the far ring's sums (shown with the count, model), the near ring's, the next
 // gain, the gain the level would light with, the luminance sums (far, near) and the next
 // contrast gain with the one the cards would be shown with.
+//!include common.wgsl
 //!include far_gain_math.wgsl
 
 struct GainPixel {

@@ -26,11 +26,12 @@ pub struct DrawnCard {
     /// Cell index, atlas variant, 1 = mirrored, level.
     pub info: [u32; 4],
     /// The blades' light on the card per unit of the atlas's mean albedo: the sky's part
-    /// (rgb, unused), and the sun's part when the sun is not shadowed, for each of the
-    /// atlas's blade facings (rgb, unused).
+    /// (rgb), and in w the contrast gain its texels are shown with (`far_gain`, handed over
+    /// to 1 far out).
     pub light_ambient: [f32; 4],
-    /// The sun's part of the blades' light on the card, one rgb (w unused) per atlas
-    /// facing ([`atlas::FACINGS`]), per unit of the atlas's mean albedo.
+    /// The sun's part of the blades' light on the card, one rgb per atlas facing
+    /// ([`atlas::FACINGS`]), per unit of the atlas's mean albedo; the first facing's w is
+    /// the mip bias of the card's texels (0 far out), the others' unused.
     pub light_sun: [[f32; 4]; atlas::FACINGS],
 }
 
