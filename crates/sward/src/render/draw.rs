@@ -113,14 +113,13 @@ impl DrawPass {
     /// `cull_params` is the cull pass's uniform buffer (the grass morph reads it);
     /// `multi_draw` draws all levels with one multi-draw-indirect (the device must have
     /// `INDIRECT_FIRST_INSTANCE`, and the cull pass must write first instances);
-    /// `density` and `blend` shade the far ground ([`super::clipmap::grass_blend`]).
+    /// `density` shades the far ground.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         buffers: &BladeBuffers,
         terrain: &HeightField,
         density: Option<&DensityMap>,
-        blend: (f32, f32),
         lod: &LodMeshes,
         cull_params: &wgpu::Buffer,
         cull_output: &wgpu::Buffer,
@@ -206,7 +205,7 @@ impl DrawPass {
             ],
         });
 
-        let terrain_pass = TerrainPass::new(gpu, terrain, density, blend, &frame, &buffers.trails);
+        let terrain_pass = TerrainPass::new(gpu, terrain, density, &frame, &buffers.trails);
         let pipelines = Pipelines::new(
             device,
             format,
@@ -380,19 +379,22 @@ impl DrawPass {
     }
 
     /// `projection`: the aspect the camera is projected with and the crop after it
-    /// (`Renderer::view_proj`), which the terrain's eye-relative projection repeats.
+    /// (`Renderer::view_proj`), which the terrain's eye-relative projection repeats;
+    /// `reach`: the blades' culling distance this frame (the far ground's soil-to-grass
+    /// blend follows it).
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
         frame: &FrameUniforms,
         camera: &CameraView,
         projection: (f32, glam::Mat4),
+        reach: f32,
     ) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
         self.terrain_casts
             .set(self.terrain_pass.casts_shadow(frame.sun_dir[1]));
         let fog = frame.viewport_time[3];
-        self.terrain_pass.prepare(queue, camera, projection, fog);
+        self.terrain_pass.prepare(queue, camera, projection, fog, reach);
     }
 
     fn draw_terrain(&self, pass: &mut wgpu::RenderPass<'_>) {

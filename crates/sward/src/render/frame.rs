@@ -323,6 +323,7 @@ impl Renderer {
             &frame,
             camera,
             (self.aspect(size.0, size.1), self.jitter * self.view_crop),
+            self.scene.culling.max_distance,
         );
         self.light.prepare(
             gpu,

@@ -389,7 +389,6 @@ impl Renderer {
             &buffers,
             &terrain,
             density.as_ref(),
-            clipmap::grass_blend(scene.culling.max_distance),
             &lod,
             &cull.params,
             &cull.args,

@@ -36,7 +36,6 @@ pub struct TerrainPass {
     /// The terrain without its grid heights: what the uniforms are computed from.
     shape: HeightField,
     has_density: bool,
-    blend: (f32, f32),
     /// Blades grow past the terrain square too (a streamed field on an unbounded terrain):
     /// the ground there is shaded like the ground under the near blades.
     pub grass_everywhere: bool,
@@ -117,14 +116,12 @@ pub(crate) fn density_texture(gpu: &Gpu, density: Option<&DensityMap>) -> wgpu::
 }
 
 impl TerrainPass {
-    /// Uploads the terrain; `frame` is the draw pass's frame-uniform buffer, `blend` the
-    /// soil-to-grass distances ([`clipmap::grass_blend`]) and `trails` the trail map (the
-    /// far ground shows the trails pressed into it).
+    /// Uploads the terrain; `frame` is the draw pass's frame-uniform buffer and `trails` the
+    /// trail map (the far ground shows the trails pressed into it).
     pub fn new(
         gpu: &Gpu,
         terrain: &HeightField,
         density: Option<&DensityMap>,
-        blend: (f32, f32),
         frame: &wgpu::Buffer,
         trails: &wgpu::Buffer,
     ) -> Self {
@@ -240,7 +237,6 @@ impl TerrainPass {
             ranges,
             shape,
             has_density: density.is_some(),
-            blend,
             grass_everywhere: false,
             grass_albedo: super::clipmap::far_grass_albedo(),
             drawn: Cell::new(([0; MAX_LEVELS], 0)),
@@ -266,18 +262,23 @@ impl TerrainPass {
     }
 
     /// Places the levels around the camera projected with `aspect` and cropped by `crop`
-    /// (`Renderer::view_proj`), with fog distance `fog`.
+    /// (`Renderer::view_proj`), with fog distance `fog`; the ground turns to grass over the
+    /// blades' reach `reach` (`clipmap::grass_blend`), this frame's: the window's frame
+    /// budget and its panel change it while the renderer lives (a blend kept from the
+    /// start left the ground past a shortened reach half soil, and the near ring the far
+    /// gain measures bare).
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
         camera: &CameraView,
         (aspect, crop): (f32, glam::Mat4),
         fog: f32,
+        reach: f32,
     ) {
         let mut u = clipmap::terrain_uniforms(
             &self.shape,
             self.has_density,
-            self.blend,
+            clipmap::grass_blend(reach),
             camera.eye,
             camera.far,
             fog,
