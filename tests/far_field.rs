@@ -28,11 +28,13 @@
 //! 56), because the model is not the blades. Now on the blades: the far levels aim at the
 //! model times the blades' own ratio to it, measured just inside the reach, and the cards'
 //! texels, sampled three mip levels sharper than their footprint, are moved from their
-//! mean with the contrast the blades have (the contrast gain). Measured here: every band
-//! whose reference has texture within 11 % of its contrast (67 % flatter before), the
-//! worst band 7.7 levels dark (band 40, the ridge past the reference's blades), bands 48
-//! and 56 6.7 and 7.5 bright (where the thinned blades' last levels stand in front of the
-//! first cards). `RING_BOUND` holds that figure so that it cannot grow; issue 27, point 1,
+//! mean with the contrast the blades have (the contrast gain; under a fifth of the mean the
+//! move bends towards black instead of clipping at it). Measured here: every band whose
+//! reference has texture within 12 % of its contrast (67 % flatter before), band 40 7.6
+//! levels dark (the ridge past the reference's blades), bands 48 and 56 7.3 and 8.5 bright
+//! (where the thinned blades' last levels stand in front of the first cards; 6.7 and 7.5
+//! while the move clipped at black, which lowered the cards' mean as the contrast gain
+//! rose). `RING_BOUND` holds that figure so that it cannot grow; issue 27, point 1,
 //! stays open on it (the target is 5; at 480 x 270 every band is within it after 4
 //! frames, `sward bench --far-field`).
 
@@ -43,11 +45,11 @@ use sward::compare::{bands, compare_bands, worst_band};
 const SIZE: (u32, u32) = (240, 136);
 const FRAMES: usize = 4;
 /// Every band's luminance difference, at most (levels): the ring where the cards take over
-/// from the blades, measured 7.7 with the levels calibrated on the blades (13.4 on the
+/// from the blades, measured 8.5 with the levels calibrated on the blades (13.4 on the
 /// light model, 23.9 before either; the issue's target is 5).
 const RING_BOUND: f64 = 9.5;
 /// A band's contrast difference, at most, where the reference has texture (8 x 8 blocks
-/// varying by `TEXTURED` levels or more): the issue's 30 % (measured 11 %).
+/// varying by `TEXTURED` levels or more): the issue's 30 % (measured 12 %).
 const CONTRAST_BOUND: f64 = 0.3;
 const TEXTURED: f64 = 10.0;
 

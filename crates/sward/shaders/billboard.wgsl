@@ -11,6 +11,7 @@
 //!include light.wgsl
 //!include terrain_height.wgsl
 //!include billboard_place.wgsl
+//!include far_gain_math.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(3) var<uniform> bb: BillboardParams;
@@ -142,7 +143,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let c = tex.rgb * (in.light_rgb + sun);
     let l = max(dot(c, LUMA), 1e-8);
     let ml = dot(in.mean_contrast.rgb, LUMA);
-    let lit = c * (max(ml + in.mean_contrast.w * (l - ml), 0.0) / l);
+    let lit = c * (contrast_luma(l, ml, in.mean_contrast.w) / l);
     let color = mix(lit, in.fog_sky.rgb, in.fog_sky.w);
     if DISPLAY_OUTPUT {
         return vec4<f32>(tonemap(color), tex.a);

@@ -6,7 +6,10 @@
 // (`far_grass_light`, shadowed as the point is, without the gain): beyond the blades'
 // reach, within `params.ring` (the far levels' first metres), for the far ring's sums; a
 // little inside the reach, within `params.near` (blades only: the cards fade in later),
-// for the near ring's. (Cards and ground are measured together: the terrain's mesh is
+// for the near ring's, where only the pixels standing on a blade are measured (the ground
+// between the near blades is soil turning to the far ground's grass, lit with the gain:
+// measured, it fed the gain back into its own aim, and the soil a camera looking down sees
+// between the blades is not what a grazing view of the far field shows). (Cards and ground are measured together: the terrain's mesh is
 // coarse that far out, and its pixels stand above or below the height function by more
 // than a card's root.) The sums, and the luminance's sums and squares for the contrast,
 // are reduced across the workgroup; the light gain is written into the far state's words
@@ -100,7 +103,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let above = world.y - h.x;
         let grass = z < 1.0 && abs(above) <= params.ring.z;
         let far = grass && dist >= params.ring.x && dist < params.ring.y;
-        let near = grass && dist >= params.near.x && dist < params.near.y;
+        let in_near = grass && dist >= params.near.x && dist < params.near.y;
         let n = normalize(vec3<f32>(-h.y, 1.0, -h.z));
         let l = far_grass_light(vec3<f32>(world.x, h.x, world.z), n, terrain.grass_albedo.rgb, wave);
         let should = l.ambient + sun_visibility(world) * l.sun;
@@ -108,16 +111,17 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let f = clamp(1.0 - exp(-dist / max(frame.viewport_time.w, 1.0)), 0.0, 1.0);
         let t = gain_terms(textureLoad(scene_color, p, 0).rgb, sky, f, should);
         let shown = vec4<f32>(t.shown, 1.0);
-        // The model's sums count in w the pixels standing on a blade (above the ground by
-        // a tenth of the tallest blade: the ground's mesh is fine near the camera).
-        let standing = select(0.0, 1.0, above > 0.1 * params.ring.z);
-        let model = vec4<f32>(t.model, standing);
+        // The near ring measures the pixels standing on a blade (above the ground by a
+        // tenth of the tallest blade: the ground's mesh is fine near the camera); the
+        // model's sums count in w every pixel of the ring.
+        let near = in_near && above > 0.1 * params.ring.z;
+        let model = vec4<f32>(t.model, 1.0);
         let d = dot(t.shown, LUMA);
         let d2 = vec2<f32>(d, d * d);
         shown_f += select(zero, shown, far);
         model_f += select(zero, model, far);
         shown_n += select(zero, shown, near);
-        model_n += select(zero, model, near);
+        model_n += select(zero, vec4<f32>(t.model, 0.0), near) + select(zero, vec4<f32>(0.0, 0.0, 0.0, 1.0), in_near);
         disp += select(zero, vec4<f32>(d2, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
     }
     far_shown[i] = shown_f;

@@ -1,7 +1,7 @@
 // Probe: the far gain's arithmetic (far_gain_math.wgsl) over a list of pixels, for the
 // test that compares it with its CPU twin (`render::far_gain`). In: per pixel the radiance
 // and f, the fog's colour and the ring (w: 1 near, 0 far), the model's radiance and
-// whether the pixel stands on a blade (w); then the
+// whether the pixel stands on a blade (w; the near ring measures only those); then the
 // previous gain with its measurements, the blend, the pixels and the previous contrast
 // gain. Out: the far ring's sums (shown with the count, model), the near ring's, the next
 // gain, the gain the level would light with, the luminance sums (far, near) and the next
@@ -36,13 +36,16 @@ fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
         let t = gain_terms(s.actual_f.rgb, s.sky_near.rgb, s.actual_f.w, s.model.rgb);
         let l = dot(t.shown, LUMA);
         if s.sky_near.w > 0.5 {
-            near_shown += vec4<f32>(t.shown, 1.0);
-            // model.w: 1 for a pixel standing on a blade.
-            near_model += vec4<f32>(t.model, s.model.w);
-            d += vec4<f32>(0.0, 0.0, l, l * l);
+            // model.w: 1 for a pixel standing on a blade, the only ones measured here.
+            if s.model.w > 0.5 {
+                near_shown += vec4<f32>(t.shown, 1.0);
+                near_model += vec4<f32>(t.model, 0.0);
+                d += vec4<f32>(0.0, 0.0, l, l * l);
+            }
+            near_model.w += 1.0;
         } else {
             far_shown += vec4<f32>(t.shown, 1.0);
-            far_model += vec4<f32>(t.model, s.model.w);
+            far_model += vec4<f32>(t.model, 1.0);
             d += vec4<f32>(l, l * l, 0.0, 0.0);
         }
     }

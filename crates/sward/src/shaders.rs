@@ -37,6 +37,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/far_gain_probe.wgsl"),
     ),
     (
+        "contrast_probe.wgsl",
+        include_str!("../shaders/contrast_probe.wgsl"),
+    ),
+    (
         "grass_texture_probe.wgsl",
         include_str!("../shaders/grass_texture_probe.wgsl"),
     ),
@@ -201,6 +205,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain.wgsl",
     "far_gain_msaa.wgsl",
     "far_gain_probe.wgsl",
+    "contrast_probe.wgsl",
     "grass_texture_probe.wgsl",
     "trail_probe.wgsl",
     "sky.wgsl",

@@ -9,7 +9,7 @@
 //! different pixel each frame) and compares, with what the model says at the same points
 //! before the fog:
 //! - what the blades show a little inside their reach ([`NEAR_RING`], where no card has
-//!   faded in yet): their ratio to the model;
+//!   faded in yet; the pixels standing on a blade): their ratio to the model;
 //! - what the cards and the ground between them show just beyond it ([`RING`]).
 //!
 //! Two gains follow, both kept in the far state beside the gusts' bend
@@ -19,9 +19,10 @@
 //!   the model's change with distance and view). Their radiance is proportional to the
 //!   gain they were lit with, so a measurement corrects it in one step.
 //! - **the contrast gain** (word [`CALIBRATION_WORD`] + 3, beside the blades' ratio): the
-//!   cards move each texel's luminance from their mean that many times as far, so that
-//!   the far ring's pixels vary about their mean (standard deviation of luminance over the
-//!   mean) as the near ring's blades do about theirs.
+//!   cards move each texel's luminance from their mean that many times as far (bending
+//!   towards black under a fifth of the mean, [`contrast_luma`]), so that the far ring's
+//!   pixels vary about their mean (standard deviation of luminance over the mean) as the
+//!   near ring's blades do about theirs.
 //!
 //! Each measurement enters a running mean until there are 1 / [`BLEND`] of them, then moves
 //! the gains [`BLEND`] of the way: the jittered pixels average into the field's, and a
@@ -52,7 +53,10 @@ pub const BLEND: f32 = 0.25;
 pub const RING: (f32, f32) = (1.0, 1.5);
 
 /// The ring where the blades are measured, as multiples of their reach: inside the band
-/// where the cards fade in (from 0.6 of the reach, `render::billboard`).
+/// where the cards fade in (from `billboard::FADE_IN`, half the reach). Only its pixels
+/// standing on a blade are measured: the ground between the near blades is soil turning to
+/// the far ground's grass (lit with the gain, which it would feed back), and a camera looking
+/// down sees more of it there than a grazing view of the far field does.
 pub const NEAR_RING: (f32, f32) = (0.25, 0.5);
 
 /// The range kept of the blades' ratio to the model (twin of `BLADES_MIN`, `BLADES_MAX`).
@@ -87,34 +91,39 @@ pub const LUMA: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 /// The smallest and largest contrast gain kept (twin of `CONTRAST_MIN`, `CONTRAST_MAX`).
 pub const CONTRAST_RANGE: (f32, f32) = (0.5, 4.0);
 
-/// A ring's sums: the radiance shown, the model's, the pixels counted, and the shown
-/// luminance's sum and sum of squares.
+/// A ring's sums: the radiance shown, the model's, the pixels measured, the shown
+/// luminance's sum and sum of squares, and every pixel of the ring.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RingSums {
     /// Radiance shown, without the fog, weighed by (1 − f).
     pub shown: Vec3,
     /// The model's radiance, weighed the same.
     pub model: Vec3,
-    /// Pixels counted.
+    /// Pixels measured (in the near ring, those standing on a blade).
     pub count: f32,
     /// The luminance of `shown`, summed over the pixels.
     pub luma: f32,
     /// Its square, summed.
     pub luma2: f32,
-    /// Pixels standing on a blade (above the ground by a tenth of the tallest blade).
-    pub standing: f32,
+    /// Every pixel of the ring, measured or not.
+    pub pixels: f32,
 }
 
 impl RingSums {
-    /// Adds one pixel's terms ([`gain_terms`]), standing on a blade or not.
-    pub fn add(&mut self, terms: (Vec3, Vec3), standing: bool) {
+    /// Adds one pixel of the ring, and its terms ([`gain_terms`]) where it is `measured`:
+    /// every pixel of the far ring, the near ring's standing on a blade (above the ground
+    /// by a tenth of the tallest blade).
+    pub fn add(&mut self, terms: (Vec3, Vec3), measured: bool) {
+        self.pixels += 1.0;
+        if !measured {
+            return;
+        }
         let l = terms.0.dot(LUMA);
         self.shown += terms.0;
         self.model += terms.1;
         self.count += 1.0;
         self.luma += l;
         self.luma2 += l * l;
-        self.standing += if standing { 1.0 } else { 0.0 };
     }
 
     fn measured(&self) -> bool {
@@ -136,11 +145,11 @@ impl RingSums {
 /// as blades (twin of `BLADES_STANDING`).
 pub const BLADES_STANDING: f32 = 0.5;
 
-/// What the blades show against the model in the near ring (twin of `blades_ratio`): 1
-/// where too few pixels were measured or too few stand on blades (bare ground, a hole in
-/// the density map, a field seen from outside).
+/// What the blades show against the model in the near ring's pixels standing on a blade
+/// (twin of `blades_ratio`): 1 where too few pixels were measured or too few of the ring's
+/// stand on blades (bare ground, a hole in the density map, a field seen from outside).
 pub fn blades_ratio(near: &RingSums) -> Vec3 {
-    if !near.measured() || near.standing < BLADES_STANDING * near.count {
+    if !near.measured() || near.count < BLADES_STANDING * near.pixels {
         return Vec3::ONE;
     }
     let r = near.shown / near.model;
@@ -199,6 +208,38 @@ pub fn next_contrast(far: &RingSums, near: &RingSums, previous: f32, n: f32, ble
     }
     let aim = raw.clamp(CONTRAST_RANGE.0, CONTRAST_RANGE.1);
     old + (aim - old) * step(n, blend)
+}
+
+/// The share of a card's mean luminance under which the contrast's line bends towards
+/// black (twin of `CONTRAST_FLOOR`).
+pub const CONTRAST_FLOOR: f32 = 0.2;
+
+/// A card texel's luminance `l` shown with contrast gain `k` about the card's mean `m`
+/// (twin of `contrast_luma`): moved `k` times as far from the mean (`y = m + k (l − m)`)
+/// down to `t` = [`CONTRAST_FLOOR`] of the mean, then `t² / (2 t − y)`: at the line's
+/// slope where they meet, and never black.
+pub fn contrast_luma(l: f32, m: f32, k: f32) -> f32 {
+    let y = m + k * (l - m);
+    let t = CONTRAST_FLOOR * m.max(0.0);
+    if y >= t {
+        y
+    } else {
+        t * t / (2.0 * t - y).max(1e-12)
+    }
+}
+
+/// Runs the WGSL contrast curve (`contrast_luma`) on the GPU at each (luminance, mean,
+/// gain) of `points`, for the test against [`contrast_luma`].
+pub fn contrast_probe(gpu: &Gpu, points: &[(f32, f32, f32)]) -> Result<Vec<f32>> {
+    let flat: Vec<[f32; 4]> = points.iter().map(|&(l, m, k)| [l, m, k, 0.0]).collect();
+    let out = crate::gpu::run_vec4_probe(
+        gpu,
+        "sward.contrast_probe",
+        "contrast_probe.wgsl",
+        &[bytemuck::cast_slice(&flat)],
+        points.len(),
+    )?;
+    Ok(out.iter().map(|v| v[0]).collect())
 }
 
 impl super::Renderer {
@@ -462,7 +503,7 @@ pub struct GainPixel {
     pub model: Vec3,
     /// In the near ring (the blades), not the far one.
     pub near: bool,
-    /// Standing on a blade (above the ground).
+    /// Standing on a blade (above the ground): the near ring measures only these.
     pub standing: bool,
 }
 
@@ -520,7 +561,7 @@ pub fn probe(
         count: shown[3],
         luma,
         luma2,
-        standing: model[3],
+        pixels: model[3],
     };
     let d = out[6];
     Ok((
