@@ -42,6 +42,12 @@ struct GainParams {
 @group(0) @binding(3) var<storage, read_write> far_state: array<u32, 12>;
 @group(0) @binding(4) var<uniform> params: GainParams;
 @group(0) @binding(5) var scene_color: texture_2d<f32>;
+// What the frame shows: the TAA's history where it blended the frame, else `scene_color`
+// itself. The near ring's blades are read there (the history smooths their sway, and the
+// far levels should match the blades as shown); the far ring is read in this frame's
+// radiance, which answers the gains at once (read in the history, which follows them over
+// many frames, the gains overshot: the cards' contrast 83-99 % above the blades').
+@group(0) @binding(7) var shown_color: texture_2d<f32>;
 
 const GAIN_THREADS: u32 = 128u;
 // Per invocation, for the far and the near ring: the radiance shown (rgb) with the pixels
@@ -109,7 +115,8 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let should = l.ambient + sun_visibility(world) * l.sun;
         let sky = sky_radiance(to_p / max(dist, 1e-4));
         let f = clamp(1.0 - exp(-dist / max(frame.viewport_time.w, 1.0)), 0.0, 1.0);
-        let t = gain_terms(textureLoad(scene_color, p, 0).rgb, sky, f, should);
+        let radiance = select(textureLoad(scene_color, p, 0).rgb, textureLoad(shown_color, p, 0).rgb, in_near);
+        let t = gain_terms(radiance, sky, f, should);
         let shown = vec4<f32>(t.shown, 1.0);
         // The near ring measures the pixels standing on a blade (above the ground by a
         // tenth of the tallest blade: the ground's mesh is fine near the camera); the

@@ -267,14 +267,27 @@ impl super::Renderer {
 }
 
 /// The measuring pass: a pipeline per sample count (one sample, multisampled), its
-/// parameters and the bind group of the frame's views (made again only when they change).
+/// parameters and the bind groups of the frame's views (made again only when they change;
+/// two kept, as the TAA's history alternates between two targets).
 pub struct FarGainPass {
     device: wgpu::Device,
     queue: wgpu::Queue,
     params: wgpu::Buffer,
     pipelines: Vec<(u32, (wgpu::BindGroupLayout, wgpu::ComputePipeline))>,
-    group: Option<(wgpu::TextureView, wgpu::TextureView, u32, wgpu::BindGroup)>,
+    groups: Vec<ViewGroup>,
 }
+
+/// A bind group with the views it was made for: the radiance, what is shown, the depth and
+/// its samples.
+type ViewGroup = (
+    (wgpu::TextureView, wgpu::TextureView),
+    wgpu::TextureView,
+    u32,
+    wgpu::BindGroup,
+);
+
+/// Bind groups of views the pass keeps (the TAA's two history targets).
+const KEPT_GROUPS: usize = 2;
 
 /// The far gain's parameters (`GainParams`).
 #[repr(C)]
@@ -293,8 +306,11 @@ pub struct GainInputs<'a> {
     pub terrain: (&'a wgpu::Buffer, &'a wgpu::Buffer),
     /// The far state (gusts' bend and gain), written.
     pub state: &'a wgpu::Buffer,
-    /// The lit radiance, resolved (one sample).
+    /// The lit radiance, resolved (one sample): the far ring is measured there.
     pub color: &'a wgpu::TextureView,
+    /// What the frame shows (the TAA's history it was blended into, else `color`): the
+    /// near ring's blades are measured there.
+    pub shown: &'a wgpu::TextureView,
     /// The frame's depth (`samples` per pixel).
     pub depth: &'a wgpu::TextureView,
     /// Samples per pixel of `depth`.
@@ -319,7 +335,7 @@ impl FarGainPass {
             queue: gpu.queue.clone(),
             params,
             pipelines: Vec::new(),
-            group: None,
+            groups: Vec::new(),
         }
     }
 
@@ -392,6 +408,11 @@ impl FarGainPass {
                     false,
                 ),
                 texture(6, wgpu::TextureSampleType::Depth, samples > 1),
+                texture(
+                    7,
+                    wgpu::TextureSampleType::Float { filterable: false },
+                    false,
+                ),
             ],
         });
         let light = super::light::layout(device);
@@ -424,12 +445,17 @@ impl FarGainPass {
         inputs: &GainInputs,
         q: PassQueries,
     ) {
-        let fits = self.group.as_ref().is_some_and(|(c, d, s, _)| {
-            c == inputs.color && d == inputs.depth && *s == inputs.samples
-        });
-        if !fits {
-            // Dropped first: the old views are not held beside the new ones.
-            self.group = None;
+        let fits = |((c, v), d, s, _): &ViewGroup| {
+            c == inputs.color && v == inputs.shown && d == inputs.depth && *s == inputs.samples
+        };
+        if !self.groups.iter().any(fits) {
+            // A frame of another size or sample count holds views no longer drawn: they
+            // are dropped, not held beside the new ones.
+            self.groups
+                .retain(|((c, _), d, s, _)| *s == inputs.samples && d == inputs.depth && c == inputs.color);
+            if self.groups.len() >= KEPT_GROUPS {
+                self.groups.remove(0);
+            }
             let layout = self.pipeline(inputs.samples).0.clone();
             let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("sward.far_gain.group"),
@@ -463,17 +489,21 @@ impl FarGainPass {
                         binding: 6,
                         resource: wgpu::BindingResource::TextureView(inputs.depth),
                     },
+                    wgpu::BindGroupEntry {
+                        binding: 7,
+                        resource: wgpu::BindingResource::TextureView(inputs.shown),
+                    },
                 ],
             });
-            self.group = Some((
-                inputs.color.clone(),
+            self.groups.push((
+                (inputs.color.clone(), inputs.shown.clone()),
                 inputs.depth.clone(),
                 inputs.samples,
                 group,
             ));
         }
         let pipeline = self.pipeline(inputs.samples).1.clone();
-        let Some((_, _, _, group)) = &self.group else {
+        let Some((_, _, _, group)) = self.groups.iter().find(|g| fits(g)) else {
             return;
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

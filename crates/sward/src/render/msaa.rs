@@ -211,16 +211,24 @@ impl Renderer {
                 d.encode_light(e, p, groups, &light, (q.row(super::work::GRASS_PIXELS), q))
             });
         }
-        // The far levels' gain, measured on this frame's lit blades for the next frame's.
-        self.measure_far_gain(encoder);
         // With TAA the tone mapping reads the history the frame was blended into.
         let source = self
             .taa
             .as_ref()
             .filter(|t| t.ready())
-            .and_then(|t| timed(self.meters(), encoder, timing::TAA, |e, q| t.encode(e, q)));
+            .and_then(|t| timed(self.meters(), encoder, timing::TAA, |e, q| t.encode(e, q)))
+            .cloned();
+        // The far levels' gain, measured on this frame's lit blades for the next frame's:
+        // the blades as shown, in the TAA's history where it blended the frame (it smooths
+        // the swaying blades more than the still cards: measured before it, the far levels
+        // were 11 levels off what the TAA showed).
+        let shown = source
+            .as_ref()
+            .and(self.taa.as_ref().and_then(|t| t.written()))
+            .cloned();
+        self.measure_far_gain(encoder, shown);
         timed(self.meters(), encoder, timing::TONEMAP, |e, q| {
-            self.post.encode(e, self.light.group(), color, source, q)
+            self.post.encode(e, self.light.group(), color, source.as_ref(), q)
         });
         if let Some(t) = &mut self.taa {
             t.finish();
@@ -244,10 +252,18 @@ impl Renderer {
         timed(self.meters(), encoder, index, f);
     }
 
-    /// Records the far gain's measurement (`far_gain`) over the frame's resolved radiance
-    /// and the depth its passes drew, when the frame has both.
-    fn measure_far_gain(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        let (Some(depth), Some(color)) = (self.frame_depth.take(), self.post.current()) else {
+    /// Records the far gain's measurement (`far_gain`) over the frame's resolved radiance,
+    /// `shown` (the TAA history it was blended into, if any: the blades are measured as
+    /// shown) and the depth its passes drew, when the frame has both.
+    fn measure_far_gain(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        shown: Option<wgpu::TextureView>,
+    ) {
+        let Some(depth) = self.frame_depth.take() else {
+            return;
+        };
+        let Some(color) = self.post.current() else {
             return;
         };
         let tallest = super::light::blade_heights(&self.scene.field).1;
@@ -258,6 +274,7 @@ impl Renderer {
             terrain: self.draw.terrain_buffers(),
             state: self.draw.waves_buffer(),
             color,
+            shown: shown.as_ref().unwrap_or(color),
             depth: &depth,
             samples: self.samples,
             light: self.light.group(),

@@ -572,6 +572,15 @@ impl TaaPass {
         Some(&h.tonemap_groups[write])
     }
 
+    /// The history target this frame's [`TaaPass::encode`] wrote (what the tone mapping
+    /// shows), until [`TaaPass::finish`]; `None` without a frame encoded.
+    pub fn written(&self) -> Option<&wgpu::TextureView> {
+        self.now.as_ref()?;
+        let h = self.history.as_ref()?;
+        h.groups.as_ref()?;
+        Some(&h.views[h.write])
+    }
+
     /// Ends a frame that [`TaaPass::encode`] recorded: what it wrote becomes the history.
     pub fn finish(&mut self) {
         if let (Some(now), Some(h)) = (self.now.take(), &mut self.history) {
