@@ -9,9 +9,9 @@
 // for the near ring's, where only the pixels standing on a blade are measured (the ground
 // between the near blades is soil turning to the far ground's grass, lit with the gain:
 // measured, it fed the gain back into its own aim, and the soil a camera looking down sees
-// between the blades is not what a grazing view of the far field shows). (Cards and ground are measured together: the terrain's mesh is
-// coarse that far out, and its pixels stand above or below the height function by more
-// than a card's root.) The sums, and the luminance's sums and squares for the contrast,
+// between the blades is not what a grazing view of the far field shows). (Cards and
+// ground are measured together: the terrain's mesh is coarse that far out, and its pixels
+// stand above or below the height function by more than a card's root.) The sums, and the luminance's sums and squares for the contrast,
 // are reduced across the workgroup; the light gain is written into the far state's words
 // 4-7, the blades' ratio and the contrast gain into words 8-11 (`render::far_gain`), which
 // the next frame's billboards and far ground read.
@@ -115,7 +115,8 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let should = l.ambient + sun_visibility(world) * l.sun;
         let sky = sky_radiance(to_p / max(dist, 1e-4));
         let f = clamp(1.0 - exp(-dist / max(frame.viewport_time.w, 1.0)), 0.0, 1.0);
-        let radiance = select(textureLoad(scene_color, p, 0).rgb, textureLoad(shown_color, p, 0).rgb, in_near);
+        let frame_radiance = textureLoad(scene_color, p, 0).rgb;
+        let radiance = select(frame_radiance, textureLoad(shown_color, p, 0).rgb, in_near);
         let t = gain_terms(radiance, sky, f, should);
         let shown = vec4<f32>(t.shown, 1.0);
         // The near ring measures the pixels standing on a blade (above the ground by a
@@ -128,7 +129,8 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         shown_f += select(zero, shown, far);
         model_f += select(zero, model, far);
         shown_n += select(zero, shown, near);
-        model_n += select(zero, vec4<f32>(t.model, 0.0), near) + select(zero, vec4<f32>(0.0, 0.0, 0.0, 1.0), in_near);
+        model_n += select(zero, vec4<f32>(t.model, 0.0), near);
+        model_n.w += select(0.0, 1.0, in_near);
         disp += select(zero, vec4<f32>(d2, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
     }
     far_shown[i] = shown_f;

@@ -53,7 +53,8 @@ const BLADES_STANDING: f32 = 0.5;
 // ring's stand on blades (bare ground, a density map's hole, a field seen from outside),
 // so that nothing but blades sets the far levels.
 fn blades_ratio(shown: vec4<f32>, model: vec4<f32>) -> vec3<f32> {
-    if shown.w < GAIN_MIN_SAMPLES || shown.w < BLADES_STANDING * model.w || any(shown.rgb <= vec3<f32>(1e-6)) || any(model.rgb <= vec3<f32>(1e-6)) {
+    let few = shown.w < GAIN_MIN_SAMPLES || shown.w < BLADES_STANDING * model.w;
+    if few || any(shown.rgb <= vec3<f32>(1e-6)) || any(model.rgb <= vec3<f32>(1e-6)) {
         return vec3<f32>(1.0);
     }
     let r = shown.rgb / model.rgb;
