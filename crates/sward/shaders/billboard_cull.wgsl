@@ -61,6 +61,27 @@ fn density_at(xz: vec2<f32>) -> f32 {
     return textureLoad(density_map, t, 0).r;
 }
 
+// The cell visited `i`-th (`billboard::visit_order`): within each level, rows along the
+// view's main axis from the camera outwards (`bb.levels.w`: bit 0 z downwards, bit 1 x
+// downwards, bit 2 x the outer axis), so that the cards are appended, and drawn, nearer
+// first and the depth test rejects what they hide before it is shaded.
+fn visit_order(i: u32, side: u32) -> u32 {
+    let per = side * side;
+    let level = i / per;
+    let j = i % per;
+    let flags = bb.levels.w;
+    let x_outer = (flags & 4u) != 0u;
+    var x = select(j % side, j / side, x_outer);
+    var z = select(j / side, j % side, x_outer);
+    if (flags & 1u) != 0u {
+        z = side - 1u - z;
+    }
+    if (flags & 2u) != 0u {
+        x = side - 1u - x;
+    }
+    return level * per + z * side + x;
+}
+
 @compute @workgroup_size(64)
 fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let side = bb.levels.z;
@@ -73,7 +94,8 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= bb.levels.x * side * side {
         return;
     }
-    let c = card_at(i);
+    let cell = visit_order(i, side);
+    let c = card_at(cell);
     if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
         return;
     }
@@ -89,7 +111,7 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     var out: DrawnCard;
     out.pos_fade = vec4<f32>(c.pos, c.fade);
     out.top_scale = vec4<f32>(top_offset(c.pos, h), c.scale);
-    out.info = vec4<u32>(i, c.variant, select(0u, 1u, c.mirror > 0.0), c.level);
+    out.info = vec4<u32>(cell, c.variant, select(0u, 1u, c.mirror > 0.0), c.level);
     // The blades' light averaged over what a distant eye sees of them, once per card (the
     // sun's shadow is looked up by the draw, after the shadow maps are drawn), over the
     // ground's normal: cards and the ground between them read as one on every slope.

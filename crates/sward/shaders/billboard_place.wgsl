@@ -21,7 +21,7 @@ struct BillboardParams {
     // The atlas's mean albedo (rgb: the far ground's grass colour), unused.
     albedo: vec4<f32>,
     // Levels, a level's inner half-size in its cells, cells per side of a level's index
-    // space, unused.
+    // space, the order the cull visits a level's cells in (`billboard::visit_flags`).
     levels: vec4<u32>,
 }
 

@@ -342,7 +342,7 @@ impl Renderer {
         self.last_billboards = self.billboards.as_ref().map(|b| {
             let p = b.prepare(
                 &gpu.queue,
-                camera.eye,
+                camera,
                 &self.scene.culling,
                 self.sphere_count,
                 self.scene.terrain.size,

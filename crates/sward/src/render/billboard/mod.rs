@@ -185,6 +185,51 @@ impl BillboardLayout {
     }
 }
 
+/// The order the cull visits a level's cells in (`BillboardParams::levels` w, read by
+/// `visit_order` in `billboard_cull.wgsl`), from the view direction `forward`: bit 0 walks
+/// z downwards, bit 1 x downwards, bit 2 makes x the outer axis. The cull appends the cards
+/// in about the order it visits them, and the draw draws them in that order: rows along
+/// the view's main axis from the camera outwards, so the nearer cards come first and the
+/// depth test rejects the hidden parts of the ones behind before they are shaded (the
+/// cards are alpha-tested and overlap many times far out). Measured on llvmpipe at the
+/// window's settled state (the default meadow at 468 × 360, d_max 13 m, cards to 64 m):
+/// looking towards −z, which the rows used to be walked away from, the draw 54.0 / 56.3 ms
+/// against 62.6 / 62.3 ms; looking towards +z the same (58–59 ms) either way.
+pub fn visit_flags(forward: Vec3) -> u32 {
+    let mut flags = 0;
+    if forward.z < 0.0 {
+        flags |= 1;
+    }
+    if forward.x < 0.0 {
+        flags |= 2;
+    }
+    if forward.x.abs() > forward.z.abs() {
+        flags |= 4;
+    }
+    flags
+}
+
+/// The cell the cull visits `i`-th (twin of `visit_order`): within each level of
+/// `side × side` cells, rows along the outer axis in the order `flags` gives
+/// ([`visit_flags`]).
+pub fn visit_order(i: u32, side: u32, flags: u32) -> u32 {
+    let per = side * side;
+    let (level, j) = (i / per, i % per);
+    let (outer, inner) = (j / side, j % side);
+    let (mut x, mut z) = if flags & 4 != 0 {
+        (outer, inner)
+    } else {
+        (inner, outer)
+    };
+    if flags & 1 != 0 {
+        z = side - 1 - z;
+    }
+    if flags & 2 != 0 {
+        x = side - 1 - x;
+    }
+    level * per + z * side + x
+}
+
 /// One card as the placement gives it (the twin of `card_at` in `billboard_place.wgsl`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Card {

@@ -4,7 +4,6 @@
 
 use crate::gpu::queries::PassQueries;
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
 
 use super::{atlas, BillboardLayout, BillboardParams};
 use crate::error::Result;
@@ -429,12 +428,13 @@ impl BillboardPass {
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
-        eye: Vec3,
+        camera: &crate::render::camera::CameraView,
         culling: &Culling,
         spheres: u32,
         terrain_size: f32,
         share: f32,
     ) -> BillboardParams {
+        let eye = camera.eye;
         let mut p = self.layout.params(
             eye,
             culling.max_distance,
@@ -447,6 +447,7 @@ impl BillboardPass {
         let radius = radius.max(p.fade[1]);
         p.fade[2] = 0.85 * radius;
         p.fade[3] = radius;
+        p.levels[3] = super::visit_flags(camera.target - camera.eye);
         p.albedo = [
             self.mean_albedo[0],
             self.mean_albedo[1],
