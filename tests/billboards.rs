@@ -324,6 +324,21 @@ fn billboards_fill_the_middle_distance_with_grass() {
     );
 }
 
+/// The cull tests' scene: a streamed field of small tiles under cards to 50 m, blades to
+/// 8 m, seen from `eye` towards `target`.
+fn cull_scene(eye: (f32, f32, f32), target: (f32, f32, f32)) -> Scene {
+    let mut s = common::still_scene();
+    s.render.billboard_distance = 50.0;
+    s.render.msaa = 1;
+    s.culling.max_distance = 8.0;
+    s.field.tile_size = 4.0;
+    s.field.density = 20.0;
+    s.field.patch_size = 256;
+    s.camera.eye = eye;
+    s.camera.target = target;
+    s
+}
+
 #[test]
 fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
     use sward::render::billboard::drawn_cells;
@@ -332,15 +347,7 @@ fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
 
     use sward::session::Session;
     const SIZE: (u32, u32) = (96, 64);
-    let mut s = common::still_scene();
-    s.render.billboard_distance = 50.0;
-    s.render.msaa = 1;
-    s.culling.max_distance = 8.0;
-    s.field.tile_size = 4.0;
-    s.field.density = 20.0;
-    s.field.patch_size = 256;
-    s.camera.eye = (1.5, 5.0, -2.0);
-    s.camera.target = (20.0, 0.0, 25.0);
+    let s = cull_scene((1.5, 5.0, -2.0), (20.0, 0.0, 25.0));
     let gpu = common::gpu();
     let session = Session::new(s, None, Some(&gpu)).expect("session");
     let mut r = common::world(&gpu, &session);
@@ -426,15 +433,7 @@ fn the_cards_are_drawn_nearer_first_whichever_way_the_camera_looks() {
         ((2.0, 5.0, 1.5), (-25.0, 0.0, 8.0)),
     ];
     for (eye, target) in headings {
-        let mut s = common::still_scene();
-        s.render.billboard_distance = 50.0;
-        s.render.msaa = 1;
-        s.culling.max_distance = 8.0;
-        s.field.tile_size = 4.0;
-        s.field.density = 20.0;
-        s.field.patch_size = 256;
-        s.camera.eye = eye;
-        s.camera.target = target;
+        let s = cull_scene(eye, target);
         let gpu = common::gpu();
         let session = Session::new(s, None, Some(&gpu)).expect("session");
         let mut r = common::world(&gpu, &session);

@@ -55,6 +55,20 @@ const TEXTURED: f64 = 10.0;
 /// Frames of the TAA comparison.
 const TAA_FRAMES: usize = 16;
 
+/// Prints every band: the reference's luminance and contrast, and the difference.
+fn print_bands(diffs: &[sward::compare::BandDiff], reference: &image::RgbaImage) {
+    for (d, b) in diffs.iter().zip(bands(reference)) {
+        println!(
+            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
+            d.top,
+            b.luminance,
+            d.luminance,
+            b.contrast,
+            100.0 * d.contrast
+        );
+    }
+}
+
 fn prairie(sets: &[&str]) -> image::RgbaImage {
     prairie_after(sets, FRAMES)
 }
@@ -88,15 +102,8 @@ fn with_taa_the_cards_vary_as_the_blades_shown() {
         TAA_FRAMES,
     );
     let diffs = compare_bands(&levels, &blades, 0..SIZE.1).expect("same size");
+    print_bands(&diffs, &blades);
     for (d, b) in diffs.iter().zip(bands(&blades)) {
-        println!(
-            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
-            d.top,
-            b.luminance,
-            d.luminance,
-            b.contrast,
-            100.0 * d.contrast
-        );
         if b.contrast >= TEXTURED {
             assert!(d.contrast.abs() <= CONTRAST_BOUND, "band contrast {d:?}");
         }
@@ -108,16 +115,7 @@ fn billboards_and_the_far_ground_read_as_the_blades_they_replace() {
     let levels = prairie(&[]);
     let blades = prairie(&["culling.max_distance=50", "culling.distance=false"]);
     let diffs = compare_bands(&levels, &blades, 0..SIZE.1).expect("same size");
-    for (d, b) in diffs.iter().zip(bands(&blades)) {
-        println!(
-            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
-            d.top,
-            b.luminance,
-            d.luminance,
-            b.contrast,
-            100.0 * d.contrast
-        );
-    }
+    print_bands(&diffs, &blades);
     let worst = worst_band(&diffs).expect("bands");
     println!("worst band: {worst:?}");
     // The ground below the horizon: the first band with texture in the reference.
