@@ -26,6 +26,10 @@
 // pixel even where it returns at once.
 override TRAILS: bool = true;
 
+// Whether the scene has a density map (`TerrainSpec::density_map`): without one its
+// lookup is compiled out, for the same reason.
+override DENSITY_MAP: bool = true;
+
 fn trail_word(i: u32) -> u32 {
     return trails[i];
 }
@@ -137,7 +141,7 @@ fn vs_shadow(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u3
 // Grass density at world (x, z): the scene's density map stretched over the square, its
 // edge continuing outside; 1 without a map.
 fn grass_density(xz: vec2<f32>) -> f32 {
-    if terrain.blend.z < 0.5 {
+    if !DENSITY_MAP {
         return 1.0;
     }
     let dims = vec2<f32>(textureDimensions(density_map));

@@ -10,7 +10,7 @@ use super::grass_bind::{GrassBindings, ModelBuffers};
 use super::mesh::{sphere_mesh, LodMeshes};
 
 use super::grass_spec::GrassSpec;
-use super::pipelines::{GrassPipelines, Pipelines};
+use super::pipelines::{GrassPipelines, Pipelines, TerrainSpec};
 use super::terrain::TerrainPass;
 use crate::field::clumps::FieldTraits;
 use crate::field::{DensityMap, HeightField};
@@ -217,7 +217,10 @@ impl DrawPass {
                 &grass.layout,
             ],
             GrassSpec::of(scene, &traits),
-            buffers.has_trail_map(),
+            TerrainSpec {
+                trails: buffers.has_trail_map(),
+                density_map: terrain_pass.has_density_map(),
+            },
         );
         let sphere = |rings, sectors, label: &str| {
             let (sv, si) = sphere_mesh(rings, sectors);
@@ -309,7 +312,7 @@ impl DrawPass {
                 &self.grass.layout,
             ],
             self.pipelines.grass.spec,
-            self.pipelines.terrain_trails,
+            self.pipelines.terrain_spec,
         );
     }
 

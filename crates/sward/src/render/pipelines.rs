@@ -277,8 +277,8 @@ pub(super) struct Pipelines {
     pub samples: u32,
     pub sky: wgpu::RenderPipeline,
     pub terrain: wgpu::RenderPipeline,
-    /// Whether `terrain` reads the trail map.
-    pub terrain_trails: bool,
+    /// What `terrain` was specialised for.
+    pub terrain_spec: TerrainSpec,
     pub spheres: wgpu::RenderPipeline,
     /// Depth-only terrain and colliders (the occluder pass).
     pub terrain_depth: wgpu::RenderPipeline,
@@ -289,17 +289,37 @@ pub(super) struct Pipelines {
     pub grass: GrassPipelines,
 }
 
+/// The lit terrain's specialisation: the lookups its field has no data for are compiled
+/// out. A software rasteriser runs both sides of an `if` for its whole SIMD batch, so a
+/// lookup behind a uniform test still costs every ground pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TerrainSpec {
+    /// The field has a trail map (`TRAILS`).
+    pub trails: bool,
+    /// The scene has a density map (`DENSITY_MAP`).
+    pub density_map: bool,
+}
+
+impl TerrainSpec {
+    /// The terrain shader's pipeline-overridable constants.
+    fn constants(self) -> [(&'static str, f64); 2] {
+        [
+            ("TRAILS", f64::from(u8::from(self.trails))),
+            ("DENSITY_MAP", f64::from(u8::from(self.density_map))),
+        ]
+    }
+}
+
 impl Pipelines {
     /// `layouts`: frame, terrain, spheres and grass bind group layouts; `spec`: the
-    /// grass pipelines' specialisation; `trails`: whether the far ground reads a trail map
-    /// (the terrain's `TRAILS`).
+    /// grass pipelines' specialisation; `terrain`: the terrain's.
     pub fn new(
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
         samples: u32,
         layouts: [&wgpu::BindGroupLayout; 4],
         spec: GrassSpec,
-        trails: bool,
+        terrain: TerrainSpec,
     ) -> Self {
         let [frame_layout, terrain_layout, spheres_layout, grass_layout] = layouts;
         let sphere_attrs = wgpu::vertex_attr_array![0 => Float32x3];
@@ -339,7 +359,7 @@ impl Pipelines {
                 cull_back: true,
                 lines: false,
                 depth_only: false,
-                constants: &[("TRAILS", f64::from(u8::from(trails)))],
+                constants: &terrain.constants(),
             },
         );
         let spheres = pipeline(
@@ -413,7 +433,7 @@ impl Pipelines {
             samples,
             sky,
             terrain: terrain_pipeline,
-            terrain_trails: trails,
+            terrain_spec: terrain,
             spheres,
             terrain_depth,
             spheres_depth,

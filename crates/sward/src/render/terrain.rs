@@ -244,6 +244,11 @@ impl TerrainPass {
         }
     }
 
+    /// Whether the scene gave a density map (the lit terrain reads it only then).
+    pub fn has_density_map(&self) -> bool {
+        self.has_density
+    }
+
     /// Whether the ground goes into the shadow maps under a sun whose direction has height
     /// `sun_y` (`HeightField::may_shadow`): flat ground and gentle hills under a high sun
     /// are left out, which filled the maps with depth for nothing (on llvmpipe the ground
