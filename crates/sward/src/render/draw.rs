@@ -11,6 +11,7 @@ use super::mesh::{sphere_mesh, LodMeshes};
 
 use super::grass_spec::GrassSpec;
 use super::pipelines::{GrassPipelines, Pipelines, TerrainSpec};
+use super::light::Casters;
 use super::terrain::TerrainPass;
 use crate::field::clumps::FieldTraits;
 use crate::field::{DensityMap, HeightField};
@@ -404,6 +405,14 @@ impl DrawPass {
         self.terrain_pass.draw(pass);
     }
 
+    /// The key of the ground's depth in the shadow maps this frame
+    /// (`TerrainPass::shadow_key`), or `None` when the ground casts no shadow.
+    pub fn ground_shadow_key(&self) -> Option<u64> {
+        self.terrain_casts
+            .get()
+            .then(|| self.terrain_pass.shadow_key())
+    }
+
     fn draw_spheres(&self, pass: &mut wgpu::RenderPass<'_>, mesh: &Mesh, spheres: &SphereDraw) {
         pass.set_bind_group(0, &self.spheres_group, &[]);
         pass.set_vertex_buffer(0, mesh.vertices.slice(..));
@@ -586,13 +595,20 @@ impl DrawPass {
     /// Records the sun's shadow casters into a cascade's pass (the frame buffer holds the
     /// cascade's view): the colliders, the objects, the terrain, and with `grass_args` the
     /// blades the cull kept, drawn with the coarsest level's mesh out to the frame's
-    /// shadow radius (`grass.wgsl`).
+    /// shadow radius (`grass.wgsl`); `casters` picks the terrain alone or all but it.
     pub fn draw_casters(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         spheres: &SphereDraw,
         grass_args: Option<(&wgpu::Buffer, u64)>,
+        casters: Casters,
     ) {
+        let ground = casters != Casters::Moving;
+        if casters == Casters::Ground {
+            pass.set_pipeline(&self.pipelines.shadow_terrain);
+            self.draw_terrain(pass);
+            return;
+        }
         if spheres.any_drawn() {
             // The colour pass's sphere: the shadow's outline is the drawn ball's.
             pass.set_pipeline(&self.pipelines.shadow_spheres);
@@ -601,7 +617,7 @@ impl DrawPass {
         if let Some(o) = &self.objects {
             o.draw_shadow(pass);
         }
-        if self.terrain_casts.get() {
+        if ground && self.terrain_casts.get() {
             pass.set_pipeline(&self.pipelines.shadow_terrain);
             self.draw_terrain(pass);
         }

@@ -388,12 +388,18 @@ impl Renderer {
         // and before every pass that receives them.
         if self.light.cascades() > 0 {
             let spheres = self.sphere_draw();
-            let light = &self.light;
+            let light = &mut self.light;
             let draw = &self.draw;
-            let args = light.grass_args();
+            let args = light.grass_args().clone();
+            let ground = draw.ground_shadow_key().filter(|_| self.cache_ground_shadows);
+            let buffers = (draw.frame_buffer(), &self.cull.args);
+            let meters = super::Meters {
+                timer: self.timer.as_ref(),
+                work: self.work.as_ref(),
+            };
             timed(meters, encoder, timing::SHADOWS, |e, q| {
-                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass, grass| {
-                    draw.draw_casters(pass, &spheres, grass.map(|at| (args, at)))
+                light.encode(&gpu.device, e, buffers, ground, q, |pass, grass, casters| {
+                    draw.draw_casters(pass, &spheres, grass.map(|at| (&args, at)), casters)
                 })
             });
         }

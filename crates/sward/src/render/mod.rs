@@ -206,6 +206,9 @@ pub struct Renderer {
     /// Whether the blades cast sun shadows (within `light.shadows.grass_radius`): the
     /// window's frame budget switches them off without touching the scene.
     pub grass_shadows: bool,
+    /// Whether the ground's shadow depth is kept between frames (`light::ground_cache`;
+    /// on by default; the tests compare it with drawing the ground every frame).
+    pub cache_ground_shadows: bool,
     /// The density map, kept for the billboards' CPU count.
     density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
@@ -454,6 +457,7 @@ impl Renderer {
             last_billboards: None,
             billboard_share: 1.0,
             grass_shadows: true,
+            cache_ground_shadows: true,
             density,
             requested_samples,
             samples,
@@ -849,7 +853,8 @@ impl Renderer {
 
     /// GPU memory held for the blades (blade, state, seen-flag, patch, sphere and
     /// visible-index buffers, the Verlet states, the trail map, plus the indirect
-    /// arguments), and in all, wind solver included. Meshes and
+    /// arguments), and in all, wind solver, shadow map and the ground's cached shadow
+    /// depth included. Meshes and
     /// uniforms are a few hundred KiB and counted in the total.
     pub fn gpu_bytes(&self) -> (u64, u64) {
         let b = &self.buffers;
@@ -881,7 +886,13 @@ impl Renderer {
         });
         (
             blades,
-            blades + fluid + pyramid + msaa + self.post.gpu_bytes() + self.draw.gpu_bytes(),
+            blades
+                + fluid
+                + pyramid
+                + msaa
+                + self.post.gpu_bytes()
+                + self.draw.gpu_bytes()
+                + self.light.gpu_bytes(),
         )
     }
 

@@ -43,6 +43,8 @@ pub struct TerrainPass {
     pub grass_albedo: glam::Vec3,
     /// What `prepare` placed: the variant each level draws, and the level count.
     drawn: Cell<([u8; MAX_LEVELS], u32)>,
+    /// [`TerrainPass::shadow_key`] of the last `prepare`.
+    shadow_key: Cell<u64>,
     /// The ground's steepest slope, bounded (`HeightField::max_slope`).
     max_slope: f32,
 }
@@ -240,8 +242,16 @@ impl TerrainPass {
             grass_everywhere: false,
             grass_albedo: super::clipmap::far_grass_albedo(),
             drawn: Cell::new(([0; MAX_LEVELS], 0)),
+            shadow_key: Cell::new(0),
             max_slope: terrain.max_slope(),
         }
+    }
+
+    /// What the ground's shadow depth depends on this frame: its clipmap (the uniforms
+    /// but the camera's projection and the colours) and the eye, which the clipmap's
+    /// vertices slide with (`light::ground_cache`).
+    pub fn shadow_key(&self) -> u64 {
+        self.shadow_key.get()
     }
 
     /// Whether the scene gave a density map (the lit terrain reads it only then).
@@ -292,6 +302,7 @@ impl TerrainPass {
         u.grid[3] = u32::from(self.grass_everywhere);
         u.grass_albedo = self.grass_albedo.extend(0.0).into();
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
+        self.shadow_key.set(shadow_key(&u, camera.eye));
         let levels = u.info[3].min(MAX_LEVELS as u32);
         let mut variants = [0u8; MAX_LEVELS];
         for (k, v) in variants.iter_mut().enumerate().take(levels as usize) {
@@ -401,4 +412,23 @@ pub fn probe_heights(gpu: &Gpu, terrain: &HeightField, points: &[Vec2]) -> Resul
         .take(points.len())
         .map(|v| Vec3::new(v[0], v[1], v[2]))
         .collect())
+}
+
+/// FNV-1a over the bytes the ground's shadow depth depends on: `u` without the camera's
+/// projection, the soil-to-grass blend and the far albedo (the colour pass's alone), and
+/// the eye's bits.
+fn shadow_key(u: &clipmap::TerrainUniforms, eye: glam::Vec3) -> u64 {
+    let mut shape = *u;
+    shape.view_proj_relative = [[0.0; 4]; 4];
+    shape.blend = [0.0; 4];
+    shape.grass_albedo = [0.0; 4];
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let eye = eye.to_array().map(f32::to_bits);
+    for b in bytemuck::bytes_of(&shape)
+        .iter()
+        .chain(bytemuck::bytes_of(&eye))
+    {
+        h = (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3);
+    }
+    h
 }

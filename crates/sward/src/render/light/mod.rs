@@ -11,6 +11,7 @@
 
 pub mod cascades;
 mod caster_levels;
+pub mod ground_cache;
 pub mod receiver;
 pub mod schedule;
 pub mod sky;
@@ -27,6 +28,7 @@ use crate::scene::{Scene, SkyModel};
 use crate::sim::layout::{DrawIndexedIndirect, FrameUniforms, LightUniforms, LOD_LEVELS};
 
 use super::draw::DEPTH_FORMAT;
+use ground_cache::GroundStep;
 
 /// The sun and sky of the `Gradient` sky (sward's look before issue 16).
 const GRADIENT_SUN: Vec3 = Vec3::new(1.0, 0.93, 0.80);
@@ -96,7 +98,9 @@ impl ShadowMap {
             format: DEPTH_FORMAT,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
+                | wgpu::TextureUsages::COPY_SRC
+                // The ground's cached depth is copied back in (`ground_cache`).
+                | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         let array = texture.create_view(&wgpu::TextureViewDescriptor {
@@ -147,6 +151,19 @@ pub struct LightPass {
     drawn: [bool; 4],
     grass_in: [bool; 4],
     grass_levels: [[bool; LOD_LEVELS]; 4],
+    /// The ground's depth in each cascade, kept while it would be drawn the same.
+    ground: ground_cache::GroundCache,
+}
+
+/// Which of the casters a shadow pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Casters {
+    /// Every caster.
+    All,
+    /// The ground alone (to be kept in [`ground_cache`]).
+    Ground,
+    /// Everything but the ground (over a ground copied in or drawn before).
+    Moving,
 }
 
 const FRAME_BYTES: u64 = std::mem::size_of::<FrameUniforms>() as u64;
@@ -228,6 +245,7 @@ impl LightPass {
             drawn: [false; 4],
             grass_in: [false; 4],
             grass_levels: [[true; LOD_LEVELS]; 4],
+            ground: ground_cache::GroundCache::new(),
         };
         pass.sync_map(device, scene);
         Ok(pass)
@@ -272,6 +290,7 @@ impl LightPass {
         };
         if (self.map.resolution, self.map.layers) != (res, layers) {
             self.schedule.reset();
+            self.ground.clear();
             self.map = ShadowMap::new(device, res, layers);
             self.group = Self::make_group(
                 device,
@@ -315,10 +334,10 @@ impl LightPass {
         Ok((r, depths))
     }
 
-    /// Bytes of the shadow map.
+    /// Bytes of the shadow map and of the ground's cached depth.
     pub fn gpu_bytes(&self) -> u64 {
         let r = self.map.resolution as u64;
-        r * r * 4 * self.map.layers as u64
+        r * r * 4 * self.map.layers as u64 + self.ground.gpu_bytes()
     }
 
     /// Computes the frame's light and writes its uniforms, the cascades' frames (from the
@@ -410,6 +429,7 @@ impl LightPass {
         }
         if self.cascades == 0 {
             self.schedule.reset();
+            self.ground.clear();
         }
         gpu.queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
@@ -445,17 +465,23 @@ impl LightPass {
 
     /// Records the shadow passes: for each cascade drawn this frame, its frame over
     /// `frame_buffer`, then `draw` records the casters into the cascade's layer (with the
-    /// grass or not: the second argument); at the end the camera's frame is put back. `cull_args` are the cull's draw arguments, whose instance counts the
-    /// grass's shadow draws take.
+    /// grass or not: the second argument; which casters: the third); at the end the
+    /// camera's frame is put back. `cull_args` are the cull's draw arguments, whose
+    /// instance counts the grass's shadow draws take. `ground`: the clipmap's key
+    /// (`TerrainPass::shadow_key`) when the ground casts this frame; its depth is then
+    /// drawn into a cascade only when the cascade or the clipmap changed since it was,
+    /// and copied back from [`ground_cache`] otherwise (the copy lies between the timed
+    /// passes: the wall clock sees it, the pass timestamps do not).
     pub fn encode<F>(
-        &self,
+        &mut self,
+        device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-        frame_buffer: &wgpu::Buffer,
-        cull_args: &wgpu::Buffer,
+        (frame_buffer, cull_args): (&wgpu::Buffer, &wgpu::Buffer),
+        ground: Option<u64>,
         q: PassQueries,
         mut draw: F,
     ) where
-        F: FnMut(&mut wgpu::RenderPass<'_>, Option<u64>),
+        F: FnMut(&mut wgpu::RenderPass<'_>, Option<u64>, Casters),
     {
         if self.cascades == 0 {
             return;
@@ -485,31 +511,61 @@ impl LightPass {
         let (Some(&first), Some(&last)) = (drawn.first(), drawn.last()) else {
             return;
         };
+        let shape = (self.map.resolution, self.map.layers);
         for k in drawn {
-            // One timer scope over the cascades drawn: it starts with the first pass and
-            // ends with the last.
-            let writes = q.render_writes_part(k == first, k == last);
+            let key = ground.map(|g| {
+                let view = glam::Mat4::from_cols_array_2d(&self.last.cascades[k]);
+                ground_cache::GroundKey::new(view, g)
+            });
+            let step = self.ground.plan(device, shape, k, key);
             let from = FRAME_BYTES * (k as u64 + 1);
             encoder.copy_buffer_to_buffer(&self.frames, from, frame_buffer, 0, FRAME_BYTES);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("sward.light.shadow_pass"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.map.layer_views[k],
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: writes,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            q.begin(&mut pass);
             let grass = (self.grass_in[k] && self.grass_casts()).then(|| self.grass_args_offset(k));
-            draw(&mut pass, grass);
-            q.end(&mut pass);
+            // The passes of this cascade: (which casters, whether the layer is cleared).
+            let passes: &[(Casters, bool)] = match step {
+                GroundStep::None => &[(Casters::All, true)],
+                GroundStep::Draw => &[(Casters::Ground, true), (Casters::Moving, false)],
+                GroundStep::Copy => &[(Casters::Moving, false)],
+            };
+            if step == GroundStep::Copy {
+                self.ground
+                    .encode_copy(encoder, &self.map.texture, k as u32, step);
+            }
+            for (i, &(casters, clear)) in passes.iter().enumerate() {
+                // One timer scope over the cascades drawn: it starts with the first pass
+                // and ends with the last.
+                let writes = q.render_writes_part(
+                    k == first && i == 0,
+                    k == last && i + 1 == passes.len(),
+                );
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("sward.light.shadow_pass"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &self.map.layer_views[k],
+                        depth_ops: Some(wgpu::Operations {
+                            load: if clear {
+                                wgpu::LoadOp::Clear(1.0)
+                            } else {
+                                wgpu::LoadOp::Load
+                            },
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: writes,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                q.begin(&mut pass);
+                draw(&mut pass, grass, casters);
+                q.end(&mut pass);
+                drop(pass);
+                if casters == Casters::Ground {
+                    self.ground
+                        .encode_copy(encoder, &self.map.texture, k as u32, step);
+                }
+            }
         }
         encoder.copy_buffer_to_buffer(&self.frames, 0, frame_buffer, 0, FRAME_BYTES);
     }
