@@ -14,8 +14,6 @@
 
 use glam::Mat4;
 
-use crate::render::draw::DEPTH_FORMAT;
-
 /// What a cascade's ground was drawn with: the cascade's view-projection and the
 /// clipmap's own key (`TerrainPass::shadow_key`: its uniforms without the camera's
 /// projection, and the eye).
@@ -86,20 +84,12 @@ impl GroundCache {
             return GroundStep::None;
         };
         if self.size != (resolution, layers) || self.texture.is_none() {
-            self.texture = Some(device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("sward.light.ground_cache"),
-                size: wgpu::Extent3d {
-                    width: resolution,
-                    height: resolution,
-                    depth_or_array_layers: layers,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            }));
+            self.texture = Some(super::depth_layers(
+                device,
+                "sward.light.ground_cache",
+                (resolution, layers),
+                wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
+            ));
             self.size = (resolution, layers);
             self.keys = [None; 4];
         }

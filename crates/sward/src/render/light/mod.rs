@@ -83,26 +83,42 @@ struct ShadowMap {
     layer_views: Vec<wgpu::TextureView>,
 }
 
+/// A depth texture of `layers` square layers of `resolution` texels: the shadow map's
+/// shape, which the ground's cache shares.
+fn depth_layers(
+    device: &wgpu::Device,
+    label: &str,
+    (resolution, layers): (u32, u32),
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: resolution,
+            height: resolution,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage,
+        view_formats: &[],
+    })
+}
+
 impl ShadowMap {
     fn new(device: &wgpu::Device, resolution: u32, layers: u32) -> Self {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sward.light.shadow_map"),
-            size: wgpu::Extent3d {
-                width: resolution,
-                height: resolution,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+        let texture = depth_layers(
+            device,
+            "sward.light.shadow_map",
+            (resolution, layers),
+            wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC
                 // The ground's cached depth is copied back in (`ground_cache`).
                 | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        );
         let array = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("sward.light.shadow_map.array"),
             dimension: Some(wgpu::TextureViewDimension::D2Array),
