@@ -75,3 +75,48 @@ fn a_fully_morphed_level_has_the_next_levels_shape() {
     );
     assert!(with.within_tolerance(), "mean {}", with.mean);
 }
+
+/// The window's frame budget takes the coarser meshes through `Renderer::lod_coarsen`
+/// without touching the scene: coarsening by 2 must cull exactly what the scene's own
+/// pixel heights doubled cull, level by level, and move blades to coarser levels.
+#[test]
+fn coarsening_the_levels_is_the_scene_with_doubled_heights() {
+    let gpu = common::gpu();
+    let per_level = |coarsen: f32, double: bool| {
+        let mut scene = common::still_scene();
+        if double {
+            scene.culling.lod_near_px *= 2.0;
+            scene.culling.lod_far_px *= 2.0;
+        }
+        let session = Session::new(scene, Some(4096), Some(&gpu)).expect("field");
+        let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+        let mut r = common::world(&gpu, &session);
+        r.lod_coarsen = coarsen;
+        let camera = CameraView {
+            eye: glam::Vec3::new(-2.5, 0.6, 0.0),
+            target: glam::Vec3::new(0.0, 0.2, 0.0),
+            fov_y: 50.0,
+            near: 0.05,
+            far: 100.0,
+        };
+        sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
+        r.cull.read_counters(&gpu).expect("counters").per_level()
+    };
+    let scene = per_level(1.0, false);
+    let coarse = per_level(2.0, false);
+    let doubled = per_level(1.0, true);
+    println!("scene {scene:?}, coarsened {coarse:?}, heights doubled {doubled:?}");
+    assert_eq!(coarse, doubled);
+    assert!(
+        coarse[0] < scene[0],
+        "no blade left the finest level: {scene:?} -> {coarse:?}"
+    );
+    assert_eq!(
+        coarse.iter().sum::<u32>(),
+        scene.iter().sum::<u32>(),
+        "the levels change the meshes, not the blades drawn"
+    );
+    // Nonsense factors keep the scene's heights.
+    assert_eq!(per_level(f32::NAN, false), scene);
+    assert_eq!(per_level(0.25, false), scene);
+}

@@ -16,7 +16,11 @@
 //!   ([`FrameBudget::with_grass_shadow_step`]), the blades stop casting sun shadows (the
 //!   terrain, objects and balls still cast): drawing every blade within the shadow radius
 //!   once per cascade was a third of the window's frame on llvmpipe, and it costs a shade,
-//!   not a blade. Then the render scale of the 3D passes ×
+//!   not a blade. Then, where allowed ([`FrameBudget::with_lod_step`]), the blades change
+//!   to their coarser meshes at [`LOD_COARSEN`] times the scene's pixel heights (fewer
+//!   segments for blades a few dozen pixels tall: on llvmpipe the window's draw fell from
+//!   about 51 to 39 ms at its settled state, and the pictures are hard to tell apart).
+//!   Then the render scale of the 3D passes ×
 //!   [`SHRINK`] (down to [`MIN_SCALE`]; the window upscales the smaller image and draws
 //!   the panel sharp on top): this costs sharpness, never grass. Only then the grass's
 //!   reach: `d_max × `[`SHRINK`] (the blade radius), down to [`MIN_DISTANCE`] m, and
@@ -27,8 +31,8 @@
 //!   what the budget must keep. A machine too slow even then stays over its target.
 //! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
 //!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*),
-//!   then the render scale × [`GROW`] up to 1, then the blades' shadows, and last
-//!   multisampling: the grass comes back before the sharpness.
+//!   then the render scale × [`GROW`] up to 1, then the blades' finer meshes, then the
+//!   blades' shadows, and last multisampling: the grass comes back before the sharpness.
 //! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
 //!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
 //!   step does not carry the time from one edge of the band across the other, and the
@@ -67,6 +71,10 @@ pub const MIN_DISTANCE: f32 = 8.0;
 pub const MIN_BILLBOARDS: f32 = 0.4;
 /// Smallest render scale of the 3D passes the budget sets (a quarter of the pixels).
 pub const MIN_SCALE: f32 = 0.5;
+/// Factor on the scene's level-of-detail pixel heights (`culling.lod_near_px`,
+/// `lod_far_px`) once the budget takes the coarser meshes: a blade changes level at twice
+/// the height on screen, as it would at twice the resolution.
+pub const LOD_COARSEN: f32 = 2.0;
 
 /// What one [`FrameBudget::observe`] set in the culling block.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -106,6 +114,9 @@ pub struct FrameBudget {
     /// Whether the budget may stop the blades casting sun shadows, and whether it has.
     grass_shadow_step: bool,
     grass_shadows_off: bool,
+    /// Whether the budget may draw the blades with coarser meshes, and whether it does.
+    lod_step: bool,
+    lod_coarse: bool,
     /// The share of the billboard radius drawn (1 = the scene's), when the budget may
     /// shorten it (after the resolution, before the blades).
     billboards: Option<f32>,
@@ -130,6 +141,8 @@ impl FrameBudget {
             msaa_off: false,
             grass_shadow_step: false,
             grass_shadows_off: false,
+            lod_step: false,
+            lod_coarse: false,
             billboards: None,
         }
     }
@@ -168,6 +181,23 @@ impl FrameBudget {
     /// Whether the budget has stopped the blades casting sun shadows.
     pub fn grass_shadows_off(&self) -> bool {
         self.grass_shadows_off
+    }
+
+    /// The same budget allowed to draw the blades with their coarser meshes (at
+    /// [`LOD_COARSEN`] times the scene's level-of-detail heights), after the blades'
+    /// shadows and before the resolution (the window, whose scene keeps its heights).
+    pub fn with_lod_step(mut self, allowed: bool) -> Self {
+        self.lod_step = allowed;
+        self
+    }
+
+    /// The factor on the scene's level-of-detail heights now (1, or [`LOD_COARSEN`]).
+    pub fn lod_coarsen(&self) -> f32 {
+        if self.lod_coarse {
+            LOD_COARSEN
+        } else {
+            1.0
+        }
     }
 
     /// The same budget with the render scale held at or above `floor` (1 keeps the
@@ -261,6 +291,10 @@ impl FrameBudget {
             self.grass_shadows_off = true;
             return true;
         }
+        if self.lod_step && !self.lod_coarse {
+            self.lod_coarse = true;
+            return true;
+        }
         if self.scale > self.scale_floor {
             self.scale = (self.scale * SHRINK).max(self.scale_floor);
             return true;
@@ -303,6 +337,10 @@ impl FrameBudget {
             self.scale = (self.scale * GROW).min(1.0);
             return true;
         }
+        if self.lod_coarse {
+            self.lod_coarse = false;
+            return true;
+        }
         if self.grass_shadows_off {
             self.grass_shadows_off = false;
             return true;
@@ -337,6 +375,9 @@ impl FrameBudget {
         }
         if self.grass_shadows_off {
             line.push_str(", blades cast no shadows");
+        }
+        if self.lod_coarse {
+            line.push_str(", coarser blade meshes");
         }
         if let Some(b) = self.billboards.filter(|b| *b < 1.0) {
             line.push_str(&format!(

@@ -203,6 +203,7 @@ impl AppState {
         let budget = FrameBudget::new(&renderer.scene.culling, None)
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
+            .with_lod_step(true)
             .with_billboard_step(true);
         let mut balls = Balls::new();
         // The scene camera's target point, kept as the orbit centre. A scene with an
@@ -530,6 +531,7 @@ impl AppState {
         self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms)
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
+            .with_lod_step(true)
             .with_billboard_step(true);
         self.balls.thrown.clear();
         // A new scene has its own objects: walk mode starts over on it.

@@ -148,6 +148,48 @@ fn grass_shadows_go_after_multisampling_and_before_the_resolution() {
 }
 
 #[test]
+fn coarser_meshes_go_after_the_shadows_and_before_the_resolution() {
+    let mut c = culling();
+    let mut b = FrameBudget::new(&c, Some(100.0))
+        .with_msaa_step(true)
+        .with_grass_shadow_step(true)
+        .with_lod_step(true);
+    assert_eq!(b.lod_coarsen(), 1.0);
+    let mut steps = Vec::new();
+    for _ in 0..4 * ACT_EVERY {
+        if b.observe(300.0, &mut c).is_some() {
+            steps.push((b.grass_shadows_off(), b.lod_coarsen(), b.scale()));
+        }
+    }
+    assert_eq!(steps[1], (true, 1.0, 1.0), "{steps:?}");
+    assert_eq!(steps[2], (true, LOD_COARSEN, 1.0), "{steps:?}");
+    assert!(steps[3].2 < 1.0, "{steps:?}");
+    assert!(
+        b.status().contains("coarser blade meshes"),
+        "{}",
+        b.status()
+    );
+    // The scene's own heights are left alone: the renderer applies the factor.
+    assert_eq!(c.lod_near_px, culling().lod_near_px);
+    // Fast again: the finer meshes come back after the resolution, before the shadows.
+    let mut order = Vec::new();
+    for _ in 0..400 {
+        if b.observe(1.0, &mut c).is_some() {
+            order.push((b.scale(), b.lod_coarsen(), b.grass_shadows_off()));
+        }
+    }
+    let n = order.len();
+    assert_eq!(order[n - 3], (1.0, 1.0, true), "{order:?}");
+    assert_eq!(order[n - 4], (1.0, LOD_COARSEN, true), "{order:?}");
+    // Without the step (the default) the meshes are never touched.
+    let mut plain = FrameBudget::new(&c, Some(100.0));
+    for _ in 0..100 {
+        plain.observe(300.0, &mut c);
+    }
+    assert_eq!(plain.lod_coarsen(), 1.0);
+}
+
+#[test]
 fn billboards_shorten_after_the_resolution_and_before_the_blades() {
     let mut c = culling();
     let base = c.max_distance;

@@ -209,6 +209,9 @@ pub struct Renderer {
     /// Whether the ground's shadow depth is kept between frames (`light::ground_cache`;
     /// on by default; the tests compare it with drawing the ground every frame).
     pub cache_ground_shadows: bool,
+    /// Factor on `culling.lod_near_px` and `lod_far_px` (1: the scene's): the window's
+    /// frame budget draws the blades with their coarser meshes without touching the scene.
+    pub lod_coarsen: f32,
     /// The density map, kept for the billboards' CPU count.
     density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
@@ -458,6 +461,7 @@ impl Renderer {
             billboard_share: 1.0,
             grass_shadows: true,
             cache_ground_shadows: true,
+            lod_coarsen: 1.0,
             density,
             requested_samples,
             samples,
@@ -745,6 +749,15 @@ impl Renderer {
             p.lod_index_count[3] = 0;
             p.tests &= !TEST_GRASS_OCCLUSION;
         }
+        // The window's budget: each level's pixel heights scaled (finite and at least 1,
+        // or the scene's).
+        let coarsen = if self.lod_coarsen.is_finite() {
+            self.lod_coarsen.max(1.0)
+        } else {
+            1.0
+        };
+        p.lod[1] *= coarsen;
+        p.lod[2] *= coarsen;
         p
     }
 
