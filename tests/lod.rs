@@ -14,6 +14,17 @@ use sward::session::Session;
 
 const SIZE: (u32, u32) = (160, 96);
 
+/// Low over the blades, close enough that they span every level of detail.
+fn close_camera() -> CameraView {
+    CameraView {
+        eye: glam::Vec3::new(-2.5, 0.6, 0.0),
+        target: glam::Vec3::new(0.0, 0.2, 0.0),
+        fov_y: 50.0,
+        near: 0.05,
+        far: 100.0,
+    }
+}
+
 fn render(culling: impl Fn(&mut Culling)) -> image::RgbaImage {
     let gpu = common::gpu();
     let mut scene = common::still_scene();
@@ -26,13 +37,7 @@ fn render(culling: impl Fn(&mut Culling)) -> image::RgbaImage {
     let session = Session::new(scene, Some(4096), Some(&gpu)).expect("field");
     let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
     let mut r = common::world(&gpu, &session);
-    let camera = CameraView {
-        eye: glam::Vec3::new(-2.5, 0.6, 0.0),
-        target: glam::Vec3::new(0.0, 0.2, 0.0),
-        fov_y: 50.0,
-        near: 0.05,
-        far: 100.0,
-    };
+    let camera = close_camera();
     sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
     let c = r.cull.read_counters(&gpu).expect("counters");
     assert!(c.drawn() > 100, "{c:?}");
@@ -92,13 +97,7 @@ fn coarsening_the_levels_is_the_scene_with_doubled_heights() {
         let target = Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
         let mut r = common::world(&gpu, &session);
         r.lod_coarsen = coarsen;
-        let camera = CameraView {
-            eye: glam::Vec3::new(-2.5, 0.6, 0.0),
-            target: glam::Vec3::new(0.0, 0.2, 0.0),
-            fov_y: 50.0,
-            near: 0.05,
-            far: 100.0,
-        };
+        let camera = close_camera();
         sward::commands::world_frame(&gpu, &mut r, 0.0, camera, &target).expect("frame");
         r.cull.read_counters(&gpu).expect("counters").per_level()
     };

@@ -603,7 +603,6 @@ impl DrawPass {
         grass_args: Option<(&wgpu::Buffer, u64)>,
         casters: Casters,
     ) {
-        let ground = casters != Casters::Moving;
         if casters == Casters::Ground {
             pass.set_pipeline(&self.pipelines.shadow_terrain);
             self.draw_terrain(pass);
@@ -617,7 +616,7 @@ impl DrawPass {
         if let Some(o) = &self.objects {
             o.draw_shadow(pass);
         }
-        if ground && self.terrain_casts.get() {
+        if casters == Casters::All && self.terrain_casts.get() {
             pass.set_pipeline(&self.pipelines.shadow_terrain);
             self.draw_terrain(pass);
         }

@@ -336,6 +336,9 @@ impl Renderer {
                 lod: cp.lod,
             }),
         );
+        let ground = self.draw.ground_shadow_key();
+        self.light
+            .plan_ground(&gpu.device, ground.filter(|_| self.cache_ground_shadows));
         self.sync_billboards(gpu);
         let wireframe = self.scene.render.wireframe;
         let deferred = own_draw && self.ensure_deferred(gpu, size, wireframe);
@@ -388,18 +391,12 @@ impl Renderer {
         // and before every pass that receives them.
         if self.light.cascades() > 0 {
             let spheres = self.sphere_draw();
-            let light = &mut self.light;
+            let light = &self.light;
             let draw = &self.draw;
-            let args = light.grass_args().clone();
-            let ground = draw.ground_shadow_key().filter(|_| self.cache_ground_shadows);
-            let buffers = (draw.frame_buffer(), &self.cull.args);
-            let meters = super::Meters {
-                timer: self.timer.as_ref(),
-                work: self.work.as_ref(),
-            };
+            let args = light.grass_args();
             timed(meters, encoder, timing::SHADOWS, |e, q| {
-                light.encode(&gpu.device, e, buffers, ground, q, |pass, grass, casters| {
-                    draw.draw_casters(pass, &spheres, grass.map(|at| (&args, at)), casters)
+                light.encode(e, draw.frame_buffer(), &self.cull.args, q, |pass, grass, casters| {
+                    draw.draw_casters(pass, &spheres, grass.map(|at| (args, at)), casters)
                 })
             });
         }

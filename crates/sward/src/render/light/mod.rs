@@ -167,8 +167,10 @@ pub struct LightPass {
     drawn: [bool; 4],
     grass_in: [bool; 4],
     grass_levels: [[bool; LOD_LEVELS]; 4],
-    /// The ground's depth in each cascade, kept while it would be drawn the same.
+    /// The ground's depth in each cascade, kept while it would be drawn the same, and how
+    /// each cascade drawn this frame gets it ([`LightPass::plan_ground`]).
     ground: ground_cache::GroundCache,
+    ground_steps: [GroundStep; 4],
 }
 
 /// Which of the casters a shadow pass draws.
@@ -262,6 +264,7 @@ impl LightPass {
             grass_in: [false; 4],
             grass_levels: [[true; LOD_LEVELS]; 4],
             ground: ground_cache::GroundCache::new(),
+            ground_steps: [GroundStep::None; 4],
         };
         pass.sync_map(device, scene);
         Ok(pass)
@@ -479,21 +482,38 @@ impl LightPass {
         (k * LOD_LEVELS) as u64 * ARGS_BYTES
     }
 
+    /// Decides, after [`LightPass::prepare`], how the ground gets into each cascade drawn
+    /// this frame: `ground` is the clipmap's key (`TerrainPass::shadow_key`) when the
+    /// ground casts, `None` when it does not (or is not to be kept). A cascade whose view
+    /// and clipmap are those its ground was last drawn with has it copied back from
+    /// [`ground_cache`]; any other draws it and keeps it.
+    pub fn plan_ground(&mut self, device: &wgpu::Device, ground: Option<u64>) {
+        let shape = (self.map.resolution, self.map.layers);
+        for k in 0..self.cascades as usize {
+            self.ground_steps[k] = if self.drawn[k] {
+                let key = ground.map(|g| {
+                    let view = glam::Mat4::from_cols_array_2d(&self.last.cascades[k]);
+                    ground_cache::GroundKey::new(view, g)
+                });
+                self.ground.plan(device, shape, k, key)
+            } else {
+                GroundStep::None
+            };
+        }
+    }
+
     /// Records the shadow passes: for each cascade drawn this frame, its frame over
     /// `frame_buffer`, then `draw` records the casters into the cascade's layer (with the
     /// grass or not: the second argument; which casters: the third); at the end the
     /// camera's frame is put back. `cull_args` are the cull's draw arguments, whose
-    /// instance counts the grass's shadow draws take. `ground`: the clipmap's key
-    /// (`TerrainPass::shadow_key`) when the ground casts this frame; its depth is then
-    /// drawn into a cascade only when the cascade or the clipmap changed since it was,
-    /// and copied back from [`ground_cache`] otherwise (the copy lies between the timed
-    /// passes: the wall clock sees it, the pass timestamps do not).
+    /// instance counts the grass's shadow draws take. The ground is drawn, or copied back
+    /// from [`ground_cache`], as [`LightPass::plan_ground`] decided (the copy lies between
+    /// the timed passes: the wall clock sees it, the pass timestamps do not).
     pub fn encode<F>(
-        &mut self,
-        device: &wgpu::Device,
+        &self,
         encoder: &mut wgpu::CommandEncoder,
-        (frame_buffer, cull_args): (&wgpu::Buffer, &wgpu::Buffer),
-        ground: Option<u64>,
+        frame_buffer: &wgpu::Buffer,
+        cull_args: &wgpu::Buffer,
         q: PassQueries,
         mut draw: F,
     ) where
@@ -527,13 +547,8 @@ impl LightPass {
         let (Some(&first), Some(&last)) = (drawn.first(), drawn.last()) else {
             return;
         };
-        let shape = (self.map.resolution, self.map.layers);
         for k in drawn {
-            let key = ground.map(|g| {
-                let view = glam::Mat4::from_cols_array_2d(&self.last.cascades[k]);
-                ground_cache::GroundKey::new(view, g)
-            });
-            let step = self.ground.plan(device, shape, k, key);
+            let step = self.ground_steps[k];
             let from = FRAME_BYTES * (k as u64 + 1);
             encoder.copy_buffer_to_buffer(&self.frames, from, frame_buffer, 0, FRAME_BYTES);
             let grass = (self.grass_in[k] && self.grass_casts()).then(|| self.grass_args_offset(k));
