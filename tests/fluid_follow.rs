@@ -11,6 +11,7 @@ mod common;
 mod fluid_common;
 
 use fluid_common::{arrow, config, gpu_step, random_faces};
+use sward::gpu::queries::PassQueries;
 use sward::gpu::Gpu;
 use sward::scene::{Boundary, PressureSolver};
 use sward::sim::fluid::{FluidConfig, FluidSolver, FluidState};
@@ -33,7 +34,7 @@ fn follow(gpu: &Gpu, solver: &mut FluidSolver, eye: [f32; 2]) -> [i64; 2] {
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward.test.follow"),
         });
-    let shift = solver.follow(&gpu.queue, &mut encoder, eye);
+    let shift = solver.follow(&gpu.queue, &mut encoder, eye, PassQueries::NONE);
     gpu.queue.submit([encoder.finish()]);
     gpu.check_errors().expect("no GPU error");
     shift

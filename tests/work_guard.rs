@@ -61,6 +61,12 @@ fn measure(gpu: &sward::gpu::Gpu, scene: &str, sets: &[String]) -> BTreeMap<Stri
         ("primitives", s.primitives),
         ("fragment invocations", s.fragment_invocations),
         ("compute invocations", s.compute_invocations),
+        // The wind solver's passes on their own (a 2D grid's face kernels once ran three
+        // times the invocations they need: `sward::sim::fluid::face_slices`).
+        (
+            "wind compute invocations",
+            work.rows[sward::render::work::WIND].compute_invocations,
+        ),
         ("lit grass fragments", s.lit_fragments),
         ("grass pixels", s.grass_pixels),
     ]

@@ -15,6 +15,7 @@ use serde::Serialize;
 use super::{utc_now, BenchOptions, BENCH_DT};
 use sward::error::{Error, Result};
 use sward::field::HeightField;
+use sward::gpu::queries::PassQueries;
 use sward::gpu::Gpu;
 use sward::scene::{PressureSolver, Scene};
 use sward::sim::agc;
@@ -142,7 +143,7 @@ fn measure(
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("sward.bench.pressure"),
             });
-        wind.encode(&mut encoder);
+        wind.encode(&mut encoder, PassQueries::NONE);
         gpu.queue.submit([encoder.finish()]);
         sward::gpu::wait_idle(&gpu.device)?;
         let elapsed = start.elapsed().as_secs_f64() * 1000.0;

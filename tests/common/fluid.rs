@@ -2,6 +2,7 @@
 //! configurations, seeded face fields, one GPU step.
 #![allow(dead_code)]
 
+use sward::gpu::queries::PassQueries;
 use sward::gpu::Gpu;
 use sward::scene::{Advection, Boundary, PressureSolver};
 use sward::sim::fluid::{FluidConfig, FluidSolver};
@@ -41,7 +42,7 @@ pub fn gpu_step(gpu: &Gpu, solver: &mut FluidSolver, dt: f32, forces: &FluidForc
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward.test.fluid"),
         });
-    solver.encode(&mut encoder);
+    solver.encode(&mut encoder, PassQueries::NONE);
     gpu.queue.submit([encoder.finish()]);
     gpu.check_errors()
         .expect("the fluid step records without a GPU error");

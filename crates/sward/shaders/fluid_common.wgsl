@@ -87,8 +87,8 @@ fn fluid_face(gid: vec3<u32>, n: u32, layers: u32) -> FluidFace {
     return FluidFace(axis, i32(gid.x), i32(gid.y), i32(k), gid.x < ni && gid.y < nj && k < nk);
 }
 
-// Workgroups along z of a face dispatch: 3 (L + 1) (the w planes are one more than the
-// layers).
+// Workgroups along z of a face dispatch: 3 L, or 2 on a 2D grid (`fluid::face_slices`:
+// the ceiling's w, and a 2D grid's ground, are walls no pass writes).
 
 // The face whose value a thread computes: on a periodic grid the last face of an axis
 // (i = n for u, j = n for v) is the first one again, so it computes face 0's value and the

@@ -44,7 +44,7 @@ use glam::Vec3;
 use crate::error::Result;
 use crate::field::tiles::TileLayout;
 use crate::field::{GeneratedField, HeightField};
-use crate::gpu::queries::{WorkCounter, WorkFrame};
+use crate::gpu::queries::{PassQueries, WorkCounter, WorkFrame};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use crate::sim::agc;
@@ -622,7 +622,9 @@ impl Renderer {
     ) {
         // The wind moves first; the blades then read this step's air velocity.
         if let Some(fluid) = &mut self.fluid {
-            fluid.follow(&gpu.queue, encoder, [eye.x, eye.z]);
+            // The wind's passes count into the frame's "wind" row.
+            let wind_work = PassQueries::new(None, self.work.as_ref().map(|w| (w, work::WIND)));
+            fluid.follow(&gpu.queue, encoder, [eye.x, eye.z], wind_work);
             let mut forces = agc::fluid_forces(&self.scene, &self.terrain, self.time);
             if self.scene.wind.fluid.obstacles {
                 forces
@@ -647,7 +649,7 @@ impl Renderer {
                 forces.obstacles.truncate(MAX_OBSTACLES);
             }
             fluid.prepare(&gpu.queue, dt, &forces);
-            fluid.encode(encoder);
+            fluid.encode(encoder, wind_work);
         }
         let mut params = sim_params(
             &self.scene.physics,

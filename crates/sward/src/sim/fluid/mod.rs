@@ -41,6 +41,7 @@ use super::wind_layout::{
     ArrowGpu, FluidForces, FluidParams, ObstacleGpu, FLUID_WORKGROUP, MAX_ARROWS, MAX_OBSTACLES,
 };
 use crate::error::Result;
+use crate::gpu::queries::PassQueries;
 use crate::gpu::{map_and_read, read_buffer, Gpu};
 use crate::scene::{Advection, Fluid, PressureSolver};
 
@@ -412,11 +413,13 @@ impl FluidSolver {
     /// shift in cells. The first call only places the grid (the air is still then). A jump
     /// farther than the grid (a teleport) fills it from the old grid's edge, which is as
     /// close as anything to the air that blows there. Call before [`Self::prepare`].
+    /// `work`: the counter row the scroll's pass is counted into, as [`Self::encode`]'s.
     pub fn follow(
         &mut self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         eye: [f32; 2],
+        work: PassQueries<'_>,
     ) -> [i64; 2] {
         if !(self.config.follow && eye[0].is_finite() && eye[1].is_finite()) {
             return [0, 0];
@@ -441,6 +444,7 @@ impl FluidSolver {
                 [&self.faces[0], &self.faces[1]],
                 [&self.pressure[0], &self.pressure[1]],
                 self.pressure_current,
+                work,
             );
         }
         shift
@@ -557,8 +561,9 @@ impl FluidSolver {
     }
 
     /// Records one full step (every pass of `FLUID_PASSES`, in order) and, with timestamp
-    /// queries, their resolve. Call `prepare` first.
-    pub fn encode(&mut self, encoder: &mut wgpu::CommandEncoder) {
+    /// queries, their resolve. Call `prepare` first. `work`: the work counter's row the
+    /// passes are counted into (the frame's "wind"), or `PassQueries::NONE`.
+    pub fn encode(&mut self, encoder: &mut wgpu::CommandEncoder, work: PassQueries<'_>) {
         let n = self.config.resolution;
         let layers = self.config.layers;
         let (cells, faces) = (groups_of(n), groups_of(n + 1));
@@ -569,8 +574,7 @@ impl FluidSolver {
             pass.set_pipeline(&kernel.pipeline);
             pass.set_bind_group(0, group, &[]);
             if face {
-                // z = axis + 3 k: u, v, w faces of layer (plane) k.
-                pass.dispatch_workgroups(faces, faces, 3 * (layers + 1));
+                pass.dispatch_workgroups(faces, faces, face_slices(layers));
             } else {
                 pass.dispatch_workgroups(cells, cells, layers);
             }
@@ -578,6 +582,7 @@ impl FluidSolver {
         {
             // Dispatches in one pass: wgpu orders storage writes between dispatches.
             let mut pass = Self::begin(timer, encoder, 0);
+            work.begin(&mut pass);
             match self.config.advection {
                 Advection::SemiLagrangian => dispatch(&mut pass, &k.advect, &g.advect, true),
                 Advection::MacCormack => {
@@ -586,22 +591,28 @@ impl FluidSolver {
                     dispatch(&mut pass, &k.correct, &g.correct, true);
                 }
             }
+            work.end(&mut pass);
         }
         {
             let mut pass = Self::begin(timer, encoder, 1);
+            work.begin(&mut pass);
             dispatch(&mut pass, &k.mark, &g.splat, false);
             dispatch(&mut pass, &k.cell_weights, &g.splat, false);
             dispatch(&mut pass, &k.splat, &g.splat, true);
+            work.end(&mut pass);
         }
         {
             let mut pass = Self::begin(timer, encoder, 2);
+            work.begin(&mut pass);
             dispatch(&mut pass, &k.curl, &g.vorticity, false);
             dispatch(&mut pass, &k.confine, &g.vorticity, true);
+            work.end(&mut pass);
         }
         {
             // Always begun, even when empty, so that the timestamp pairs line up with
             // FLUID_PASSES.
             let mut pass = Self::begin(timer, encoder, 3);
+            work.begin(&mut pass);
             if let Some(groups) = &g.diffuse {
                 for it in 0..self.config.diffusion_iterations {
                     let group = match it {
@@ -612,10 +623,13 @@ impl FluidSolver {
                     dispatch(&mut pass, &k.diffuse, group, true);
                 }
             }
+            work.end(&mut pass);
         }
         {
             let mut pass = Self::begin(timer, encoder, 4);
+            work.begin(&mut pass);
             dispatch(&mut pass, &k.divergence, &g.divergence, false);
+            work.end(&mut pass);
         }
         let mut current = self.pressure_current;
         if !self.config.warm_start {
@@ -623,6 +637,7 @@ impl FluidSolver {
         }
         {
             let mut pass = Self::begin(timer, encoder, PRESSURE_PASS);
+            work.begin(&mut pass);
             match self.config.pressure_solver {
                 PressureSolver::Jacobi => {
                     for _ in 0..self.config.jacobi_iterations() {
@@ -635,11 +650,14 @@ impl FluidSolver {
                         .encode(&mut pass, current, self.config.v_cycles());
                 }
             }
+            work.end(&mut pass);
         }
         {
             let mut pass = Self::begin(timer, encoder, 6);
+            work.begin(&mut pass);
             dispatch(&mut pass, &k.gradient, &g.gradient[current], true);
             dispatch(&mut pass, &k.centre, &g.centre, false);
+            work.end(&mut pass);
         }
         self.pressure_current = current;
         if let Some(t) = &self.timer {
@@ -734,8 +752,32 @@ pub fn face_vector(config: &FluidConfig, u: &[f32], v: &[f32], w: &[f32]) -> Vec
         faces.resize(config.faces(), 0.0);
     } else {
         faces.extend_from_slice(w);
+        // The ground's and the ceiling's w are walls, 0 whatever was given: no pass writes
+        // the ceiling (`face_slices`), and the ground is 0 after the first step anyway.
+        let plane = config.layer_cells();
+        let start = 2 * uv;
+        faces[start..start + plane].fill(0.0);
+        let top = faces.len() - plane;
+        faces[top..].fill(0.0);
     }
     faces
+}
+
+/// Workgroups along z of a face dispatch (`fluid_face` in fluid_common.wgsl: z = axis + 3 k,
+/// the u, v and w faces of layer k): the layers below the top plane, whose u and v do not
+/// exist and whose w is the ceiling; a 2D grid's one layer only its u and v, since both its
+/// w planes are the ground and the ceiling. What is left out are walls (`fluid_is_wall`),
+/// 0 in buffers made zeroed and in what `write_faces` writes, and written by no pass.
+/// llvmpipe runs a kernel's whole body for the invocations that return at once: a 2D
+/// grid's six slices cost three times the two it needs (the helicopter's 256² grid at
+/// 160 × 90: the vorticity pass 23.3 / 18.7 → 10.9 / 10.3 ms, the splat 16.4 / 13.8 → 9.7 /
+/// 9.0 ms, alternating; the frame the same to the byte).
+pub fn face_slices(layers: u32) -> u32 {
+    if layers <= 1 {
+        2
+    } else {
+        3 * layers
+    }
 }
 
 /// Which face buffer holds the field after the diffusion pass: faces[1] when it does no

@@ -8,6 +8,7 @@
 //! and the overlay read the same corner, so the wind they see does not jump.
 
 use super::kernels::{module, Kernel, Slot};
+use crate::gpu::queries::PassQueries;
 use bytemuck::{Pod, Zeroable};
 
 /// The scroll kernel's uniforms (`Scroll` in `fluid_scroll.wgsl`).
@@ -91,6 +92,7 @@ impl Scroller {
         faces: [&wgpu::Buffer; 2],
         pressure: [&wgpu::Buffer; 2],
         current: usize,
+        work: PassQueries<'_>,
     ) {
         let p = ScrollParams {
             shift,
@@ -107,9 +109,11 @@ impl Scroller {
                 label: Some("sward.fluid.scroll"),
                 timestamp_writes: None,
             });
+            work.begin(&mut pass);
             pass.set_pipeline(&self.kernel.pipeline);
             pass.set_bind_group(0, &self.groups[current], &[]);
             pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+            work.end(&mut pass);
         }
         let face_bytes = u64::from(invocations) * 4;
         encoder.copy_buffer_to_buffer(faces[1], 0, faces[0], 0, face_bytes);
