@@ -24,6 +24,11 @@
 // Most layers a column may have (`MAX_LAYERS` in src/sim/fluid/config.rs).
 const MG_MAX_LAYERS: u32 = 16u;
 
+// Whether the grid has more than one layer (set per pipeline, `fluid::multigrid`). On a 2D
+// grid the column solve is one division, and `smooth_colour` is built without Thomas'
+// algorithm, whose two private arrays llvmpipe keeps in memory for every lane.
+override LAYERED: bool = true;
+
 struct MgParams {
     // Cells per side of this level.
     size: u32,
@@ -90,6 +95,19 @@ fn smooth_colour(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let layers = level.layers;
     let r = level.vertical;
+    if !LAYERED {
+        // Point Gauss–Seidel: Thomas' algorithm below with one layer, the same arithmetic
+        // (p = d / b, 0 in a cell that dropped out).
+        let idx = cell_index(i, j, 0u, m);
+        let wc = w[2u * idx];
+        let t = total(wc, w[2u * idx + 1u], r);
+        var v = 0.0;
+        if t != 0.0 {
+            v = (neighbour_sum(vec3<i32>(i32(i), i32(j), 0), wc) - level.h2 * f[idx]) / t;
+        }
+        p[idx] = v;
+        return;
+    }
     // Thomas' algorithm on b_k p_k + a_k p_(k−1) + c_k p_(k+1) = d_k.
     var cp: array<f32, MG_MAX_LAYERS>;
     var dp: array<f32, MG_MAX_LAYERS>;

@@ -48,6 +48,20 @@ impl Kernel {
         entry: &str,
         slots: &[(u32, Slot)],
     ) -> Self {
+        Self::specialised(device, module, name, entry, slots, &[])
+    }
+
+    /// [`Kernel::with_bindings`] with the module's pipeline-overridable constants set
+    /// (`override` in WGSL): a constant condition is folded when the pipeline is compiled,
+    /// where llvmpipe runs both sides of a branch on a uniform.
+    pub fn specialised(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        name: &str,
+        entry: &str,
+        slots: &[(u32, Slot)],
+        constants: &[(&str, f64)],
+    ) -> Self {
         let entries: Vec<_> = slots
             .iter()
             .map(|&(binding, slot)| match slot {
@@ -70,7 +84,10 @@ impl Kernel {
             layout: Some(&pipeline_layout),
             module,
             entry_point: Some(entry),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                ..Default::default()
+            },
             cache: None,
         });
         Self {

@@ -62,12 +62,16 @@ impl Multigrid {
         use Slot::{Read, Uniform, Write};
         let sizes = config.multigrid_levels();
         let m = module(device, "multigrid");
-        let smooth = Kernel::with_bindings(
+        // A 2D grid's columns are single cells: its smoother is built without the column
+        // solve (`LAYERED` in fluid_multigrid.wgsl).
+        let layered = if config.layers > 1 { 1.0 } else { 0.0 };
+        let smooth = Kernel::specialised(
             device,
             &m,
             "mg_smooth",
             "smooth_colour",
             &[(0, Uniform), (1, Read), (2, Read), (3, Write)],
+            &[("LAYERED", layered)],
         );
         let restrict = Kernel::with_bindings(
             device,
