@@ -545,19 +545,26 @@ impl FluidSolver {
         }
     }
 
-    fn begin<'e>(
-        timer: &'e Option<FluidTimer>,
-        encoder: &'e mut wgpu::CommandEncoder,
+    /// Records pass `index` of `FLUID_PASSES`: timed when there is a timer, counted into
+    /// `work`'s row, its dispatches recorded by `record`.
+    fn pass(
+        timer: &Option<FluidTimer>,
+        encoder: &mut wgpu::CommandEncoder,
         index: usize,
-    ) -> wgpu::ComputePass<'e> {
-        encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        work: PassQueries<'_>,
+        record: impl FnOnce(&mut wgpu::ComputePass<'_>),
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(PASS_LABELS[index]),
             timestamp_writes: timer.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
                 query_set: &t.queries,
                 beginning_of_pass_write_index: Some(index as u32 * 2),
                 end_of_pass_write_index: Some(index as u32 * 2 + 1),
             }),
-        })
+        });
+        work.begin(&mut pass);
+        record(&mut pass);
+        work.end(&mut pass);
     }
 
     /// Records one full step (every pass of `FLUID_PASSES`, in order) and, with timestamp
@@ -579,40 +586,27 @@ impl FluidSolver {
                 pass.dispatch_workgroups(cells, cells, layers);
             }
         };
-        {
-            // Dispatches in one pass: wgpu orders storage writes between dispatches.
-            let mut pass = Self::begin(timer, encoder, 0);
-            work.begin(&mut pass);
-            match self.config.advection {
-                Advection::SemiLagrangian => dispatch(&mut pass, &k.advect, &g.advect, true),
-                Advection::MacCormack => {
-                    dispatch(&mut pass, &k.forward, &g.forward, true);
-                    dispatch(&mut pass, &k.backward, &g.backward, true);
-                    dispatch(&mut pass, &k.correct, &g.correct, true);
-                }
+        // Dispatches in one pass: wgpu orders storage writes between dispatches.
+        Self::pass(timer, encoder, 0, work, |pass| match self.config.advection {
+            Advection::SemiLagrangian => dispatch(pass, &k.advect, &g.advect, true),
+            Advection::MacCormack => {
+                dispatch(pass, &k.forward, &g.forward, true);
+                dispatch(pass, &k.backward, &g.backward, true);
+                dispatch(pass, &k.correct, &g.correct, true);
             }
-            work.end(&mut pass);
-        }
-        {
-            let mut pass = Self::begin(timer, encoder, 1);
-            work.begin(&mut pass);
-            dispatch(&mut pass, &k.mark, &g.splat, false);
-            dispatch(&mut pass, &k.cell_weights, &g.splat, false);
-            dispatch(&mut pass, &k.splat, &g.splat, true);
-            work.end(&mut pass);
-        }
-        {
-            let mut pass = Self::begin(timer, encoder, 2);
-            work.begin(&mut pass);
-            dispatch(&mut pass, &k.curl, &g.vorticity, false);
-            dispatch(&mut pass, &k.confine, &g.vorticity, true);
-            work.end(&mut pass);
-        }
-        {
-            // Always begun, even when empty, so that the timestamp pairs line up with
-            // FLUID_PASSES.
-            let mut pass = Self::begin(timer, encoder, 3);
-            work.begin(&mut pass);
+        });
+        Self::pass(timer, encoder, 1, work, |pass| {
+            dispatch(pass, &k.mark, &g.splat, false);
+            dispatch(pass, &k.cell_weights, &g.splat, false);
+            dispatch(pass, &k.splat, &g.splat, true);
+        });
+        Self::pass(timer, encoder, 2, work, |pass| {
+            dispatch(pass, &k.curl, &g.vorticity, false);
+            dispatch(pass, &k.confine, &g.vorticity, true);
+        });
+        // Always begun, even when empty, so that the timestamp pairs line up with
+        // FLUID_PASSES.
+        Self::pass(timer, encoder, 3, work, |pass| {
             if let Some(groups) = &g.diffuse {
                 for it in 0..self.config.diffusion_iterations {
                     let group = match it {
@@ -620,45 +614,34 @@ impl FluidSolver {
                         it if it % 2 == 1 => &groups[1],
                         _ => &groups[2],
                     };
-                    dispatch(&mut pass, &k.diffuse, group, true);
+                    dispatch(pass, &k.diffuse, group, true);
                 }
             }
-            work.end(&mut pass);
-        }
-        {
-            let mut pass = Self::begin(timer, encoder, 4);
-            work.begin(&mut pass);
-            dispatch(&mut pass, &k.divergence, &g.divergence, false);
-            work.end(&mut pass);
-        }
+        });
+        Self::pass(timer, encoder, 4, work, |pass| {
+            dispatch(pass, &k.divergence, &g.divergence, false);
+        });
         let mut current = self.pressure_current;
         if !self.config.warm_start {
             encoder.clear_buffer(&self.pressure[current], 0, None);
         }
-        {
-            let mut pass = Self::begin(timer, encoder, PRESSURE_PASS);
-            work.begin(&mut pass);
+        Self::pass(timer, encoder, PRESSURE_PASS, work, |pass| {
             match self.config.pressure_solver {
                 PressureSolver::Jacobi => {
                     for _ in 0..self.config.jacobi_iterations() {
-                        dispatch(&mut pass, &k.jacobi, &g.jacobi[current], false);
+                        dispatch(pass, &k.jacobi, &g.jacobi[current], false);
                         current = 1 - current;
                     }
                 }
                 PressureSolver::Multigrid => {
-                    self.multigrid
-                        .encode(&mut pass, current, self.config.v_cycles());
+                    self.multigrid.encode(pass, current, self.config.v_cycles());
                 }
             }
-            work.end(&mut pass);
-        }
-        {
-            let mut pass = Self::begin(timer, encoder, 6);
-            work.begin(&mut pass);
-            dispatch(&mut pass, &k.gradient, &g.gradient[current], true);
-            dispatch(&mut pass, &k.centre, &g.centre, false);
-            work.end(&mut pass);
-        }
+        });
+        Self::pass(timer, encoder, 6, work, |pass| {
+            dispatch(pass, &k.gradient, &g.gradient[current], true);
+            dispatch(pass, &k.centre, &g.centre, false);
+        });
         self.pressure_current = current;
         if let Some(t) = &self.timer {
             encoder.resolve_query_set(&t.queries, 0..t.count, &t.resolve, 0);
