@@ -146,8 +146,8 @@ fn shape_t(shape: u32, u: f32, v: f32, tau: f32, segments: f32) -> f32 {
     }
 }
 
-fn to_screen(p: vec3<f32>) -> vec2<f32> {
-    let c = frame.view_proj * vec4<f32>(p, 1.0);
+// A clip-space position in pixels.
+fn clip_to_screen(c: vec4<f32>) -> vec2<f32> {
     return (c.xy / max(c.w, 1e-4) * 0.5 + 0.5) * frame.viewport_time.xy;
 }
 
@@ -166,11 +166,20 @@ struct BladeCtx {
     shape: u32,
     // CWD-Sim's wind at the blade (zero for the other models).
     cwd_wind: vec3<f32>,
+    // How many times as wide the thinning draws the blade (`thinning_widen`).
+    widen: f32,
+    // The width direction in clip space (`frame.view_proj` times (side, 0)). The projection
+    // is linear, so a point's two edges, its centre ± the half width along `side`, land at
+    // the centre's clip position ± the half width times this: Eq. 24's width in pixels takes
+    // one product with the matrix per point instead of two.
+    clip_side: vec4<f32>,
 }
 
 fn blade_ctx(blade: Blade) -> BladeCtx {
     let axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
-    var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0));
+    let widen = thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    let clip_side = frame.view_proj * vec4<f32>(axes[0], 0.0);
+    var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0), widen, clip_side);
     if blade_model() == MODEL_CWD {
         ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);
     }
@@ -242,7 +251,7 @@ fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
 
 // The vertex at (u, v) of a blade: Eq. 21-24.
 fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f32) -> BladePoint {
-    let widen = thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    let widen = ctx.widen;
     let half_width = 0.5 * blade.v2_width.w * widen;
     let up = blade.up_stiffness.xyz;
     // Eq. 21: the curve point c and the tangent t0.
@@ -251,11 +260,8 @@ fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f3
     let t1 = ctx.side;
     let c0 = c - half_width * t1;
     let c1 = c + half_width * t1;
-    var t0 = centre.t;
-    if length(t0) < 1e-6 {
-        t0 = up;
-    }
-    t0 = normalize(t0);
+    // Only the tangent's direction matters: the normal is normalised after the product.
+    let t0 = select(centre.t, up, dot(centre.t, centre.t) < 1e-12);
     let n = normalize(cross(t0, t1));
 
     // The dandelion's teeth follow the full mesh's rows at every level.
@@ -266,7 +272,9 @@ fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f3
     if frame.width_correction.y > 0.0 {
         // The blade's own width, before the thinning widens it: the widened blades stand
         // for the full field's, and keep the shape those would have.
-        let wp = length(to_screen(c1) - to_screen(c0)) / widen;
+        let centre_clip = frame.view_proj * vec4<f32>(c, 1.0);
+        let edge = half_width * ctx.clip_side;
+        let wp = length(clip_to_screen(centre_clip + edge) - clip_to_screen(centre_clip - edge)) / widen;
         let phi = 1.0 - min(max((wp - frame.width_correction.x) / frame.width_correction.y, 0.0), 1.0);
         t = t * (1.0 - phi) + u * phi;
     }
