@@ -156,6 +156,15 @@ fn late_start(early: u32) -> u32 {
     return (early + DRAW_BATCH - 1u) / DRAW_BATCH * DRAW_BATCH;
 }
 
+// a / b, exactly, for a + 1/2 < 2^23 and b > 0, in float: a software rasteriser has no
+// vector integer division and divides lane by lane, where a float vector divides in one
+// instruction. (a + 1/2) / b lies at least 1 / (2b) from the nearest integers, and the
+// float quotient's rounding error, at most (a + 1/2) / b times 2^-24, is smaller than that
+// while a + 1/2 < 2^23, so truncating it gives the integer quotient.
+fn div_small(a: u32, b: u32) -> u32 {
+    return u32((f32(a) + 0.5) / f32(b));
+}
+
 // Projected height in pixels of a blade of `height` whose root is at `v0`: the measure the
 // level of detail is chosen by (cull) and morphed by (grass vertex shader).
 fn projected_height(v0: vec3<f32>, height: f32, p: CullParams) -> f32 {

@@ -400,38 +400,24 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade with
     // the coarsest level's mesh, out to the radius.
     let shadow_pass = frame.debug.z > 0.0;
-    var rows = 1u;
-    var cols = 3u;
-    var slot = 0u;
-    var rel = 0u;
-    var per_blade = 0u;
+    // Multi-draw: the level is the region the batch lies in (the regions are whole batches,
+    // so a batch never straddles two of them). One draw per level binds its region at an
+    // offset, and its slots count from 0.
+    var region_start = 0u;
     if level == FROM_INSTANCE {
-        // Multi-draw: the level is the region the batch lies in. The regions are whole
-        // batches, so a batch never straddles two of them.
         let region = max(draw_level.y, 1u);
-        level = min(inst * DRAW_BATCH / region, 2u);
-        rows = max(cull.lod_segments[level], 1u);
-        cols = lod_columns(level);
-        if shadow_pass {
-            rows = max(cull.lod_segments[2], 1u);
-            cols = lod_columns(2u);
-        }
-        per_blade = select(cols * (rows + 1u), CASTER_VERTICES, shadow_pass);
-        slot = inst * DRAW_BATCH + batch_vid / per_blade;
-        rel = slot - level * region;
-    } else {
-        // One draw per level, its region bound at an offset: slots count from 0.
-        rows = max(cull.lod_segments[level], 1u);
-        cols = lod_columns(level);
-        if shadow_pass {
-            rows = max(cull.lod_segments[2], 1u);
-            cols = lod_columns(2u);
-        }
-        per_blade = select(cols * (rows + 1u), CASTER_VERTICES, shadow_pass);
-        slot = inst * DRAW_BATCH + batch_vid / per_blade;
-        rel = slot;
+        let first = inst * DRAW_BATCH;
+        level = select(select(0u, 1u, first >= region), 2u, first >= 2u * region);
+        region_start = level * region;
     }
-    let vid = batch_vid % per_blade;
+    let mesh_level = select(level, 2u, shadow_pass);
+    let rows = max(cull.lod_segments[mesh_level], 1u);
+    let cols = lod_columns(mesh_level);
+    let per_blade = select(cols * (rows + 1u), CASTER_VERTICES, shadow_pass);
+    let in_batch = div_small(batch_vid, per_blade);
+    let slot = inst * DRAW_BATCH + in_batch;
+    let rel = slot - region_start;
+    let vid = batch_vid - in_batch * per_blade;
     // The last batch of a list runs past its end: those slots hold stale indices and draw
     // nothing (a degenerate triangle outside the clip volume).
     let early = drawn.early[level];
@@ -452,8 +438,9 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         b.out = none;
         return b;
     }
-    let row = vid / cols;
-    var u = f32(vid % cols) / f32(cols - 1u);
+    let row = div_small(vid, cols);
+    let col = vid - row * cols;
+    var u = f32(col) / f32(cols - 1u);
     // A caster's third vertex is the tip, at the middle of the width.
     if shadow_pass && vid == 2u {
         u = 0.5;
@@ -490,15 +477,15 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         let coarse = max(cull.lod_segments[level + 1u], 1u);
         let fold = select(0.0, 1.0, lod_columns(level + 1u) == 2u);
         let num = row * coarse;
-        let below = num / rows;
-        let rem = num % rows;
+        let below = div_small(num, rows);
+        let rem = num - below * rows;
         var coarse_point = blade_point(blade, ctx, index, u, f32(below) / f32(coarse), fold);
         if rem != 0u {
             let f = f32(rem) / f32(rows);
             let b = blade_point(blade, ctx, index, u, f32(below + 1u) / f32(coarse), fold);
             coarse_point = BladePoint(mix(coarse_point.p, b.p, f), normalize(mix(coarse_point.n, b.n, f)));
         }
-        if rem != 0u || (fold > 0.5 && cols == 3u && vid % cols == 1u) {
+        if rem != 0u || (fold > 0.5 && cols == 3u && col == 1u) {
             point.p = mix(point.p, coarse_point.p, morph);
             point.n = normalize(mix(point.n, coarse_point.n, morph));
         }
