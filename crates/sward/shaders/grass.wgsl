@@ -43,6 +43,12 @@
 
 const FROM_INSTANCE: u32 = 0xffffffffu;
 
+// The shadow casters' pipeline (`GrassPipelines::shadow_grass`): the cascade's draw is
+// known when the pipeline is built, so the paths it never takes (the finer levels' meshes,
+// the morph towards the next level, which evaluates two more blade points per vertex) are
+// compiled out; a software rasteriser would run them for every caster vertex.
+override CASTER: bool = false;
+
 // Specialisation (render/grass_spec.rs): the scene's switches, given as constants when the
 // pipelines are built, so that the paths a scene does not use are compiled away. A CPU
 // adapter (llvmpipe) does not jump over an `if`: it runs both sides for the whole SIMD
@@ -399,7 +405,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     var level = draw_level.x;
     // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade with
     // the coarsest level's mesh, out to the radius.
-    let shadow_pass = frame.debug.z > 0.0;
+    let shadow_pass = CASTER || frame.debug.z > 0.0;
     // Multi-draw: the level is the region the batch lies in (the regions are whole batches,
     // so a batch never straddles two of them). One draw per level binds its region at an
     // offset, and its slots count from 0.

@@ -510,13 +510,16 @@ impl GrassPipelines {
                 )
             });
 
+        // The casters' vertex stage is built for the cascades' draw (`CASTER`).
+        let mut caster_constants = constants.to_vec();
+        caster_constants.push(("CASTER", 1.0));
         let shadow_grass = shadow_pipeline(
             device,
             "sward.light.shadow_grass",
             ("grass.wgsl", "vs_main"),
             layout,
             &[],
-            &constants,
+            &caster_constants,
         );
         // Multisampled, where every adapter multisamples the visibility buffer's format
         // with this count (WebGPU guarantees 4x); otherwise the grass is drawn forward.
