@@ -1,16 +1,16 @@
 //! The grass pipelines' specialisation (issue 26: the frame on a budget) draws the same
 //! picture as the general pipelines: the scene's blade model, shape, species, clumps,
-//! flowers and colour view folded into constants remove only paths the uniforms would not
-//! take. Each case renders a few frames both ways from the same start and compares every
-//! byte, in scenes that use each switch: species of three shapes in clumps, flowers, the
-//! CWD-Sim and Verlet models, the trail and level views.
+//! flowers, colour view and sky model folded into constants remove only paths the uniforms
+//! would not take. Each case renders a few frames both ways from the same start and
+//! compares every byte, in scenes that use each switch: species of three shapes in clumps,
+//! flowers, the CWD-Sim and Verlet models, the trail and level views, the gradient sky.
 
 mod common;
 
 use std::path::Path;
 
 use sward::render::grass_spec::GrassSpec;
-use sward::scene::{BladeModel, ColorMode, Scene};
+use sward::scene::{BladeModel, ColorMode, Scene, SkyModel};
 
 const SIZE: (u32, u32) = (160, 96);
 const FRAMES: usize = 3;
@@ -101,4 +101,12 @@ fn verlet_blades_in_the_level_view_draw_the_same() {
 
 fn scene_shape(name: &str) -> u32 {
     shipped(name).field.shape.id()
+}
+
+#[test]
+fn the_gradient_sky_draws_the_same() {
+    let mut scene = shipped("meadow.ron");
+    scene.light.sky = SkyModel::Gradient;
+    let spec = same_picture("gradient sky", scene);
+    assert_eq!(spec.sky, Some(SkyModel::Gradient.id()));
 }

@@ -66,12 +66,23 @@ fn xyy_to_rgb(x: f32, y: f32, big_y: f32) -> vec3<f32> {
     return max(vec3<f32>(r, g, b), vec3<f32>(0.0));
 }
 
+// The sky model a pipeline is built for (`GrassSpec::sky`: 0 Preetham, 1 the gradient), or
+// ANY_SKY, the uniform's choice. llvmpipe runs both models wherever the choice is the
+// uniform's; the grass's per-pixel light looks the sky up for its fog, so its pipelines
+// fold the other model away.
+const ANY_SKY: u32 = 0xffffffffu;
+override SKY_MODEL: u32 = ANY_SKY;
+
 // The sky's radiance along `dir` (no sun disk): Preetham's model above the horizon, the
 // horizon's colour fading into a dim ground below it; or the old gradient.
 fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
     let sun = frame.sun_dir.xyz;
     let h = clamp(dir.y, -1.0, 1.0);
-    if light.sky.x > 0.5 {
+    var gradient = light.sky.x > 0.5;
+    if SKY_MODEL != ANY_SKY {
+        gradient = SKY_MODEL == 1u;
+    }
+    if gradient {
         let zenith = vec3<f32>(0.22, 0.42, 0.78);
         let horizon = vec3<f32>(0.70, 0.80, 0.90);
         var c = mix(horizon, zenith, pow(max(h, 0.0), 0.55));

@@ -1,5 +1,5 @@
 //! The grass pipelines' specialisation: the scene's switches (blade model, blade shape,
-//! species, clumps, flowers, debug views) given to `grass.wgsl` as pipeline-overridable
+//! species, clumps, flowers, debug views, the sky model) given to `grass.wgsl` as pipeline-overridable
 //! constants, so that the paths a scene does not use are compiled out.
 //!
 //! Why: a CPU adapter (llvmpipe) does not jump over an `if`. It runs both sides for the
@@ -33,6 +33,8 @@ pub struct GrassSpec {
     pub flowers: bool,
     /// Whether a debug colour view (levels, patches, trails) may be on.
     pub debug_views: bool,
+    /// The sky model's id (`SkyModel::id`: light.wgsl's `SKY_MODEL`), or `None`: any.
+    pub sky: Option<u32>,
 }
 
 impl GrassSpec {
@@ -44,6 +46,7 @@ impl GrassSpec {
         clumps: true,
         flowers: true,
         debug_views: true,
+        sky: None,
     };
 
     /// The specialisation for drawing `scene`'s field, whose species, clumps and flowers
@@ -72,11 +75,12 @@ impl GrassSpec {
             clumps: traits.has_clumps(),
             flowers: traits.flowers[0] > 0.0,
             debug_views: scene.render.color_mode.id() != 0,
+            sky: Some(scene.light.sky.id()),
         }
     }
 
     /// The pipeline constants (`override`s of `grass.wgsl`) for this specialisation.
-    pub fn constants(&self) -> [(&'static str, f64); 6] {
+    pub fn constants(&self) -> [(&'static str, f64); 7] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("BLADE_MODEL", self.model.unwrap_or(ANY) as f64),
@@ -85,6 +89,7 @@ impl GrassSpec {
             ("CLUMPS", flag(self.clumps)),
             ("FLOWERS", flag(self.flowers)),
             ("DEBUG_VIEWS", flag(self.debug_views)),
+            ("SKY_MODEL", self.sky.unwrap_or(ANY) as f64),
         ]
     }
 }
@@ -143,7 +148,7 @@ mod tests {
     fn the_general_spec_keeps_every_path() {
         for (name, value) in GrassSpec::GENERAL.constants() {
             let kept = match name {
-                "BLADE_MODEL" | "BLADE_SHAPE" => value == u32::MAX as f64,
+                "BLADE_MODEL" | "BLADE_SHAPE" | "SKY_MODEL" => value == u32::MAX as f64,
                 _ => value == 1.0,
             };
             assert!(kept, "{name} = {value}");
