@@ -41,6 +41,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/contrast_probe.wgsl"),
     ),
     (
+        "div_small_probe.wgsl",
+        include_str!("../shaders/div_small_probe.wgsl"),
+    ),
+    (
         "grass_texture_probe.wgsl",
         include_str!("../shaders/grass_texture_probe.wgsl"),
     ),
@@ -206,6 +210,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain_msaa.wgsl",
     "far_gain_probe.wgsl",
     "contrast_probe.wgsl",
+    "div_small_probe.wgsl",
     "grass_texture_probe.wgsl",
     "trail_probe.wgsl",
     "sky.wgsl",
