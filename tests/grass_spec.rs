@@ -110,3 +110,55 @@ fn the_gradient_sky_draws_the_same() {
     let spec = same_picture("gradient sky", scene);
     assert_eq!(spec.sky, Some(SkyModel::Gradient.id()));
 }
+
+/// The last of `FRAMES` frames by a specialised renderer, the sky model switched to the
+/// gradient before frame `switch_at` when given.
+fn sky_frames(scene: &Scene, switch_at: Option<usize>) -> (image::RgbaImage, GrassSpec) {
+    let gpu = common::gpu();
+    let session = sward::session::Session::new(scene.clone(), None, Some(&gpu)).expect("field");
+    let format = sward::render::target::COLOR_FORMAT;
+    let renderer = sward::render::Renderer::from_session(&gpu, &session, format).expect("renderer");
+    let mut r = sward::embed::GrassRenderer::wrap_world(&gpu, renderer, format);
+    r.deferred_grass(false);
+    let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
+    let target = sward::render::target::Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
+    for k in 0..FRAMES {
+        if switch_at == Some(k) {
+            r.scene.light.sky = SkyModel::Gradient;
+        }
+        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
+    }
+    gpu.check_errors().expect("no GPU error");
+    (target.read_image(&gpu).expect("image"), r.grass_spec())
+}
+
+#[test]
+fn a_sky_model_changed_live_rebuilds_the_sky_pass() {
+    // Looking along the meadow, the sky fills the top of the view. The sky pass draws it
+    // from this frame's light alone, so after a switch to the gradient its pixels are those
+    // of a renderer that had the gradient from the start; a sky pass left specialised for
+    // Preetham's sky would draw Preetham's.
+    let mut scene = shipped("meadow.ron");
+    scene.camera.eye = (0.0, 2.0, 3.0);
+    scene.camera.target = (0.0, 2.0, -10.0);
+    let (switched, spec) = sky_frames(&scene, Some(1));
+    assert_eq!(spec.sky, Some(SkyModel::Gradient.id()));
+    scene.light.sky = SkyModel::Gradient;
+    let (reference, _) = sky_frames(&scene, None);
+    let sky: Vec<(u32, u32)> = reference
+        .enumerate_pixels()
+        .filter(|(_, _, p)| p[2] > p[1].saturating_add(8))
+        .map(|(x, y, _)| (x, y))
+        .collect();
+    assert!(sky.len() > 1000, "the sky shows ({} pixels)", sky.len());
+    let differing = sky
+        .iter()
+        .filter(|&&(x, y)| switched.get_pixel(x, y) != reference.get_pixel(x, y))
+        .count();
+    assert_eq!(
+        differing,
+        0,
+        "the switched sky differs in {differing} of {} pixels",
+        sky.len()
+    );
+}

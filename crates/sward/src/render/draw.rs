@@ -322,9 +322,9 @@ impl DrawPass {
         self.pipelines.grass.spec
     }
 
-    /// Rebuilds the grass pipelines when `scene`'s switches (model, shape, colour view)
-    /// no longer match their specialisation; true when it did. Only on a change: the
-    /// panel's edits, never per frame.
+    /// Rebuilds the grass pipelines when `scene`'s switches (model, shape, colour view, sky
+    /// model) no longer match their specialisation, and the sky pass's when the sky model
+    /// changed; true when it did. Only on a change: the panel's edits, never per frame.
     pub fn sync_grass_spec(&mut self, device: &wgpu::Device, scene: &crate::scene::Scene) -> bool {
         let spec = if self.general_grass {
             GrassSpec::GENERAL
@@ -333,6 +333,14 @@ impl DrawPass {
         };
         if spec == self.pipelines.grass.spec {
             return false;
+        }
+        if spec.sky != self.pipelines.grass.spec.sky {
+            self.pipelines.sky = super::pipelines::sky_pipeline(
+                device,
+                (self.format, self.pipelines.samples),
+                &self.frame_layout,
+                spec.sky,
+            );
         }
         self.pipelines.grass = GrassPipelines::new(
             device,

@@ -1,6 +1,7 @@
 //! The grass pipelines' specialisation: the scene's switches (blade model, blade shape,
-//! species, clumps, flowers, debug views, the sky model) given to `grass.wgsl` as pipeline-overridable
-//! constants, so that the paths a scene does not use are compiled out.
+//! species, clumps, flowers, debug views, the sky model) given to `grass.wgsl` as
+//! pipeline-overridable constants, so that the paths a scene does not use are compiled out.
+//! The sky model also specialises the sky pass (`pipelines::sky_pipeline`).
 //!
 //! Why: a CPU adapter (llvmpipe) does not jump over an `if`. It runs both sides for the
 //! whole SIMD batch under a mask, so every blade model, shape, flower head and debug colour

@@ -328,23 +328,7 @@ impl Pipelines {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &sphere_attrs,
         })];
-        let sky = pipeline(
-            device,
-            format,
-            samples,
-            PipelineSpec {
-                label: "sward.draw.sky",
-                shader: "sky.wgsl",
-                vertex: "vs_main",
-                layout: frame_layout,
-                buffers: &[],
-                depth_write: false,
-                cull_back: false,
-                lines: false,
-                depth_only: false,
-                constants: &[],
-            },
-        );
+        let sky = sky_pipeline(device, (format, samples), frame_layout, spec.sky);
         let terrain_pipeline = pipeline(
             device,
             format,
@@ -442,6 +426,35 @@ impl Pipelines {
             grass,
         }
     }
+}
+
+/// The sky pass's pipeline, built for the scene's sky model (`GrassSpec::sky`, light.wgsl's
+/// `SKY_MODEL`; `None`: the uniform's): the pass shades every pixel the sky shows, and
+/// llvmpipe would run both models for each.
+pub(super) fn sky_pipeline(
+    device: &wgpu::Device,
+    (format, samples): (wgpu::TextureFormat, u32),
+    frame_layout: &wgpu::BindGroupLayout,
+    sky: Option<u32>,
+) -> wgpu::RenderPipeline {
+    let constants = [("SKY_MODEL", f64::from(sky.unwrap_or(u32::MAX)))];
+    pipeline(
+        device,
+        format,
+        samples,
+        PipelineSpec {
+            label: "sward.draw.sky",
+            shader: "sky.wgsl",
+            vertex: "vs_main",
+            layout: frame_layout,
+            buffers: &[],
+            depth_write: false,
+            cull_back: false,
+            lines: false,
+            depth_only: false,
+            constants: &constants,
+        },
+    )
 }
 
 /// The grass's pipelines for one colour format, sample count and specialisation: lit,
