@@ -339,7 +339,7 @@ impl DrawPass {
                 device,
                 (self.format, self.pipelines.samples),
                 &self.frame_layout,
-                spec.sky,
+                spec,
             );
         }
         self.pipelines.grass = GrassPipelines::new(

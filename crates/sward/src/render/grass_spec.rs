@@ -90,8 +90,14 @@ impl GrassSpec {
             ("CLUMPS", flag(self.clumps)),
             ("FLOWERS", flag(self.flowers)),
             ("DEBUG_VIEWS", flag(self.debug_views)),
-            ("SKY_MODEL", self.sky.unwrap_or(ANY) as f64),
+            self.sky_constant(),
         ]
+    }
+
+    /// light.wgsl's `SKY_MODEL` for this specialisation: the grass pipelines' and the sky
+    /// pass's (`pipelines::sky_pipeline`).
+    pub fn sky_constant(&self) -> (&'static str, f64) {
+        ("SKY_MODEL", self.sky.unwrap_or(ANY) as f64)
     }
 }
 

@@ -328,7 +328,7 @@ impl Pipelines {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &sphere_attrs,
         })];
-        let sky = sky_pipeline(device, (format, samples), frame_layout, spec.sky);
+        let sky = sky_pipeline(device, (format, samples), frame_layout, spec);
         let terrain_pipeline = pipeline(
             device,
             format,
@@ -428,16 +428,16 @@ impl Pipelines {
     }
 }
 
-/// The sky pass's pipeline, built for the scene's sky model (`GrassSpec::sky`, light.wgsl's
-/// `SKY_MODEL`; `None`: the uniform's): the pass shades every pixel the sky shows, and
-/// llvmpipe would run both models for each.
+/// The sky pass's pipeline, built for `spec`'s sky model (`GrassSpec::sky_constant`;
+/// `None`: the uniform's): the pass shades every pixel the sky shows, and llvmpipe would
+/// run both models for each.
 pub(super) fn sky_pipeline(
     device: &wgpu::Device,
     (format, samples): (wgpu::TextureFormat, u32),
     frame_layout: &wgpu::BindGroupLayout,
-    sky: Option<u32>,
+    spec: GrassSpec,
 ) -> wgpu::RenderPipeline {
-    let constants = [("SKY_MODEL", f64::from(sky.unwrap_or(u32::MAX)))];
+    let constants = [spec.sky_constant()];
     pipeline(
         device,
         format,
