@@ -116,19 +116,12 @@ fn the_gradient_sky_draws_the_same() {
 fn sky_frames(scene: &Scene, switch_at: Option<usize>) -> (image::RgbaImage, GrassSpec) {
     let gpu = common::gpu();
     let session = sward::session::Session::new(scene.clone(), None, Some(&gpu)).expect("field");
-    let format = sward::render::target::COLOR_FORMAT;
-    let renderer = sward::render::Renderer::from_session(&gpu, &session, format).expect("renderer");
-    let mut r = sward::embed::GrassRenderer::wrap_world(&gpu, renderer, format);
-    r.deferred_grass(false);
-    let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
-    let target = sward::render::target::Target::new(&gpu, SIZE.0, SIZE.1).expect("target");
-    for k in 0..FRAMES {
+    let setup = |r: &mut sward::render::Renderer| r.deferred_grass(false);
+    let (r, target) = common::draw_frames_each(&gpu, &session, SIZE, FRAMES, setup, |k, r| {
         if switch_at == Some(k) {
             r.scene.light.sky = SkyModel::Gradient;
         }
-        sward::commands::world_frame(&gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
-    }
-    gpu.check_errors().expect("no GPU error");
+    });
     (target.read_image(&gpu).expect("image"), r.grass_spec())
 }
 

@@ -70,6 +70,26 @@ pub fn draw_frames(
     count_last: bool,
     setup: impl FnOnce(&mut Renderer),
 ) -> (GrassRenderer, sward::render::target::Target) {
+    draw_frames_each(gpu, session, size, frames, setup, |k, r| {
+        if count_last && k + 1 == frames {
+            assert!(
+                r.count_work(gpu, true),
+                "lavapipe has pipeline-statistics queries: the frame must be counted"
+            );
+        }
+    })
+}
+
+/// `draw_frames` with `before(k, renderer)` called before each frame k (a scene edited
+/// between frames, as the panel edits it).
+pub fn draw_frames_each(
+    gpu: &Gpu,
+    session: &Session,
+    size: (u32, u32),
+    frames: usize,
+    setup: impl FnOnce(&mut Renderer),
+    mut before: impl FnMut(usize, &mut GrassRenderer),
+) -> (GrassRenderer, sward::render::target::Target) {
     let mut r = sward::embed::GrassRenderer::wrap_world(
         gpu,
         Renderer::from_session(gpu, session, COLOR_FORMAT).expect("renderer"),
@@ -79,12 +99,7 @@ pub fn draw_frames(
     let camera = sward::render::camera::CameraView::from_scene(&session.scene.camera);
     let target = sward::render::target::Target::new(gpu, size.0, size.1).expect("target");
     for k in 0..frames {
-        if count_last && k + 1 == frames {
-            assert!(
-                r.count_work(gpu, true),
-                "lavapipe has pipeline-statistics queries: the frame must be counted"
-            );
-        }
+        before(k, &mut r);
         sward::commands::world_frame(gpu, &mut r, 1.0 / 30.0, camera, &target).expect("frame");
     }
     gpu.check_errors().expect("no GPU error");
