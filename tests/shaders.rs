@@ -42,19 +42,19 @@ fn every_shader_file_is_reachable_from_an_entry_file() {
     }
 }
 
-/// The constants `common.wgsl` shares with Rust hold the same values (a mismatch would
+/// The constants the shaders share with Rust hold the same values (a mismatch would
 /// size a struct or a buffer differently on the two sides without any error).
 #[test]
 fn shared_constants_match_rust() {
     use sward::sim::layout::{
         BVH_NODE_BASE, DRAW_BATCH, MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERES_ALL,
     };
-    let src = source("common.wgsl");
-    let value = |name: &str| -> u64 {
+    let value_in = |file: &str, name: &str| -> u64 {
+        let src = source(file);
         let line = src
             .lines()
             .find(|l| l.starts_with(&format!("const {name}: u32 = ")))
-            .unwrap_or_else(|| panic!("common.wgsl has no const {name}"));
+            .unwrap_or_else(|| panic!("{file} has no const {name}"));
         let text = line
             .split('=')
             .nth(1)
@@ -67,11 +67,22 @@ fn shared_constants_match_rust() {
             None => text.parse().expect("a number"),
         }
     };
+    let value = |name: &str| value_in("common.wgsl", name);
     assert_eq!(value("PATCH_SPHERE_STRIDE"), u64::from(PATCH_SPHERE_STRIDE));
     assert_eq!(value("SPHERES_ALL"), u64::from(SPHERES_ALL));
     assert_eq!(value("DRAW_BATCH"), u64::from(DRAW_BATCH));
     assert_eq!(value("SPHERE_WORDS"), (MAX_SPHERES / 32) as u64);
     assert_eq!(value("BVH_NODE_BASE"), BVH_NODE_BASE as u64);
+    // The deferred light's dispatch sizes: the shading's workgroup and the pixel pass's run.
+    use sward::render::deferred::{LIST_RUN, SHADE_GROUP};
+    assert_eq!(
+        value_in("grass_vis.wgsl", "SHADE_GROUP"),
+        u64::from(SHADE_GROUP)
+    );
+    assert_eq!(
+        value_in("grass_deferred.wgsl", "LIST_RUN"),
+        u64::from(LIST_RUN)
+    );
 }
 
 /// The flower stem's width is written in three places (the generators' `STEM_WIDTH`, the

@@ -60,15 +60,6 @@ var<workgroup> near_model: array<vec4<f32>, 128>;
 // (zw) (`variation`).
 var<workgroup> shown_d: array<vec4<f32>, 128>;
 
-// The world point pixel `p` of the frame shows at depth `z`.
-fn world_at(p: vec2<u32>, z: f32) -> vec3<f32> {
-    let size = frame.viewport_time.xy;
-    let uv = (vec2<f32>(p) + 0.5) / size;
-    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, z, 1.0);
-    let w = frame.inv_view_proj * ndc;
-    return w.xyz / w.w;
-}
-
 fn state_gain(at: u32) -> vec4<f32> {
     return bitcast<vec4<f32>>(vec4<u32>(far_state[at], far_state[at + 1u], far_state[at + 2u], far_state[at + 3u]));
 }

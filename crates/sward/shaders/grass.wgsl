@@ -255,6 +255,14 @@ fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
     return min(n / max(keep, 1.0), MAX_WIDEN);
 }
 
+// The flat blade's normal from Eq. 21's tangent `t` and the width direction `side` (the
+// blade's `up` where the tangent vanishes). Only the tangent's direction matters: the
+// normal is normalised after the product.
+fn flat_normal(t: vec3<f32>, up: vec3<f32>, side: vec3<f32>) -> vec3<f32> {
+    let t0 = select(t, up, dot(t, t) < 1e-12);
+    return normalize(cross(t0, side));
+}
+
 // The vertex at (u, v) of a blade: Eq. 21-24.
 fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f32) -> BladePoint {
     let widen = ctx.widen;
@@ -266,9 +274,7 @@ fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f3
     let t1 = ctx.side;
     let c0 = c - half_width * t1;
     let c1 = c + half_width * t1;
-    // Only the tangent's direction matters: the normal is normalised after the product.
-    let t0 = select(centre.t, up, dot(centre.t, centre.t) < 1e-12);
-    let n = normalize(cross(t0, t1));
+    let n = flat_normal(centre.t, up, t1);
 
     // The dandelion's teeth follow the full mesh's rows at every level.
     var t = shape_t(ctx.shape, u, v, frame.shape.y, frame.shape.z);

@@ -127,6 +127,16 @@ fn fog(color: vec3<f32>, world: vec3<f32>) -> vec3<f32> {
     return fog_towards(color, world, sky_radiance(to_p / max(length(to_p), 1e-4)));
 }
 
+// The world point pixel `p` of the frame shows at depth `z` (the frame's own, jittered,
+// projection undone).
+fn world_at(p: vec2<u32>, z: f32) -> vec3<f32> {
+    let size = frame.viewport_time.xy;
+    let uv = (vec2<f32>(p) + 0.5) / size;
+    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, z, 1.0);
+    let w = frame.inv_view_proj * ndc;
+    return w.xyz / w.w;
+}
+
 // `fog` with the sky's radiance behind the point given (a pass that looks it up per vertex).
 fn fog_towards(color: vec3<f32>, world: vec3<f32>, sky: vec3<f32>) -> vec3<f32> {
     let dist = distance(world, frame.camera_pos.xyz);

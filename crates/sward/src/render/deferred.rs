@@ -44,6 +44,10 @@ pub const GRASS_ALPHA: f64 = -1.0;
 /// Widest multisampled target the path takes: the pixel list packs x and y in 14 bits.
 const MS_MAX_SIDE: u32 = 1 << 14;
 
+/// Pixels along a row that one invocation of the one-sample pixel pass lists (`LIST_RUN`
+/// in `grass_deferred.wgsl`).
+pub const LIST_RUN: u32 = 4;
+
 /// Invocations per workgroup of the shading pass (`SHADE_GROUP` in the shader).
 pub const SHADE_GROUP: u32 = 256;
 
@@ -254,6 +258,13 @@ pub struct DeferredTargets {
 }
 
 impl DeferredTargets {
+    /// Workgroups (8 x 8 invocations) of the pixel pass: one-sample, each invocation lists
+    /// a run of [`LIST_RUN`] pixels along a row; multisampled, one pixel.
+    fn list_groups(&self) -> (u32, u32) {
+        let run = if self.samples > 1 { 1 } else { LIST_RUN };
+        (self.size.0.div_ceil(8 * run), self.size.1.div_ceil(8))
+    }
+
     /// Whether the adapter can hold the path's buffers for a target of `size` (the list
     /// is one storage binding of width x height words) and dispatch its shading (a
     /// workgroup per [`SHADE_GROUP`] pixels along x, when every pixel is grass).
@@ -448,7 +459,8 @@ impl DeferredTargets {
             pass.set_bind_group(0, groups.0, &[]);
             pass.set_bind_group(1, groups.1, &[]);
             pass.set_bind_group(2, &light[0], &[]);
-            pass.dispatch_workgroups(self.size.0.div_ceil(8), self.size.1.div_ceil(8), 1);
+            let (run_x, run_y) = self.list_groups();
+            pass.dispatch_workgroups(run_x, run_y, 1);
             q_pixels.end(&mut pass);
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
