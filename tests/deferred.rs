@@ -224,3 +224,91 @@ fn targets_too_large_for_the_path_are_drawn_forward() {
     assert!(!DeferredTargets::fits(&gpu, (16385, 64), 4));
     assert!(DeferredTargets::new(&gpu, (64, 16385), 4).is_err());
 }
+
+/// The deferred light's fog reads the sky from a table (`sky_directions` in
+/// `grass_deferred.wgsl`, an octahedral map of every direction) instead of evaluating the
+/// sky per pixel. Each texel must hold its CPU twin, `light::sky_radiance` along the
+/// direction `deferred::sky_lut_direction` gives it, under both sky models and a low sun
+/// (the Perez model's steepest circumsolar light), to the table's half-float precision.
+#[test]
+fn the_fog_s_sky_table_holds_the_sky_model() {
+    use sward::render::deferred::{sky_lut_direction, SKY_LUT_SIDE};
+    use sward::scene::SkyModel;
+    let gpu = common::gpu();
+    for (model, hour) in [
+        (SkyModel::Preetham, 12.0),
+        (SkyModel::Preetham, 18.5),
+        (SkyModel::Gradient, 12.0),
+    ] {
+        let mut s = scene(BladeModel::Jahrmann, 1);
+        s.light.sky = model;
+        s.light.time_of_day = Some(hour);
+        let session = Session::new(s, None, Some(&gpu)).expect("field");
+        let (r, _) = common::draw_frames(&gpu, &session, SIZE, 1, false, |_| {});
+        let table = r
+            .read_sky_lut(&gpu)
+            .expect("one sample: the deferred path")
+            .expect("read");
+        let sun = sward::render::light::sun::scene_sun(&session.scene);
+        let mut worst = 0.0f32;
+        for y in 0..SKY_LUT_SIDE {
+            for x in 0..SKY_LUT_SIDE {
+                let dir = sky_lut_direction(x, y);
+                let cpu = sward::render::light::sky_radiance(&session.scene, sun, dir);
+                let gpu_value = glam::Vec3::from(table[(y * SKY_LUT_SIDE + x) as usize]);
+                let rel =
+                    ((gpu_value - cpu).abs() / (glam::Vec3::splat(0.01) + cpu.abs())).max_element();
+                worst = worst.max(rel);
+            }
+        }
+        println!("{model:?} at {hour} h: worst relative difference {worst:.2e}");
+        // Measured 1.0e-3: llvmpipe converts to half floats by truncation, one unit in the
+        // last of their 11 significant bits (9.8e-4); the GPU's exp and acos add less.
+        assert!(worst < 2e-3, "{model:?} at {hour} h: {worst}");
+    }
+}
+
+/// The fog reads the table at `octahedral_uv(direction)` (octahedral.wgsl): the GPU's uv
+/// for directions all over the sphere (both hemispheres, the horizon, the folds' edges and
+/// the poles) must lead back to the same direction through the table's texel mapping, the
+/// CPU twin `deferred::octahedral_direction` (measured 2.9e-7; a mirrored lookup was off
+/// by 2, one that folded the lower hemisphere the wrong way round by 1.4).
+#[test]
+fn the_fog_reads_the_table_at_its_direction() {
+    use glam::Vec3;
+    use sward::render::deferred::octahedral_direction;
+    let gpu = common::gpu();
+    let mut dirs = vec![Vec3::Y, -Vec3::Y, Vec3::X, -Vec3::X, Vec3::Z, -Vec3::Z];
+    for i in 0..40 {
+        for j in 0..81 {
+            // Elevations from -90° to 90°, the horizon among them, and every azimuth.
+            let elevation = (j as f32 / 80.0 - 0.5) * std::f32::consts::PI;
+            let azimuth = i as f32 / 40.0 * std::f32::consts::TAU + 0.01;
+            dirs.push(Vec3::new(
+                elevation.cos() * azimuth.cos(),
+                elevation.sin(),
+                elevation.cos() * azimuth.sin(),
+            ));
+        }
+    }
+    let flat: Vec<[f32; 4]> = dirs.iter().map(|d| [d.x, d.y, d.z, 0.0]).collect();
+    let uvs = sward::gpu::run_vec4_probe(
+        &gpu,
+        "sward.test.octahedral",
+        "octahedral_probe.wgsl",
+        &[bytemuck::cast_slice(&flat)],
+        dirs.len(),
+    )
+    .expect("probe");
+    let mut worst = 0.0f32;
+    for (d, uv) in dirs.iter().zip(&uvs) {
+        assert!(
+            (0.0..=1.0).contains(&uv[0]) && (0.0..=1.0).contains(&uv[1]),
+            "{d}: {uv:?}"
+        );
+        let back = octahedral_direction(glam::Vec2::new(uv[0], uv[1]));
+        worst = worst.max((back - *d).length());
+    }
+    println!("octahedral round trip: worst {worst:.2e}");
+    assert!(worst < 1e-5, "{worst}");
+}

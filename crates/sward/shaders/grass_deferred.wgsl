@@ -19,6 +19,7 @@
 // Used when the grass pipelines are specialised without flowers and debug views, with
 // one sample per pixel and filled triangles; otherwise the grass is drawn forward.
 //!include grass_vis.wgsl
+//!include octahedral.wgsl
 
 @group(2) @binding(0) var vis_buffer: texture_2d<u32>;
 @group(2) @binding(1) var depth_buffer: texture_depth_2d;
@@ -27,6 +28,15 @@
 // Bound to the pixel pass only: the shading pass reads it as its indirect arguments, which
 // a storage binding in the same dispatch may not (it binds a stand-in).
 @group(2) @binding(4) var<storage, read_write> shade_args: ShadeArgs;
+// The sky's radiance over every direction (`sky_towards`), for the fog: written by
+// `sky_directions` in the pixel pass, sampled by the shading. Each pass binds a stand-in
+// texture in the other's place (one texture cannot be written and sampled in a dispatch).
+@group(2) @binding(5) var sky_lut_out: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(6) var sky_lut: texture_2d<f32>;
+@group(2) @binding(7) var sky_sampler: sampler;
+
+// Texels per side of the sky's table (twin: `deferred::SKY_LUT_SIDE`).
+const SKY_LUT_SIDE: u32 = 64u;
 
 @fragment
 fn fs_vis(in: VisOut) -> @location(0) vec4<u32> {
@@ -93,6 +103,24 @@ fn grass_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
+// One texel of the sky's table per invocation: `sky_radiance` at its centre's direction.
+// The fog's sky was looked up per grass pixel (the Perez model's exponentials, an arc
+// cosine and a matrix), about a tenth of the shading; the table costs 4,096 lookups a
+// frame and one filtered read per pixel.
+@compute @workgroup_size(8, 8)
+fn sky_directions(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= SKY_LUT_SIDE || gid.y >= SKY_LUT_SIDE {
+        return;
+    }
+    let uv = (vec2<f32>(gid.xy) + 0.5) / f32(SKY_LUT_SIDE);
+    textureStore(sky_lut_out, vec2<i32>(gid.xy), vec4<f32>(sky_radiance(octahedral_direction(uv)), 1.0));
+}
+
+// The sky's radiance along `dir` from the table (bilinear between its texel centres).
+fn sky_towards(dir: vec3<f32>) -> vec3<f32> {
+    return textureSampleLevel(sky_lut, sky_sampler, octahedral_uv(dir), 0.0).rgb;
+}
+
 @compute @workgroup_size(256)
 fn shade_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= atomicLoad(&pixel_list.count) {
@@ -102,5 +130,7 @@ fn shade_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     let px = vec2<i32>(vec2<u32>(packed & 0xffffu, packed >> 16u));
     let vis = textureLoad(vis_buffer, px, 0);
     let world = world_at(vec2<u32>(px), bitcast<f32>(vis.z));
-    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, unpack2x16unorm(vis.y), world), 1.0));
+    // The fog's sky behind the blade (`blade_sky`: towards its root).
+    let sky = sky_towards(normalize(blades[vis.x].v0_dir.xyz - frame.camera_pos.xyz));
+    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, unpack2x16unorm(vis.y), world, sky), 1.0));
 }

@@ -60,20 +60,21 @@ fn vis_lit(index: u32, uv: vec2<f32>) -> VisLit {
     let blade = blades[index];
     let ctx = blade_ctx(blade);
     let point = blade_point(blade, ctx, index, uv.x, uv.y, 0.0);
-    return vis_lit_point(index, blade, ctx, uv, point);
+    return vis_lit_point(index, blade, ctx, uv, point, blade_sky(blade.v0_dir.xyz));
 }
 
 // `vis_lit` where the pixel's world point is known (the one-sample visibility buffer keeps
-// its depth): only the normal is taken from the curve. The blade's point at (u, v) would
+// its depth), under the fog's `sky` found by the caller: only the normal is taken from
+// the curve. The blade's point at (u, v) would
 // cost the thinning's widening, the shape and Eq. 24's width in pixels (two products with
 // the view-projection), none of which changes the light; and the depth's point is the
 // surface the draw rasterised, fold and all.
-fn vis_lit_at(index: u32, uv: vec2<f32>, world: vec3<f32>) -> VisLit {
+fn vis_lit_at(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>) -> VisLit {
     let blade = blades[index];
     let ctx = light_ctx(blade);
     let centre = centre_line(blade, ctx, index, uv.y);
     let n = flat_normal(centre.t, blade.up_stiffness.xyz, ctx.side);
-    return vis_lit_point(index, blade, ctx, uv, BladePoint(world, n));
+    return vis_lit_point(index, blade, ctx, uv, BladePoint(world, n), sky);
 }
 
 // What of `blade_ctx` the light and the centre line read: the blade's frame and CWD-Sim's
@@ -87,8 +88,8 @@ fn light_ctx(blade: Blade) -> BladeCtx {
     return ctx;
 }
 
-// `vis_lit` of blade `index` at its `point` (u, v).
-fn vis_lit_point(index: u32, blade: Blade, ctx: BladeCtx, uv: vec2<f32>, point: BladePoint) -> VisLit {
+// `vis_lit` of blade `index` at its `point` (u, v), with the sky behind it.
+fn vis_lit_point(index: u32, blade: Blade, ctx: BladeCtx, uv: vec2<f32>, point: BladePoint, sky: vec3<f32>) -> VisLit {
     // Two-sided, as the forward fragment stage lights it.
     var flat_n = normalize(point.n);
     if dot(flat_n, frame.camera_pos.xyz - point.p) < 0.0 {
@@ -98,7 +99,7 @@ fn vis_lit_point(index: u32, blade: Blade, ctx: BladeCtx, uv: vec2<f32>, point: 
     let self_shade = blade_self_shade(blade, point.p);
     let l = blade_light(point.p, flat_n, ctx.side, uv, albedo, self_shade);
     let sun = sun_visibility(point.p) * l.sun;
-    return VisLit(l.ambient, sun, point.p, blade_sky(blade.v0_dir.xyz), albedo, vis_ao(uv.y, self_shade));
+    return VisLit(l.ambient, sun, point.p, sky, albedo, vis_ao(uv.y, self_shade));
 }
 
 // Blade `index`'s albedo at height v along it (`blade_albedos`, root to tip).
@@ -119,8 +120,9 @@ fn vis_ao(v: f32, self_shade: f32) -> f32 {
     return mix(1.0, max(exp(-0.35 * light.shading_b.z * (1.0 - v)), 0.12), light.shading_a.w);
 }
 
-// The lit colour (fogged radiance) of blade `index` at (u, v) on it, at `world`.
-fn vis_colour(index: u32, uv: vec2<f32>, world: vec3<f32>) -> vec3<f32> {
-    let lit = vis_lit_at(index, uv, world);
+// The lit colour (fogged radiance) of blade `index` at (u, v) on it, at `world`, the fog
+// turning it towards `sky`.
+fn vis_colour(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>) -> vec3<f32> {
+    let lit = vis_lit_at(index, uv, world, sky);
     return fog_towards(lit.ambient + lit.sun, lit.point, lit.sky);
 }

@@ -44,6 +44,11 @@ const FILES: &[(&str, &str)] = &[
         "div_small_probe.wgsl",
         include_str!("../shaders/div_small_probe.wgsl"),
     ),
+    ("octahedral.wgsl", include_str!("../shaders/octahedral.wgsl")),
+    (
+        "octahedral_probe.wgsl",
+        include_str!("../shaders/octahedral_probe.wgsl"),
+    ),
     (
         "grass_texture_probe.wgsl",
         include_str!("../shaders/grass_texture_probe.wgsl"),
@@ -211,6 +216,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain_probe.wgsl",
     "contrast_probe.wgsl",
     "div_small_probe.wgsl",
+    "octahedral_probe.wgsl",
     "grass_texture_probe.wgsl",
     "trail_probe.wgsl",
     "sky.wgsl",

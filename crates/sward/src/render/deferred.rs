@@ -54,9 +54,37 @@ pub const SHADE_GROUP: u32 = 256;
 /// Bytes of the indirect dispatch arguments and the list length (`ShadeArgs`).
 const ARGS_BYTES: u64 = 16;
 
+/// Texels per side of the sky's table for the fog (`SKY_LUT_SIDE` in
+/// `grass_deferred.wgsl`): an octahedral map of every direction, about 2.8° a texel.
+pub const SKY_LUT_SIDE: u32 = 64;
+/// The sky table's format: filterable, and writable as a storage texture everywhere.
+const SKY_LUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The unit direction at `uv` of the sky table's octahedral map (the CPU twin of
+/// `octahedral_direction` in `grass_deferred.wgsl`): the upper hemisphere in the diamond
+/// around the centre, the lower folded into the corners.
+pub fn octahedral_direction(uv: glam::Vec2) -> glam::Vec3 {
+    let f = uv * 2.0 - glam::Vec2::ONE;
+    let mut d = glam::Vec3::new(f.x, 1.0 - f.x.abs() - f.y.abs(), f.y);
+    let t = (-d.y).max(0.0);
+    d.x += if d.x >= 0.0 { -t } else { t };
+    d.z += if d.z >= 0.0 { -t } else { t };
+    d.normalize()
+}
+
+/// The direction of texel (`x`, `y`)'s centre in the sky table.
+pub fn sky_lut_direction(x: u32, y: u32) -> glam::Vec3 {
+    let side = SKY_LUT_SIDE as f32;
+    octahedral_direction(glam::Vec2::new(
+        (x as f32 + 0.5) / side,
+        (y as f32 + 0.5) / side,
+    ))
+}
+
 /// The deferred path's bind group layout (group 2 of its compute passes): the visibility
 /// buffer, the depth (multisampled: the multisampled colour instead), the scene target,
-/// the pixel list and the shading's arguments.
+/// the pixel list, the shading's arguments, and the sky's table for the fog (written by
+/// the one-sample pixel pass, sampled by its shading, with its sampler).
 pub fn layout(device: &wgpu::Device, samples: u32) -> wgpu::BindGroupLayout {
     let multisampled = samples > 1;
     let compute = wgpu::ShaderStages::COMPUTE;
@@ -113,6 +141,32 @@ pub fn layout(device: &wgpu::Device, samples: u32) -> wgpu::BindGroupLayout {
             },
             storage(3),
             storage(4),
+            wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                visibility: compute,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: SKY_LUT_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: compute,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 7,
+                visibility: compute,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
         ],
     })
 }
@@ -125,6 +179,9 @@ pub(super) struct DeferredPipelines {
     pub pixels: wgpu::ComputePipeline,
     /// Lights the listed pixels.
     pub shade: wgpu::ComputePipeline,
+    /// Fills the sky's table for the fog (one sample per pixel; the multisampled shading
+    /// looks the sky up per pixel).
+    pub sky: Option<wgpu::ComputePipeline>,
 }
 
 impl DeferredPipelines {
@@ -237,6 +294,7 @@ impl DeferredPipelines {
             vis,
             pixels: compute("sward.deferred.pixels", pixels),
             shade: compute("sward.deferred.shade", shade),
+            sky: (!ms).then(|| compute("sward.deferred.sky_lut", "sky_directions")),
         }
     }
 }
@@ -254,6 +312,11 @@ pub struct DeferredTargets {
     /// Bound in `args`'s place to the shading pass, which reads `args` as its indirect
     /// arguments.
     stand_in: wgpu::Buffer,
+    /// The sky's table for the fog ([`SKY_LUT_SIDE`]²), and a 1 × 1 texture bound in its
+    /// place where a pass must not see it (written and sampled by different passes).
+    sky_lut: wgpu::TextureView,
+    sky_stand_in: wgpu::TextureView,
+    sky_sampler: wgpu::Sampler,
     layout: wgpu::BindGroupLayout,
 }
 
@@ -360,6 +423,32 @@ impl DeferredTargets {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
+        let sky_texture = |label, side: u32| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: side,
+                        height: side,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: SKY_LUT_FORMAT,
+                    usage: wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let sky_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sward.deferred.sky_sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
         Ok(Self {
             size,
             samples,
@@ -367,6 +456,9 @@ impl DeferredTargets {
             list,
             args,
             stand_in,
+            sky_lut: sky_texture("sward.deferred.sky_lut", SKY_LUT_SIDE),
+            sky_stand_in: sky_texture("sward.deferred.sky_stand_in", 1),
+            sky_sampler,
             layout: layout(device, samples),
         })
     }
@@ -386,11 +478,36 @@ impl DeferredTargets {
         &self.vis_view
     }
 
-    /// Bytes of GPU memory held: the visibility buffer and the list.
+    /// Bytes of GPU memory held: the visibility buffer, the list and the sky's table.
     pub fn gpu_bytes(&self) -> u64 {
         let pixels = u64::from(self.size.0) * u64::from(self.size.1);
         let texel = if self.samples > 1 { 8 } else { 16 };
-        pixels * texel * u64::from(self.samples) + list_bytes(self.size) + 2 * ARGS_BYTES
+        let sky = (u64::from(SKY_LUT_SIDE).pow(2) + 1) * 8;
+        pixels * texel * u64::from(self.samples) + list_bytes(self.size) + 2 * ARGS_BYTES + sky
+    }
+
+    /// The sky's table of the last frame, row-major, read back (blocking; the twin's
+    /// test): the radiance along [`sky_lut_direction`] of each texel.
+    pub fn read_sky_lut(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
+        let bytes = super::target::read_texels_sized(
+            gpu,
+            wgpu::TexelCopyTextureInfo {
+                texture: self.sky_lut.texture(),
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            (SKY_LUT_SIDE, SKY_LUT_SIDE),
+            8,
+            "sward.deferred.read_sky_lut",
+        )?;
+        let half = |t: &[u8], i: usize| {
+            super::taa::reference::f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]))
+        };
+        Ok(bytes
+            .chunks_exact(8)
+            .map(|t| [half(t, 0), half(t, 1), half(t, 2)])
+            .collect())
     }
 
     /// The bind groups of a frame's light passes (the pixel pass's, then the shading's):
@@ -403,7 +520,7 @@ impl DeferredTargets {
         depth: &wgpu::TextureView,
         scene: &wgpu::TextureView,
     ) -> [wgpu::BindGroup; 2] {
-        let group = |args: &wgpu::Buffer| {
+        let group = |args: &wgpu::Buffer, (written, sampled): (&wgpu::TextureView, &wgpu::TextureView)| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("sward.deferred.group"),
                 layout: &self.layout,
@@ -428,10 +545,26 @@ impl DeferredTargets {
                         binding: 4,
                         resource: args.as_entire_binding(),
                     },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::TextureView(written),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 6,
+                        resource: wgpu::BindingResource::TextureView(sampled),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 7,
+                        resource: wgpu::BindingResource::Sampler(&self.sky_sampler),
+                    },
                 ],
             })
         };
-        [group(&self.args), group(&self.stand_in)]
+        // The pixel pass writes the sky's table, the shading samples it.
+        [
+            group(&self.args, (&self.sky_lut, &self.sky_stand_in)),
+            group(&self.stand_in, (&self.sky_stand_in, &self.sky_lut)),
+        ]
     }
 
     /// Records the two compute passes with `light` ([`DeferredTargets::light_groups`]):
@@ -459,6 +592,12 @@ impl DeferredTargets {
             pass.set_bind_group(0, groups.0, &[]);
             pass.set_bind_group(1, groups.1, &[]);
             pass.set_bind_group(2, &light[0], &[]);
+            if let Some(sky) = &pipelines.sky {
+                pass.set_pipeline(sky);
+                let groups = SKY_LUT_SIDE.div_ceil(8);
+                pass.dispatch_workgroups(groups, groups, 1);
+                pass.set_pipeline(&pipelines.pixels);
+            }
             let (run_x, run_y) = self.list_groups();
             pass.dispatch_workgroups(run_x, run_y, 1);
             q_pixels.end(&mut pass);

@@ -861,6 +861,13 @@ impl Renderer {
         }
     }
 
+    /// The deferred light's table of the sky for the fog, read back (blocking; the twin's
+    /// test): `None` unless the last frame's grass took the one-sample deferred path.
+    pub fn read_sky_lut(&self, gpu: &Gpu) -> Option<Result<Vec<[f32; 3]>>> {
+        let d = self.deferred.as_ref().filter(|d| d.samples() == 1)?;
+        Some(d.read_sky_lut(gpu))
+    }
+
     /// The sun, the sky and the shadow maps of the last frame.
     pub fn light(&self) -> &light::LightPass {
         &self.light

@@ -637,15 +637,22 @@ pub(crate) fn blade_heights(field: &crate::scene::Field) -> (f32, f32) {
 pub fn sky_srgb(scene: &Scene, sun: Vec3, dir: Vec3) -> [u8; 3] {
     let l = &scene.light;
     let u = uniforms(scene, sun);
-    let radiance = match l.sky {
+    let c = tone::tonemap(sky_radiance(scene, sun, dir), l.tone_mapping, u.sun[3]);
+    [tone::srgb8(c.x), tone::srgb8(c.y), tone::srgb8(c.z)]
+}
+
+/// The sky's radiance along `dir` (normalised, without the sun's disk) under the scene's
+/// sky model: the CPU twin of `sky_radiance` in `shaders/light.wgsl`.
+pub fn sky_radiance(scene: &Scene, sun: Vec3, dir: Vec3) -> Vec3 {
+    let l = &scene.light;
+    match l.sky {
         SkyModel::Preetham => {
+            let u = uniforms(scene, sun);
             let ground = Vec3::from_slice(&u.ambient[..3]) * 0.35;
             sky::PreethamSky::new(sun, l.turbidity).radiance(dir, ground)
         }
         SkyModel::Gradient => sky::gradient_radiance(dir, sun),
-    };
-    let c = tone::tonemap(radiance, l.tone_mapping, u.sun[3]);
-    [tone::srgb8(c.x), tone::srgb8(c.y), tone::srgb8(c.z)]
+    }
 }
 
 /// The light uniforms of `scene` for a sun in direction `sun`, without the cascades.
