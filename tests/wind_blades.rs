@@ -100,3 +100,76 @@ fn blades_downstream_of_an_arrow_bend_along_it() {
         mean.length()
     );
 }
+
+/// The update is built for the wind sources the scene has (`WIND_KINDS`: a source it lacks
+/// is compiled out, `UpdatePass::prepare` building the pipeline of each combination the
+/// first time a frame needs it) and must follow the panel when it switches them live.
+/// A field under the fluid alone (driven along x by a global wind), switched to both
+/// sources without a rebuild of the solver, must bend along the directional wind's z as
+/// well; one that kept the fluid alone must not. Switched from the analytic source (with
+/// no analytic wind, at rest) to the fluid through `rebuild_wind`, it must bend along x.
+#[test]
+fn a_wind_source_switched_live_reaches_the_blades() {
+    let gpu = common::gpu();
+    let mut scene = common::still_scene();
+    scene.physics.gravity_acceleration = 9.81;
+    scene.wind.fluid.resolution = 32;
+    scene.wind.global = Some(sward::scene::GlobalWind {
+        direction: (1.0, 0.0),
+        strength: 4.0,
+    });
+    let dt = 1.0 / 30.0;
+    let mean_shift = |session: &Session, r: &sward::render::Renderer| {
+        let blades = r.buffers.read(&gpu).expect("read-back").0;
+        let initial = &session.field.blades;
+        let sum: Vec2 = initial
+            .iter()
+            .zip(&blades)
+            .map(|(a, b)| tip(b) - tip(a))
+            .sum();
+        sum / initial.len() as f32
+    };
+
+    // Fluid -> both, in place: the directional wind blows along z.
+    let mut fluid = scene.clone();
+    fluid.wind.source = WindSource::Fluid;
+    fluid.wind.directional = Some(sward::scene::DirectionalWind {
+        direction: (0.0, 1.0),
+        strength: 6.0,
+        gust: 0.0,
+        wavelength: 10.0,
+        speed: 1.0,
+    });
+    let session = Session::new(fluid, Some(2048), Some(&gpu)).expect("field");
+    let mut switched = common::stepped(&gpu, &session, 5, dt);
+    let mut kept = common::stepped(&gpu, &session, 5, dt);
+    switched.scene.wind.source = WindSource::Both;
+    for _ in 0..40 {
+        switched.step(&gpu, dt);
+        kept.step(&gpu, dt);
+    }
+    let (both, alone) = (mean_shift(&session, &switched), mean_shift(&session, &kept));
+    println!("fluid switched to both: {both}; kept the fluid alone: {alone}");
+    assert!(
+        both.y > 0.05,
+        "the directional wind reaches the blades: {both}"
+    );
+    assert!(alone.y.abs() < 0.2 * both.y, "{alone} against {both}");
+
+    // Analytic (no analytic wind) -> fluid, through the solver's rebuild.
+    let mut analytic = scene;
+    analytic.wind.source = WindSource::Analytic;
+    let session = Session::new(analytic, Some(2048), Some(&gpu)).expect("field");
+    let mut switched = common::stepped(&gpu, &session, 5, dt);
+    let mut kept = common::stepped(&gpu, &session, 5, dt);
+    switched.scene.wind.source = WindSource::Fluid;
+    switched.rebuild_wind(&gpu).expect("fluid");
+    for _ in 0..40 {
+        switched.step(&gpu, dt);
+        kept.step(&gpu, dt);
+    }
+    let (fluid, calm) = (mean_shift(&session, &switched), mean_shift(&session, &kept));
+    println!("analytic switched to the fluid: {fluid}; kept analytic: {calm}");
+    assert!(fluid.x > 0.05, "the blades bend downwind: {fluid}");
+    assert!(calm.length() < 0.2 * fluid.x, "{calm} against {fluid}");
+}

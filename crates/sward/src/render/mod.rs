@@ -690,7 +690,8 @@ impl Renderer {
                 .is_some_and(|q| q.n == crate::sim::propagation::cells_per_side(p))
         });
         crate::sim::propagation::fill_params(&mut params, propagation, eye);
-        self.update.prepare(&gpu.queue, &params);
+        self.update
+            .prepare(&gpu.device, &gpu.queue, &params, model);
         if let (Some(pass), Some(p)) = (&self.propagation, propagation) {
             pass.clear(encoder);
             timed(self.meters(), encoder, timing::UPDATE, |e, q| {

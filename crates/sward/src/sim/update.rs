@@ -7,6 +7,7 @@ use wgpu::util::DeviceExt;
 use super::bvh::BvhNode;
 use super::layout::{
     Blade, BladeState, PatchBox, PatchDispatch, SimParams, VerletState, BVH_NODE_BASE, DRAW_BATCH,
+    WIND_ANALYTIC, WIND_FLUID,
     LOD_LEVELS, MAX_SPHERES, PATCH_SPHERE_POOL, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES,
     WORKGROUP_SIZE,
 };
@@ -465,8 +466,15 @@ fn verlet_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
 
 /// The blade update compute pass: one pipeline per blade model over the same bindings.
 pub struct UpdatePass {
-    /// Jahrmann's update, the Verlet update and CWD-Sim's pose (`BladeModel::id` order).
-    pipelines: [wgpu::ComputePipeline; 3],
+    /// The pipelines built so far, by (wind sources, blade model): Jahrmann's update, the
+    /// Verlet update or CWD-Sim's pose (`BladeModel::id`), each for the wind sources it
+    /// reads (`WIND_KINDS` in `wind_sample.wgsl`: a source the scene does not have is
+    /// compiled out, since llvmpipe runs both sides of the uniform test for every blade).
+    /// Built when a frame first needs one: at most 4 × 3.
+    pipelines: Vec<((u32, u32), wgpu::ComputePipeline)>,
+    /// Which of `pipelines` this frame's step takes (`prepare`).
+    current: Option<usize>,
+    pipeline_layout: wgpu::PipelineLayout,
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     /// The patch pass's `PatchDispatch` (the update's arguments follow the cull's).
@@ -595,24 +603,10 @@ impl UpdatePass {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = |file: &str, label: &str| {
-            let module = shaders::module(device, file);
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some("main"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipelines = [
-            pipeline("update.wgsl", "sward.update.pipeline"),
-            pipeline("update_verlet.wgsl", "sward.update.verlet_pipeline"),
-            pipeline("update_cwd.wgsl", "sward.update.cwd_pipeline"),
-        ];
         Self {
-            pipelines,
+            pipelines: Vec::new(),
+            current: None,
+            pipeline_layout,
             bind_group,
             params,
             dispatch: buffers.dispatch.clone(),
@@ -620,15 +614,54 @@ impl UpdatePass {
         }
     }
 
-    /// Writes this step's uniforms.
-    pub fn prepare(&self, queue: &wgpu::Queue, params: &SimParams) {
+    /// Writes this step's uniforms and makes ready the pipeline of blade model `model`
+    /// (`BladeModel::id`) for the wind sources `params` enables.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        params: &SimParams,
+        model: u32,
+    ) {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+        let key = (params.fluid_info[1] & (WIND_ANALYTIC | WIND_FLUID), model.min(2));
+        let at = match self.pipelines.iter().position(|(k, _)| *k == key) {
+            Some(at) => at,
+            None => {
+                let (file, name) = [
+                    ("update.wgsl", "update"),
+                    ("update_verlet.wgsl", "verlet"),
+                    ("update_cwd.wgsl", "cwd"),
+                ][key.1 as usize];
+                let module = shaders::module(device, file);
+                let label = format!("sward.update.{name}_pipeline.wind{}", key.0);
+                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&label),
+                    layout: Some(&self.pipeline_layout),
+                    module: &module,
+                    entry_point: Some("main"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &[("WIND_KINDS", f64::from(key.0))],
+                        ..Default::default()
+                    },
+                    cache: None,
+                });
+                self.pipelines.push((key, pipeline));
+                self.pipelines.len() - 1
+            }
+        };
+        self.current = Some(at);
     }
 
-    /// Records the update of blade model `model` (`BladeModel::id`; Verlet needs the
+    /// Records the update with the pipeline `prepare` made ready (Verlet needs the
     /// buffers' Verlet states bound when this pass was built), dispatched indirectly over
-    /// the patch pass's update list (the patch pass must be recorded before).
+    /// the patch pass's update list (the patch pass must be recorded before). `model`
+    /// must be the one given to `prepare`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries, model: u32) {
+        let Some((key, pipeline)) = self.current.and_then(|at| self.pipelines.get(at)) else {
+            return;
+        };
+        debug_assert_eq!(key.1, model.min(2), "the model prepared");
         if self.count == 0 {
             return;
         }
@@ -637,7 +670,7 @@ impl UpdatePass {
             timestamp_writes: q.compute_writes(),
         });
         q.begin(&mut pass);
-        pass.set_pipeline(&self.pipelines[(model as usize).min(2)]);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
         let offset = std::mem::offset_of!(PatchDispatch, update) as u64;
         pass.dispatch_workgroups_indirect(&self.dispatch, offset);
