@@ -11,11 +11,12 @@
 //    and occlusion (v0 / m / v2 against the depth pyramid with a bias). Survivors are sorted
 //    by projected height into three level-of-detail lists, each drawn by its own indirect
 //    draw. Every culled blade bumps the counter of the test that culled it.
-// 3. `late` (with TEST_GRASS_OCCLUSION; after the early draw and a pyramid rebuilt from its
-//    depth): two-phase occlusion culling. Step 2 draws only the survivors that were seen
-//    last frame and marks the others candidates; `late` tests the candidates on v0 / m / v2
-//    against the new pyramid, which now holds the grass drawn early, and draws those it
-//    does not hide. It also re-tests the early blades, so that next frame's early set is
+// 3. `late` (with TEST_GRASS_OCCLUSION; after the early draw): two-phase occlusion
+//    culling. Step 2 draws only the survivors that were seen last frame and marks the
+//    others candidates; `late` tests the candidates on v0 / m / v2 against the depth, which
+//    now holds the grass drawn early (level 0 of the pyramid, the only level a blade's test
+//    reads: with one sample the depth buffer itself, multisampled its farthest samples,
+//    rebuilt by `DepthPyramid::encode_base`), and draws those it does not hide. It also re-tests the early blades, so that next frame's early set is
 //    what is visible now. Nothing is culled on old information: a blade hidden now by
 //    grass drawn now. The twin is `reference::grass_hidden`.
 // The twins are `reference::cull_patch` and `reference::cull_blade`.

@@ -203,8 +203,9 @@ impl Renderer {
         let late = cp.tests & TEST_GRASS_OCCLUSION != 0;
         if late {
             if let Some(p) = &self.pyramid {
+                // The late test reads level 0 alone (`DepthPyramid::encode_base`).
                 timed(meters, encoder, timing::LATE_PYRAMID, |e, q| {
-                    p.encode(&gpu.device, e, depth, q)
+                    p.encode_base(&gpu.device, e, depth, q)
                 });
             }
             timed(meters, encoder, timing::LATE_CULL, |e, q| {

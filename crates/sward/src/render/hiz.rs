@@ -253,6 +253,42 @@ impl DepthPyramid {
         depth: &wgpu::TextureView,
         q: PassQueries,
     ) {
+        self.encode_levels(device, encoder, depth, q, self.levels);
+    }
+
+    /// Records only what the per-blade occlusion test reads, level 0 (the late pass after
+    /// the early grass draw: `point_occluded` reads level 0 alone; the coarser levels serve
+    /// the patch boxes, tested before the draw). With one sample level 0 is the depth
+    /// buffer itself and nothing is built (one empty pass keeps the timestamps);
+    /// multisampled, the first pass writes it (and level 1 with it).
+    pub fn encode_base(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        q: PassQueries,
+    ) {
+        if self.level0.is_some() {
+            self.encode_levels(device, encoder, depth, q, self.levels.min(2));
+        } else {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sward.hiz.level0"),
+                timestamp_writes: q.compute_writes_part(true, true),
+            });
+            q.begin(&mut pass);
+            q.end(&mut pass);
+        }
+    }
+
+    /// `encode` of the levels below `upto`.
+    fn encode_levels(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        q: PassQueries,
+        upto: u32,
+    ) {
         // The first pass's group is made per call: the depth view is the caller's and is
         // replaced on resize.
         let mut entries = vec![wgpu::BindGroupEntry {
@@ -284,8 +320,8 @@ impl DepthPyramid {
         });
         // The first pass writes level 1 (and with MSAA level 0): its dispatch covers the
         // texels of the level it reduces to, level 1, or level 0 when that is all there is.
-        let passes = std::iter::once(1).chain(2..self.levels);
-        let last = self.levels.max(2) - 1;
+        let passes = std::iter::once(1).chain(2..upto);
+        let last = upto.max(2) - 1;
         for level in passes {
             let (w, h) = self.level_size(level.min(self.levels - 1));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
