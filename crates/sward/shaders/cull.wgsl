@@ -16,8 +16,8 @@
 //    others candidates; `late` tests the candidates on v0 / m / v2 against the depth, which
 //    now holds the grass drawn early (level 0 of the pyramid, the only level a blade's test
 //    reads: with one sample the depth buffer itself, multisampled its farthest samples,
-//    rebuilt by `DepthPyramid::encode_base`), and draws those it does not hide. It also re-tests the early blades, so that next frame's early set is
-//    what is visible now. Nothing is culled on old information: a blade hidden now by
+//    rebuilt by `DepthPyramid::encode_base`), and draws those it does not hide. It also
+//    re-tests the early blades, so that next frame's early set is what is visible now. Nothing is culled on old information: a blade hidden now by
 //    grass drawn now. The twin is `reference::grass_hidden`.
 // The twins are `reference::cull_patch` and `reference::cull_blade`.
 //!include common.wgsl

@@ -65,10 +65,10 @@ fn vis_lit(index: u32, uv: vec2<f32>) -> VisLit {
 
 // `vis_lit` where the pixel's world point is known (the one-sample visibility buffer keeps
 // its depth), under the fog's `sky` found by the caller: only the normal is taken from
-// the curve. The blade's point at (u, v) would
-// cost the thinning's widening, the shape and Eq. 24's width in pixels (two products with
-// the view-projection), none of which changes the light; and the depth's point is the
-// surface the draw rasterised, fold and all.
+// the curve. The blade's point at (u, v) would cost the thinning's widening, the shape
+// and Eq. 24's width in pixels (two products with the view-projection), none of which
+// changes the light; and the depth's point is the surface the draw rasterised, fold and
+// all.
 fn vis_lit_at(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>) -> VisLit {
     let blade = blades[index];
     let ctx = light_ctx(blade);

@@ -695,7 +695,7 @@ impl Renderer {
         if let (Some(pass), Some(p)) = (&self.propagation, propagation) {
             pass.clear(encoder);
             timed(self.meters(), encoder, timing::UPDATE, |e, q| {
-                self.update.encode(e, q, model)
+                self.update.encode(e, q)
             });
             pass.encode(
                 encoder,
@@ -704,7 +704,7 @@ impl Renderer {
             );
         } else {
             timed(self.meters(), encoder, timing::UPDATE, |e, q| {
-                self.update.encode(e, q, model)
+                self.update.encode(e, q)
             });
         }
     }

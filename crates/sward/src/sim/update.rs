@@ -655,13 +655,11 @@ impl UpdatePass {
 
     /// Records the update with the pipeline `prepare` made ready (Verlet needs the
     /// buffers' Verlet states bound when this pass was built), dispatched indirectly over
-    /// the patch pass's update list (the patch pass must be recorded before). `model`
-    /// must be the one given to `prepare`.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries, model: u32) {
-        let Some((key, pipeline)) = self.current.and_then(|at| self.pipelines.get(at)) else {
+    /// the patch pass's update list (the patch pass must be recorded before).
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries) {
+        let Some((_, pipeline)) = self.current.and_then(|at| self.pipelines.get(at)) else {
             return;
         };
-        debug_assert_eq!(key.1, model.min(2), "the model prepared");
         if self.count == 0 {
             return;
         }
