@@ -4,8 +4,8 @@
 //! in. The counters must show about one lit shading per covered pixel (the forward path
 //! runs it many times: llvmpipe shades whole 4 x 4 blocks of thin blades), and the picture
 //! must be the forward one but for the light's sampling (per pixel on the blade's curve
-//! instead of interpolated between its vertices, the shadow per pixel instead of per
-//! vertex).
+//! instead of interpolated between its vertices, the shadow interpolated between 8 points
+//! along the blade instead of between its vertices).
 
 mod common;
 

@@ -74,7 +74,7 @@ fn shared_constants_match_rust() {
     assert_eq!(value("SPHERE_WORDS"), (MAX_SPHERES / 32) as u64);
     assert_eq!(value("BVH_NODE_BASE"), BVH_NODE_BASE as u64);
     // The deferred light's dispatch sizes: the shading's workgroup and the pixel pass's run.
-    use sward::render::deferred::{LIST_RUN, SHADE_GROUP};
+    use sward::render::deferred::{LIST_RUN, SHADE_GROUP, SUN_INVOCATIONS, SUN_POINTS};
     assert_eq!(
         value_in("grass_vis.wgsl", "SHADE_GROUP"),
         u64::from(SHADE_GROUP)
@@ -82,6 +82,15 @@ fn shared_constants_match_rust() {
     assert_eq!(
         value_in("grass_deferred.wgsl", "LIST_RUN"),
         u64::from(LIST_RUN)
+    );
+    // The sun along the drawn blades: its points per blade and its invocations.
+    assert_eq!(
+        value_in("grass_deferred.wgsl", "SUN_POINTS"),
+        u64::from(SUN_POINTS)
+    );
+    assert_eq!(
+        value_in("grass_deferred.wgsl", "SUN_INVOCATIONS"),
+        u64::from(SUN_INVOCATIONS)
     );
 }
 

@@ -60,21 +60,23 @@ fn vis_lit(index: u32, uv: vec2<f32>) -> VisLit {
     let blade = blades[index];
     let ctx = blade_ctx(blade);
     let point = blade_point(blade, ctx, index, uv.x, uv.y, 0.0);
-    return vis_lit_point(index, blade, ctx, uv, point, blade_sky(blade.v0_dir.xyz));
+    let sky = blade_sky(blade.v0_dir.xyz);
+    return vis_lit_point(index, blade, ctx, uv, point, sky, sun_visibility(point.p));
 }
 
 // `vis_lit` where the pixel's world point is known (the one-sample visibility buffer keeps
-// its depth), under the fog's `sky` found by the caller: only the normal is taken from
-// the curve. The blade's point at (u, v) would cost the thinning's widening, the shape
+// its depth), under the fog's `sky` found by the caller and with the sun `sun_lit` visible
+// there (`sun_at`, from points along the blade): only the normal is taken from the
+// curve. The blade's point at (u, v) would cost the thinning's widening, the shape
 // and Eq. 24's width in pixels (two products with the view-projection), none of which
 // changes the light; and the depth's point is the surface the draw rasterised, fold and
 // all.
-fn vis_lit_at(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>) -> VisLit {
+fn vis_lit_at(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>, sun_lit: f32) -> VisLit {
     let blade = blades[index];
     let ctx = light_ctx(blade);
     let centre = centre_line(blade, ctx, index, uv.y);
     let n = flat_normal(centre.t, blade.up_stiffness.xyz, ctx.side);
-    return vis_lit_point(index, blade, ctx, uv, BladePoint(world, n), sky);
+    return vis_lit_point(index, blade, ctx, uv, BladePoint(world, n), sky, sun_lit);
 }
 
 // What of `blade_ctx` the light and the centre line read: the blade's frame and CWD-Sim's
@@ -88,8 +90,9 @@ fn light_ctx(blade: Blade) -> BladeCtx {
     return ctx;
 }
 
-// `vis_lit` of blade `index` at its `point` (u, v), with the sky behind it.
-fn vis_lit_point(index: u32, blade: Blade, ctx: BladeCtx, uv: vec2<f32>, point: BladePoint, sky: vec3<f32>) -> VisLit {
+// `vis_lit` of blade `index` at its `point` (u, v), with the sky behind it and the sun
+// `sun_lit` visible there.
+fn vis_lit_point(index: u32, blade: Blade, ctx: BladeCtx, uv: vec2<f32>, point: BladePoint, sky: vec3<f32>, sun_lit: f32) -> VisLit {
     // Two-sided, as the forward fragment stage lights it.
     var flat_n = normalize(point.n);
     if dot(flat_n, frame.camera_pos.xyz - point.p) < 0.0 {
@@ -98,7 +101,7 @@ fn vis_lit_point(index: u32, blade: Blade, ctx: BladeCtx, uv: vec2<f32>, point: 
     let albedo = vis_albedo(index, uv);
     let self_shade = blade_self_shade(blade, point.p);
     let l = blade_light(point.p, flat_n, ctx.side, uv, albedo, self_shade);
-    let sun = sun_visibility(point.p) * l.sun;
+    let sun = sun_lit * l.sun;
     return VisLit(l.ambient, sun, point.p, sky, albedo, vis_ao(uv.y, self_shade));
 }
 
@@ -121,8 +124,8 @@ fn vis_ao(v: f32, self_shade: f32) -> f32 {
 }
 
 // The lit colour (fogged radiance) of blade `index` at (u, v) on it, at `world`, the fog
-// turning it towards `sky`.
-fn vis_colour(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>) -> vec3<f32> {
-    let lit = vis_lit_at(index, uv, world, sky);
+// turning it towards `sky`, the sun `sun_lit` visible there.
+fn vis_colour(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>, sun_lit: f32) -> vec3<f32> {
+    let lit = vis_lit_at(index, uv, world, sky, sun_lit);
     return fog_towards(lit.ambient + lit.sun, lit.point, lit.sky);
 }

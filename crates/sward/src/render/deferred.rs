@@ -51,6 +51,27 @@ pub const LIST_RUN: u32 = 4;
 /// Invocations per workgroup of the shading pass (`SHADE_GROUP` in the shader).
 pub const SHADE_GROUP: u32 = 256;
 
+/// Points along each drawn blade at which the sun's visibility is looked up for the
+/// one-sample shading (`SUN_POINTS` in `grass_deferred.wgsl`), at v = k / (points − 1),
+/// 8 bits each.
+pub const SUN_POINTS: u32 = 8;
+/// Invocations of the sun's pass (`SUN_INVOCATIONS`), in workgroups of [`SUN_GROUP`]: each
+/// takes every 1,024th drawn blade.
+pub const SUN_INVOCATIONS: u32 = 1024;
+/// Workgroup size of the sun's pass.
+const SUN_GROUP: u32 = 64;
+
+/// Blade `index`'s sun at height `v` from its [`SUN_POINTS`] values (`words`, as the sun's
+/// pass packs them: 8 bits each, four to a word, root first), linearly between them: the
+/// CPU twin of `sun_at` in `grass_deferred.wgsl`.
+pub fn sun_at(words: [u32; 2], v: f32) -> f32 {
+    let byte = |k: u32| ((words[(k / 4) as usize] >> (8 * (k % 4))) & 0xff) as f32;
+    let x = v.clamp(0.0, 1.0) * (SUN_POINTS - 1) as f32;
+    let k = (x as u32).min(SUN_POINTS - 2);
+    let (a, b) = (byte(k), byte(k + 1));
+    (a + (b - a) * (x - k as f32)) / 255.0
+}
+
 /// Bytes of the indirect dispatch arguments and the list length (`ShadeArgs`).
 const ARGS_BYTES: u64 = 16;
 
@@ -182,6 +203,9 @@ pub(super) struct DeferredPipelines {
     /// Fills the sky's table for the fog (one sample per pixel; the multisampled shading
     /// looks the sky up per pixel).
     pub sky: Option<wgpu::ComputePipeline>,
+    /// Looks the sun up along the drawn blades (one sample per pixel; the multisampled
+    /// shading looks it up per pixel).
+    pub sun: Option<wgpu::ComputePipeline>,
 }
 
 impl DeferredPipelines {
@@ -295,6 +319,7 @@ impl DeferredPipelines {
             pixels: compute("sward.deferred.pixels", pixels),
             shade: compute("sward.deferred.shade", shade),
             sky: (!ms).then(|| compute("sward.deferred.sky_lut", "sky_directions")),
+            sun: (!ms).then(|| compute("sward.deferred.blade_sun", "blade_sun_points")),
         }
     }
 }
@@ -574,7 +599,7 @@ impl DeferredTargets {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &DeferredPipelines,
-        groups: (&wgpu::BindGroup, &wgpu::BindGroup),
+        groups: (&[wgpu::BindGroup], &wgpu::BindGroup),
         light: &[wgpu::BindGroup; 2],
         queries: (PassQueries, PassQueries),
     ) {
@@ -588,10 +613,19 @@ impl DeferredTargets {
                 timestamp_writes: q_pixels.compute_writes_part(true, false),
             });
             q_pixels.begin(&mut pass);
-            pass.set_pipeline(&pipelines.pixels);
-            pass.set_bind_group(0, groups.0, &[]);
             pass.set_bind_group(1, groups.1, &[]);
             pass.set_bind_group(2, &light[0], &[]);
+            // The sun along the drawn blades: with one draw per level, each level's group
+            // binds its own list.
+            if let Some(sun) = &pipelines.sun {
+                pass.set_pipeline(sun);
+                for group in groups.0 {
+                    pass.set_bind_group(0, group, &[]);
+                    pass.dispatch_workgroups(SUN_INVOCATIONS / SUN_GROUP, 1, 1);
+                }
+            }
+            pass.set_pipeline(&pipelines.pixels);
+            pass.set_bind_group(0, &groups.0[0], &[]);
             if let Some(sky) = &pipelines.sky {
                 pass.set_pipeline(sky);
                 let groups = SKY_LUT_SIDE.div_ceil(8);
@@ -608,7 +642,7 @@ impl DeferredTargets {
         });
         q_shade.begin(&mut pass);
         pass.set_pipeline(&pipelines.shade);
-        pass.set_bind_group(0, groups.0, &[]);
+        pass.set_bind_group(0, &groups.0[0], &[]);
         pass.set_bind_group(1, groups.1, &[]);
         pass.set_bind_group(2, &light[1], &[]);
         pass.dispatch_workgroups_indirect(&self.args, 0);

@@ -684,10 +684,11 @@ impl DrawPass {
         self.pipelines.grass.deferred.as_ref()
     }
 
-    /// The grass draw's group 0 (the deferred shading binds it: the blades, their states,
-    /// the frame and the field's traits; the visible list's region does not matter).
-    pub(super) fn grass_group(&self) -> &wgpu::BindGroup {
-        &self.grass_groups[0]
+    /// The grass draw's groups 0, one for all levels or one per level (the deferred
+    /// shading binds them: the blades, their states, the frame and the field's traits;
+    /// the sun's pass walks each group's visible list).
+    pub(super) fn grass_groups(&self) -> &[wgpu::BindGroup] {
+        &self.grass_groups
     }
 }
 

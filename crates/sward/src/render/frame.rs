@@ -228,7 +228,7 @@ impl Renderer {
         // sample; multisampled, after the resolve).
         if let (Some(d), Some(p), true) = (&self.deferred, self.draw.deferred(), deferred) {
             if d.samples() == 1 {
-                let groups = (self.draw.grass_group(), self.light.group());
+                let groups = (self.draw.grass_groups(), self.light.group());
                 let light = d.light_groups(&gpu.device, depth, color);
                 timed(meters, encoder, timing::GRASS_LIGHT, |e, q| {
                     d.encode_light(e, p, groups, &light, (q.row(super::work::GRASS_PIXELS), q))

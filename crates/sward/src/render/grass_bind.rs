@@ -1,20 +1,24 @@
 //! The grass draw's bind groups: the frame, the blades, the visible lists, the cull
 //! uniforms, the level, the cull's counts, and for the blade models the update's uniforms,
 //! the wind grid (CWD-Sim's blades bend in the vertex shader) and the Verlet states (the
-//! thesis's blades are cubic), and the blade states (η, for the trail colour view). Rebuilt when the wind grid or the Verlet states change.
+//! thesis's blades are cubic), the blade states (η, for the trail colour view) and the sun
+//! along each blade (the deferred shading's). Rebuilt when the wind grid or the Verlet
+//! states change.
 
 use super::draw::read_storage;
 use crate::sim::update::{uniform_entry, whole, BladeBuffers};
 
 /// What the grass groups bind besides the model's buffers, kept to rebuild them.
 pub struct GrassBindings {
-    /// The grass bind group's layout (bindings 0 to 10), shared by the grass pipelines and
+    /// The grass bind group's layout (bindings 0 to 11), shared by the grass pipelines and
     /// the deferred shading's compute passes.
     pub layout: wgpu::BindGroupLayout,
     frame: wgpu::Buffer,
     blades: wgpu::Buffer,
     states: wgpu::Buffer,
     visible: wgpu::Buffer,
+    /// The sun along each blade (`BladeBuffers::sun`), for the deferred shading.
+    sun: wgpu::Buffer,
     cull_params: wgpu::Buffer,
     cull_output: wgpu::Buffer,
     /// The field's species and clumps (`FieldTraits`).
@@ -66,6 +70,18 @@ impl GrassBindings {
                 read_storage(8, vertex),
                 read_storage(9, vertex),
                 uniform_entry(10, vf),
+                // The sun along the drawn blades: written and read by the deferred
+                // shading's compute passes only.
+                wgpu::BindGroupLayoutEntry {
+                    binding: 11,
+                    visibility: compute,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
             ],
         });
         let traits = wgpu::util::DeviceExt::create_buffer_init(
@@ -83,6 +99,7 @@ impl GrassBindings {
             blades: buffers.blades.clone(),
             states: buffers.states.clone(),
             visible: buffers.visible.clone(),
+            sun: buffers.sun.clone(),
             cull_params: cull_params.clone(),
             cull_output: cull_output.clone(),
             levels,
@@ -116,6 +133,7 @@ impl GrassBindings {
                         whole(8, model.verlet),
                         whole(9, &self.states),
                         whole(10, &self.traits),
+                        whole(11, &self.sun),
                     ],
                 })
             })

@@ -891,6 +891,7 @@ impl Renderer {
             &b.patch_spheres,
             &b.dispatch,
             &b.seen,
+            &b.sun,
             &b.resets,
             &b.verlet,
             &b.trails,

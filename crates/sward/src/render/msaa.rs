@@ -206,7 +206,7 @@ impl Renderer {
             m.resolve(encoder, scene, light.is_some());
         }
         if let (Some(light), Some(d), Some(p)) = (light, &self.deferred, self.draw.deferred()) {
-            let groups = (self.draw.grass_group(), self.light.group());
+            let groups = (self.draw.grass_groups(), self.light.group());
             timed(self.meters(), encoder, timing::GRASS_LIGHT, |e, q| {
                 d.encode_light(e, p, groups, &light, (q.row(super::work::GRASS_PIXELS), q))
             });

@@ -444,9 +444,9 @@ const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 272);
 const _: () = assert!(std::mem::size_of::<LightUniforms>() == 496);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
-/// GPU bytes per blade: the blade, its state, its slot in each level's visible-index list
-/// and its seen flag.
+/// GPU bytes per blade: the blade, its state, its slot in each level's visible-index list,
+/// its seen flag and the sun along it (two words).
 pub const BYTES_PER_BLADE: usize = std::mem::size_of::<Blade>()
     + std::mem::size_of::<BladeState>()
     + LOD_LEVELS * std::mem::size_of::<u32>()
-    + std::mem::size_of::<u32>();
+    + 3 * std::mem::size_of::<u32>();

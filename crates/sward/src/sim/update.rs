@@ -44,6 +44,9 @@ pub struct BladeBuffers {
     pub dispatch: wgpu::Buffer,
     /// One `SEEN_*` word per blade: whether the grass-occlusion test saw it last frame.
     pub seen: wgpu::Buffer,
+    /// Two words per blade: the sun's visibility at 8 points along it, written for the
+    /// drawn blades by the deferred shading (`blade_sun_points` in `grass_deferred.wgsl`).
+    pub sun: wgpu::Buffer,
     /// One u32: blades the update reset to their rest pose because their new state was
     /// non-finite or absurd, counted since the start (never cleared).
     pub resets: wgpu::Buffer,
@@ -226,6 +229,12 @@ impl BladeBuffers {
             usage: storage,
             mapped_at_creation: false,
         });
+        let sun = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward.blades.sun"),
+            size: count.max(1) * 8,
+            usage: storage,
+            mapped_at_creation: false,
+        });
         // The reset counter, then the propagation's splat (one unused cell until
         // `ensure_splat` grows it).
         let resets = device.create_buffer(&wgpu::BufferDescriptor {
@@ -246,6 +255,7 @@ impl BladeBuffers {
             patch_spheres,
             dispatch,
             seen,
+            sun,
             resets,
             verlet,
             has_verlet: false,
@@ -396,6 +406,17 @@ impl BladeBuffers {
             return Ok(Vec::new());
         }
         let bytes = read_buffer(gpu, &self.seen, self.count as u64 * 4)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Reads the sun along every blade back (blocking): the two words the deferred
+    /// shading's sun pass packs its 8 visibilities into (`render::deferred::sun_at`), as
+    /// the last frame that drew the blade left them.
+    pub fn read_sun(&self, gpu: &Gpu) -> Result<Vec<[u32; 2]>> {
+        if self.count == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = read_buffer(gpu, &self.sun, self.count as u64 * 8)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
@@ -687,6 +708,6 @@ mod tests {
         let blades = 7_000_000u64;
         let bytes = BladeBuffers::bytes_for(blades, blades.div_ceil(64));
         assert!(bytes < 1 << 30, "{bytes} bytes");
-        assert_eq!(crate::sim::layout::BYTES_PER_BLADE, 96);
+        assert_eq!(crate::sim::layout::BYTES_PER_BLADE, 104);
     }
 }
