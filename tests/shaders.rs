@@ -85,11 +85,11 @@ fn shared_constants_match_rust() {
     );
     // The sun along the drawn blades: its points per blade and its invocations.
     assert_eq!(
-        value_in("grass_deferred.wgsl", "SUN_POINTS"),
+        value_in("grass_vis.wgsl", "SUN_POINTS"),
         u64::from(SUN_POINTS)
     );
     assert_eq!(
-        value_in("grass_deferred.wgsl", "SUN_INVOCATIONS"),
+        value_in("grass_vis.wgsl", "SUN_INVOCATIONS"),
         u64::from(SUN_INVOCATIONS)
     );
 }

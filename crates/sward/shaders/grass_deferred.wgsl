@@ -23,11 +23,6 @@
 //!include grass_vis.wgsl
 //!include octahedral.wgsl
 
-// The sun's visibility along each drawn blade (`blade_sun`, read by `shade_pixels`):
-// SUN_POINTS values of 8 bits from root to tip, four to a word, indexed by blade. Bound
-// in the grass group to the compute stage only.
-@group(0) @binding(11) var<storage, read_write> blade_sun: array<vec2<u32>>;
-
 @group(2) @binding(0) var vis_buffer: texture_2d<u32>;
 @group(2) @binding(1) var depth_buffer: texture_depth_2d;
 @group(2) @binding(2) var scene_out: texture_storage_2d<rgba16float, write>;
@@ -49,76 +44,6 @@ const SKY_LUT_SIDE: u32 = 64u;
 fn fs_vis(in: VisOut) -> @location(0) vec4<u32> {
     let uv = clamp(in.uv, vec2<f32>(0.0), vec2<f32>(1.0));
     return vec4<u32>(in.blade, pack2x16unorm(uv), bitcast<u32>(in.clip.z), 1u);
-}
-
-// Points along a blade at which `blade_sun` looks the sun up (twin: `deferred::SUN_POINTS`):
-// at v = k / 7. A blade is narrower than a shadow texel, so only its length needs
-// sampling, and the forward pass samples it at its 4 to 16 rows of vertices.
-const SUN_POINTS: u32 = 8u;
-// Invocations of `blade_sun` (twin: `deferred::SUN_INVOCATIONS`): 16 workgroups of 64,
-// each invocation taking every SUN_INVOCATIONS-th drawn blade. Few, because a software
-// rasteriser runs a loop's body once more with every lane off after its last blade: the
-// frame pays SUN_INVOCATIONS of those whatever it draws.
-const SUN_INVOCATIONS: u32 = 1024u;
-
-// The drawn blades' sun (`blade_sun` above). One lookup per listed pixel cost four
-// filtered taps and the cascade's choice for each of the 670,000 pixels the peer's 8,192
-// blades cover at 1280 x 720; here 8 per drawn blade (about 30,000). The slots visited
-// are those the draw drew: each level's early list, then its late list (`blade_vertex`),
-// the levels one after the other in one loop.
-@compute @workgroup_size(64)
-fn blade_sun_points(@builtin(global_invocation_id) gid: vec3<u32>) {
-    // Multi-draw binds every level's region; one draw per level binds its own.
-    var first = draw_level.x;
-    var levels = 1u;
-    var region = 0u;
-    if first == FROM_INSTANCE {
-        first = 0u;
-        levels = 3u;
-        region = max(draw_level.y, 1u);
-    }
-    // The blades of the levels bound, in order: level `first + k` holds `counts[k]`.
-    var counts = vec3<u32>(0u);
-    for (var k = 0u; k < levels; k++) {
-        counts[k] = drawn.early[first + k] + drawn.late[first + k];
-    }
-    let total = counts.x + counts.y + counts.z;
-    for (var i = gid.x; i < total; i += SUN_INVOCATIONS) {
-        let k = u32(i >= counts.x) + u32(i >= counts.x + counts.y);
-        let before = select(0u, counts.x, k >= 1u) + select(0u, counts.y, k >= 2u);
-        let j = i - before;
-        let early = drawn.early[first + k];
-        let rel = select(j, late_start(early) + (j - early), j >= early);
-        let index = visible[k * region + rel];
-        blade_sun[index] = sun_along(index);
-    }
-}
-
-// The sun's visibility at SUN_POINTS points along blade `index`'s centre line, 8 bits each.
-fn sun_along(index: u32) -> vec2<u32> {
-    let blade = blades[index];
-    let ctx = light_ctx(blade);
-    var words = vec2<u32>(0u);
-    for (var k = 0u; k < SUN_POINTS; k++) {
-        let p = centre_line(blade, ctx, index, f32(k) / f32(SUN_POINTS - 1u)).p;
-        let byte = u32(round(clamp(sun_visibility(p), 0.0, 1.0) * 255.0)) << (8u * (k & 3u));
-        if k < 4u {
-            words.x |= byte;
-        } else {
-            words.y |= byte;
-        }
-    }
-    return words;
-}
-
-// Blade `index`'s sun at height `v` on it: `blade_sun`'s points, linearly between them.
-fn sun_at(index: u32, v: f32) -> f32 {
-    let w = blade_sun[index];
-    let x = clamp(v, 0.0, 1.0) * f32(SUN_POINTS - 1u);
-    let k = min(u32(x), SUN_POINTS - 2u);
-    let a = (select(w.x, w.y, k >= 4u) >> (8u * (k & 3u))) & 0xffu;
-    let b = (select(w.x, w.y, k + 1u >= 4u) >> (8u * ((k + 1u) & 3u))) & 0xffu;
-    return mix(f32(a), f32(b), x - f32(k)) / 255.0;
 }
 
 // Pixels along a row that one `grass_pixels` invocation lists (twin: `deferred::LIST_RUN`).

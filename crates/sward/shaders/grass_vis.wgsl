@@ -1,8 +1,14 @@
 // The visibility buffer's shared half (`grass_deferred.wgsl` with one sample per pixel,
 // `grass_deferred_msaa.wgsl` with several): the blades' geometry for the visibility draw,
-// the pixel list and the shading of one blade point. Expects group 2's bindings of the
-// including file.
+// the pixel list, the sun along the drawn blades (`blade_sun_points`, dispatched first in
+// the light's pixel pass) and the shading of one blade point. Expects group 2's bindings
+// of the including file.
 //!include grass.wgsl
+
+// The sun's visibility along each drawn blade (`blade_sun`, read by the shading):
+// SUN_POINTS values of 8 bits from root to tip, four to a word, indexed by blade. Bound
+// in the grass group to the compute stage only.
+@group(0) @binding(11) var<storage, read_write> blade_sun: array<vec2<u32>>;
 
 // The grass pixels, packed (y << 16 | x), and how many; `count` is cleared every frame.
 struct PixelList {
@@ -61,7 +67,7 @@ fn vis_lit(index: u32, uv: vec2<f32>) -> VisLit {
     let ctx = blade_ctx(blade);
     let point = blade_point(blade, ctx, index, uv.x, uv.y, 0.0);
     let sky = blade_sky(blade.v0_dir.xyz);
-    return vis_lit_point(index, blade, ctx, uv, point, sky, sun_visibility(point.p));
+    return vis_lit_point(index, blade, ctx, uv, point, sky, sun_at(index, uv.y));
 }
 
 // `vis_lit` where the pixel's world point is known (the one-sample visibility buffer keeps
@@ -128,4 +134,94 @@ fn vis_ao(v: f32, self_shade: f32) -> f32 {
 fn vis_colour(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>, sun_lit: f32) -> vec3<f32> {
     let lit = vis_lit_at(index, uv, world, sky, sun_lit);
     return fog_towards(lit.ambient + lit.sun, lit.point, lit.sky);
+}
+
+// Points along a blade at which `blade_sun` looks the sun up (twin: `deferred::SUN_POINTS`):
+// at v = k / 7. A blade is narrower than a shadow texel, so only its length needs
+// sampling, and the forward pass samples it at its 4 to 16 rows of vertices.
+const SUN_POINTS: u32 = 8u;
+// Invocations of `blade_sun` (twin: `deferred::SUN_INVOCATIONS`): 16 workgroups of 64,
+// each invocation taking every SUN_INVOCATIONS-th drawn blade. Few, because a software
+// rasteriser runs a loop's body once more with every lane off after its last blade: the
+// frame pays SUN_INVOCATIONS of those whatever it draws.
+const SUN_INVOCATIONS: u32 = 1024u;
+
+// The drawn blades' sun (`blade_sun` above). One lookup per listed pixel cost four
+// filtered taps and the cascade's choice for each of the 670,000 pixels the peer's 8,192
+// blades cover at 1280 x 720; here 8 per drawn blade (about 30,000). The slots visited
+// are those the draw drew: each level's early list, then its late list (`blade_vertex`),
+// the levels one after the other in one loop.
+@compute @workgroup_size(64)
+fn blade_sun_points(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // Multi-draw binds every level's region; one draw per level binds its own.
+    var first = draw_level.x;
+    var levels = 1u;
+    var region = 0u;
+    if first == FROM_INSTANCE {
+        first = 0u;
+        levels = 3u;
+        region = max(draw_level.y, 1u);
+    }
+    // The blades of the levels bound, in order: level `first + k` holds `counts[k]`.
+    var counts = vec3<u32>(0u);
+    for (var k = 0u; k < levels; k++) {
+        counts[k] = drawn.early[first + k] + drawn.late[first + k];
+    }
+    let total = counts.x + counts.y + counts.z;
+    for (var i = gid.x; i < total; i += SUN_INVOCATIONS) {
+        let k = u32(i >= counts.x) + u32(i >= counts.x + counts.y);
+        let before = select(0u, counts.x, k >= 1u) + select(0u, counts.y, k >= 2u);
+        let j = i - before;
+        let early = drawn.early[first + k];
+        let rel = select(j, late_start(early) + (j - early), j >= early);
+        let index = visible[k * region + rel];
+        // As many points as the level's mesh has rows of vertices (the forward pass's
+        // lookups), SUN_POINTS at most.
+        let points = min(cull.lod_segments[first + k] + 1u, SUN_POINTS);
+        blade_sun[index] = sun_along(index, points);
+    }
+}
+
+// The sun's visibility along blade `index`'s centre line, 8 bits at each of SUN_POINTS
+// heights v = j / 7: looked up at `points` (2 to SUN_POINTS) evenly spaced heights, and
+// linearly between them. Each value is packed as soon as the point above it is known
+// (a software rasteriser keeps a private array indexed per lane in memory).
+fn sun_along(index: u32, points: u32) -> vec2<u32> {
+    let blade = blades[index];
+    let ctx = light_ctx(blade);
+    let steps = f32(max(points, 2u) - 1u);
+    var words = vec2<u32>(0u);
+    var below = 0.0;
+    var slot = 0u;
+    for (var k = 0u; k < points; k++) {
+        let here = sun_visibility(centre_line(blade, ctx, index, f32(k) / steps).p);
+        // The values at heights up to this point's (x = j · steps / 7 in points), between
+        // the point below and this one.
+        loop {
+            let x = f32(slot) * steps / f32(SUN_POINTS - 1u);
+            if slot >= SUN_POINTS || x > f32(k) {
+                break;
+            }
+            let value = select(mix(below, here, x - f32(k) + 1.0), here, k == 0u);
+            let byte = u32(round(clamp(value, 0.0, 1.0) * 255.0)) << (8u * (slot & 3u));
+            if slot < 4u {
+                words.x |= byte;
+            } else {
+                words.y |= byte;
+            }
+            slot += 1u;
+        }
+        below = here;
+    }
+    return words;
+}
+
+// Blade `index`'s sun at height `v` on it: `blade_sun`'s points, linearly between them.
+fn sun_at(index: u32, v: f32) -> f32 {
+    let w = blade_sun[index];
+    let x = clamp(v, 0.0, 1.0) * f32(SUN_POINTS - 1u);
+    let k = min(u32(x), SUN_POINTS - 2u);
+    let a = (select(w.x, w.y, k >= 4u) >> (8u * (k & 3u))) & 0xffu;
+    let b = (select(w.x, w.y, k + 1u >= 4u) >> (8u * ((k + 1u) & 3u))) & 0xffu;
+    return mix(f32(a), f32(b), x - f32(k)) / 255.0;
 }

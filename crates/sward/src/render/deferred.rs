@@ -51,9 +51,8 @@ pub const LIST_RUN: u32 = 4;
 /// Invocations per workgroup of the shading pass (`SHADE_GROUP` in the shader).
 pub const SHADE_GROUP: u32 = 256;
 
-/// Points along each drawn blade at which the sun's visibility is looked up for the
-/// one-sample shading (`SUN_POINTS` in `grass_deferred.wgsl`), at v = k / (points − 1),
-/// 8 bits each.
+/// Values of the sun's visibility kept along each drawn blade for the deferred shading
+/// (`SUN_POINTS` in `grass_vis.wgsl`), at v = k / (points − 1), 8 bits each.
 pub const SUN_POINTS: u32 = 8;
 /// Invocations of the sun's pass (`SUN_INVOCATIONS`), in workgroups of [`SUN_GROUP`]: each
 /// takes every 1,024th drawn blade.
@@ -63,7 +62,7 @@ const SUN_GROUP: u32 = 64;
 
 /// Blade `index`'s sun at height `v` from its [`SUN_POINTS`] values (`words`, as the sun's
 /// pass packs them: 8 bits each, four to a word, root first), linearly between them: the
-/// CPU twin of `sun_at` in `grass_deferred.wgsl`.
+/// CPU twin of `sun_at` in `grass_vis.wgsl`.
 pub fn sun_at(words: [u32; 2], v: f32) -> f32 {
     let byte = |k: u32| ((words[(k / 4) as usize] >> (8 * (k % 4))) & 0xff) as f32;
     let x = v.clamp(0.0, 1.0) * (SUN_POINTS - 1) as f32;
@@ -203,9 +202,8 @@ pub(super) struct DeferredPipelines {
     /// Fills the sky's table for the fog (one sample per pixel; the multisampled shading
     /// looks the sky up per pixel).
     pub sky: Option<wgpu::ComputePipeline>,
-    /// Looks the sun up along the drawn blades (one sample per pixel; the multisampled
-    /// shading looks it up per pixel).
-    pub sun: Option<wgpu::ComputePipeline>,
+    /// Looks the sun up along the drawn blades, for either shading.
+    pub sun: wgpu::ComputePipeline,
 }
 
 impl DeferredPipelines {
@@ -319,7 +317,7 @@ impl DeferredPipelines {
             pixels: compute("sward.deferred.pixels", pixels),
             shade: compute("sward.deferred.shade", shade),
             sky: (!ms).then(|| compute("sward.deferred.sky_lut", "sky_directions")),
-            sun: (!ms).then(|| compute("sward.deferred.blade_sun", "blade_sun_points")),
+            sun: compute("sward.deferred.blade_sun", "blade_sun_points"),
         }
     }
 }
@@ -617,12 +615,10 @@ impl DeferredTargets {
             pass.set_bind_group(2, &light[0], &[]);
             // The sun along the drawn blades: with one draw per level, each level's group
             // binds its own list.
-            if let Some(sun) = &pipelines.sun {
-                pass.set_pipeline(sun);
-                for group in groups.0 {
-                    pass.set_bind_group(0, group, &[]);
-                    pass.dispatch_workgroups(SUN_INVOCATIONS / SUN_GROUP, 1, 1);
-                }
+            pass.set_pipeline(&pipelines.sun);
+            for group in groups.0 {
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(SUN_INVOCATIONS / SUN_GROUP, 1, 1);
             }
             pass.set_pipeline(&pipelines.pixels);
             pass.set_bind_group(0, &groups.0[0], &[]);
