@@ -164,7 +164,7 @@ fn three_configurations_on_the_same_field() {
         }
         let m = &c["memory"];
         assert_eq!(u(m, &["bytes_per_blade"]), BYTES_PER_BLADE as u64);
-        assert_eq!(u(m, &["bytes_per_blade"]), 96);
+        assert_eq!(u(m, &["bytes_per_blade"]), 104);
         let measured = f(m, &["measured_bytes_per_blade"]);
         assert!(
             measured >= BYTES_PER_BLADE as f64,
