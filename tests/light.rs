@@ -495,28 +495,14 @@ fn the_bunnys_shadow_lies_on_the_grass() {
 fn the_sun_along_the_drawn_blades_matches_a_ray_cast() {
     use sward::render::deferred::{sun_at, SUN_POINTS};
     let gpu = common::gpu();
-    let mut s = common::still_scene();
-    s.render.msaa = 1;
+    // The sphere over the plane, now with still blades out to 12 m.
+    let mut s = sphere_over_plane(true);
     s.render.taa = false;
-    s.terrain.height = HeightSource::Flat;
-    s.terrain.size = 16.0;
-    s.field.tile_size = 0.0;
     s.field.density = 30.0;
     s.culling.max_distance = 12.0;
-    s.render.sun_direction = (0.35, 0.8, 0.25);
-    s.light.time_of_day = None;
-    s.light.shadows.distance = 30.0;
-    s.light.shadows.cascades = 2;
-    s.light.shadows.softness = 1.0;
     s.light.shadows.grass_radius = 0.0;
-    s.colliders = vec![Sphere {
-        center: (0.0, 1.5, 0.0),
-        radius: 0.7,
-        motion: Motion::Static,
-    }];
-    s.camera.eye = (0.5, 4.5, 4.5);
-    s.camera.target = (-0.5, 0.0, -1.0);
-    s.camera.fov_y = 50.0;
+    s.physics.gravity_acceleration = 0.0;
+    s.physics.gravity_center_acceleration = 0.0;
     let segments = sward::render::mesh::lod_segments(s.field.segments);
     let session = Session::new(s, None, Some(&gpu)).expect("field");
     let (r, _) = common::draw_frames(&gpu, &session, (160, 120), 2, false, |_| {});
