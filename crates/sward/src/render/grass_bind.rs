@@ -6,7 +6,7 @@
 //! states change.
 
 use super::draw::read_storage;
-use crate::sim::update::{uniform_entry, whole, BladeBuffers};
+use crate::sim::update::{compute_storage_entry, uniform_entry, whole, BladeBuffers};
 
 /// What the grass groups bind besides the model's buffers, kept to rebuild them.
 pub struct GrassBindings {
@@ -72,16 +72,7 @@ impl GrassBindings {
                 uniform_entry(10, vf),
                 // The sun along the drawn blades: written and read by the deferred
                 // shading's compute passes only.
-                wgpu::BindGroupLayoutEntry {
-                    binding: 11,
-                    visibility: compute,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                compute_storage_entry(11, false),
             ],
         });
         let traits = wgpu::util::DeviceExt::create_buffer_init(
