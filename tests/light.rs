@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 use sward::embed::GrassRenderer;
 use sward::render::camera::CameraView;
 use sward::render::light::{sky, tone};
-use sward::scene::{HeightSource, Motion, Scene, Shading, Sphere, ToneMapping};
+use sward::scene::{BladeShadowLookup, HeightSource, Motion, Scene, Shading, Sphere, ToneMapping};
 use sward::session::Session;
 
 /// Renders `frames` frames of `scene` at `size` and returns the image and the renderer.
@@ -480,7 +480,7 @@ fn the_bunnys_shadow_lies_on_the_grass() {
 }
 
 /// The sun along the drawn blades (`blade_sun_points` in `grass_vis.wgsl`, which the
-/// deferred shading interpolates per pixel) against a CPU ray cast: still
+/// deferred shading interpolates per pixel with `light.shadows.blade_lookup: PerRow`) against a CPU ray cast: still
 /// grass under a sphere, the grass casting no shadow of its own. Each drawn blade is
 /// looked up at as many points along its curve as its level's mesh has rows (at most
 /// `SUN_POINTS`), and its `SUN_POINTS` packed values are those points' visibilities
@@ -501,6 +501,7 @@ fn the_sun_along_the_drawn_blades_matches_a_ray_cast() {
     s.field.density = 30.0;
     s.culling.max_distance = 12.0;
     s.light.shadows.grass_radius = 0.0;
+    s.light.shadows.blade_lookup = BladeShadowLookup::PerRow;
     s.physics.gravity_acceleration = 0.0;
     s.physics.gravity_center_acceleration = 0.0;
     let segments = sward::render::mesh::lod_segments(s.field.segments);

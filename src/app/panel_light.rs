@@ -6,7 +6,7 @@
 use egui::Ui;
 
 use super::state::AppState;
-use sward::scene::{Shading, SkyModel, ToneMapping};
+use sward::scene::{BladeShadowLookup, Shading, SkyModel, ToneMapping};
 
 /// Shadow map sizes offered, up to the adapter's largest texture.
 const RESOLUTIONS: [u32; 4] = [512, 1024, 2048, 4096];
@@ -59,6 +59,20 @@ pub fn light_section(ui: &mut Ui, app: &mut AppState, max_texture: u32) {
             );
             ui.add(egui::Slider::new(&mut s.softness, 0.0..=8.0).text("softness texels"));
             ui.add(egui::Slider::new(&mut s.bias, 0.0..=16.0).text("bias texels"));
+            ui.horizontal(|ui| {
+                ui.label("on the blades");
+                ui.selectable_value(
+                    &mut s.blade_lookup,
+                    BladeShadowLookup::PerPixel,
+                    "per pixel",
+                )
+                .on_hover_text("the shadows of a blade's neighbours fall across it");
+                ui.selectable_value(&mut s.blade_lookup, BladeShadowLookup::PerRow, "per row")
+                    .on_hover_text(
+                        "looked up at each blade's rows of vertices and interpolated along it: \
+                         cheaper, the shadows across a blade lost",
+                    );
+            });
         });
         ui.separator();
         ui.label("blade shading (0 off, 1 sward's look)");

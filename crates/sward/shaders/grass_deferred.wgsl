@@ -135,5 +135,6 @@ fn shade_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     // The fog's sky behind the blade (`blade_sky`: towards its root).
     let sky = sky_towards(normalize(blades[vis.x].v0_dir.xyz - frame.camera_pos.xyz));
     let uv = unpack2x16unorm(vis.y);
-    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, uv, world, sky, sun_at(vis.x, uv.y)), 1.0));
+    let sun = blade_sun_visibility(vis.x, uv.y, world);
+    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, uv, world, sky, sun), 1.0));
 }

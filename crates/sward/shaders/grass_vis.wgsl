@@ -5,6 +5,11 @@
 // of the including file.
 //!include grass.wgsl
 
+// Where the shading takes the sun's visibility from (`BladeShadowLookup`): looked up at
+// each pixel (the shadows of a blade's neighbours fall across it), or interpolated from
+// `blade_sun`, looked up at the blade's rows by `blade_sun_points`.
+override SUN_PER_PIXEL: bool = true;
+
 // The sun's visibility along each drawn blade (`blade_sun`, read by the shading):
 // SUN_POINTS values of 8 bits from root to tip, four to a word, indexed by blade. Bound
 // in the grass group to the compute stage only.
@@ -67,7 +72,7 @@ fn vis_lit(index: u32, uv: vec2<f32>) -> VisLit {
     let ctx = blade_ctx(blade);
     let point = blade_point(blade, ctx, index, uv.x, uv.y, 0.0);
     let sky = blade_sky(blade.v0_dir.xyz);
-    return vis_lit_point(index, blade, ctx, uv, point, sky, sun_at(index, uv.y));
+    return vis_lit_point(index, blade, ctx, uv, point, sky, blade_sun_visibility(index, uv.y, point.p));
 }
 
 // `vis_lit` where the pixel's world point is known (the one-sample visibility buffer keeps
@@ -224,4 +229,13 @@ fn sun_at(index: u32, v: f32) -> f32 {
     let a = (select(w.x, w.y, k >= 4u) >> (8u * (k & 3u))) & 0xffu;
     let b = (select(w.x, w.y, k + 1u >= 4u) >> (8u * ((k + 1u) & 3u))) & 0xffu;
     return mix(f32(a), f32(b), x - f32(k)) / 255.0;
+}
+
+// The sun's visibility at `world`, height `v` on blade `index`: looked up there, or from the
+// values along the blade (`SUN_PER_PIXEL`).
+fn blade_sun_visibility(index: u32, v: f32, world: vec3<f32>) -> f32 {
+    if SUN_PER_PIXEL {
+        return sun_visibility(world);
+    }
+    return sun_at(index, v);
 }

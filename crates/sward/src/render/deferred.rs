@@ -202,18 +202,22 @@ pub(super) struct DeferredPipelines {
     /// Fills the sky's table for the fog (one sample per pixel; the multisampled shading
     /// looks the sky up per pixel).
     pub sky: Option<wgpu::ComputePipeline>,
-    /// Looks the sun up along the drawn blades, for either shading.
-    pub sun: wgpu::ComputePipeline,
+    /// Looks the sun up along the drawn blades at their rows, for either shading, with
+    /// `BladeShadowLookup::PerRow`.
+    pub sun: Option<wgpu::ComputePipeline>,
 }
 
 impl DeferredPipelines {
     /// `grass_layout`: the grass draw's group 0; `constants`: the specialisation's;
-    /// `samples`: the colour pass's samples per pixel (the multisampled path above 1).
+    /// `samples`: the colour pass's samples per pixel (the multisampled path above 1);
+    /// `sun_per_row`: the sun looked up along the drawn blades at their rows
+    /// (`BladeShadowLookup::PerRow`) instead of per pixel.
     pub fn new(
         device: &wgpu::Device,
         grass_layout: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
         samples: u32,
+        sun_per_row: bool,
     ) -> Self {
         let ms = samples > 1;
         let (file, fs, pixels, shade, format) = if ms {
@@ -234,12 +238,15 @@ impl DeferredPipelines {
             )
         };
         let module = crate::shaders::module(device, file);
+        // The deferred modules' own constant: where the shading takes the sun from.
+        let mut own_constants = constants.to_vec();
+        own_constants.push(("SUN_PER_PIXEL", if sun_per_row { 0.0 } else { 1.0 }));
         let options = || wgpu::PipelineCompilationOptions {
-            constants,
+            constants: &own_constants,
             ..Default::default()
         };
         // The multisampled module's own constant: where its samples lie.
-        let mut vis_constants = constants.to_vec();
+        let mut vis_constants = own_constants.clone();
         if ms {
             vis_constants.push(("MSAA_SAMPLES", f64::from(samples)));
         }
@@ -317,7 +324,7 @@ impl DeferredPipelines {
             pixels: compute("sward.deferred.pixels", pixels),
             shade: compute("sward.deferred.shade", shade),
             sky: (!ms).then(|| compute("sward.deferred.sky_lut", "sky_directions")),
-            sun: compute("sward.deferred.blade_sun", "blade_sun_points"),
+            sun: sun_per_row.then(|| compute("sward.deferred.blade_sun", "blade_sun_points")),
         }
     }
 }
@@ -615,10 +622,12 @@ impl DeferredTargets {
             pass.set_bind_group(2, &light[0], &[]);
             // The sun along the drawn blades: with one draw per level, each level's group
             // binds its own list.
-            pass.set_pipeline(&pipelines.sun);
-            for group in groups.0 {
-                pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups(SUN_INVOCATIONS / SUN_GROUP, 1, 1);
+            if let Some(sun) = &pipelines.sun {
+                pass.set_pipeline(sun);
+                for group in groups.0 {
+                    pass.set_bind_group(0, group, &[]);
+                    pass.dispatch_workgroups(SUN_INVOCATIONS / SUN_GROUP, 1, 1);
+                }
             }
             pass.set_pipeline(&pipelines.pixels);
             pass.set_bind_group(0, &groups.0[0], &[]);

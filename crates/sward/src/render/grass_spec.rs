@@ -36,6 +36,10 @@ pub struct GrassSpec {
     pub debug_views: bool,
     /// The sky model's id (`SkyModel::id`: light.wgsl's `SKY_MODEL`), or `None`: any.
     pub sky: Option<u32>,
+    /// Whether the deferred light looks the sun up along each blade at its rows
+    /// (`BladeShadowLookup::PerRow`) instead of per pixel: the deferred modules'
+    /// `SUN_PER_PIXEL` (`deferred::DeferredPipelines`), not one of grass.wgsl's.
+    pub sun_per_row: bool,
 }
 
 impl GrassSpec {
@@ -48,6 +52,7 @@ impl GrassSpec {
         flowers: true,
         debug_views: true,
         sky: None,
+        sun_per_row: false,
     };
 
     /// The specialisation for drawing `scene`'s field, whose species, clumps and flowers
@@ -77,6 +82,7 @@ impl GrassSpec {
             flowers: traits.flowers[0] > 0.0,
             debug_views: scene.render.color_mode.id() != 0,
             sky: Some(scene.light.sky.id()),
+            sun_per_row: scene.light.shadows.blade_lookup == crate::scene::BladeShadowLookup::PerRow,
         }
     }
 

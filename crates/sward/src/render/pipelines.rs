@@ -542,7 +542,15 @@ impl GrassPipelines {
                 .flags
                 .sample_count_supported(samples);
         let deferred = (vis_samples && !spec.flowers && !spec.debug_views)
-            .then(|| super::deferred::DeferredPipelines::new(device, layout, &constants, samples));
+            .then(|| {
+                super::deferred::DeferredPipelines::new(
+                    device,
+                    layout,
+                    &constants,
+                    samples,
+                    spec.sun_per_row,
+                )
+            });
         Self {
             spec,
             grass,

@@ -119,6 +119,21 @@ pub struct Shadows {
     pub softness: f32,
     /// Depth bias in texels of the cascade (against self-shadowing acne).
     pub bias: f32,
+    /// Where the deferred grass light looks the sun's shadow up on a blade.
+    pub blade_lookup: BladeShadowLookup,
+}
+
+/// Where the deferred grass light looks the sun's shadow up on a blade.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum BladeShadowLookup {
+    /// At every pixel of the blade: the shadows of its neighbours fall across it, which a
+    /// close view shows.
+    #[default]
+    PerPixel,
+    /// At the blade's rows of vertices, interpolated along it, as the forward pass does: one
+    /// lookup per row of each drawn blade instead of one per pixel (on llvmpipe the peer's
+    /// 8,192 blades at 1280x720 light in 0.8 of the time), the shadows across a blade lost.
+    PerRow,
 }
 
 impl Default for Shadows {
@@ -131,6 +146,7 @@ impl Default for Shadows {
             grass_radius: 25.0,
             softness: 1.5,
             bias: 1.5,
+            blade_lookup: BladeShadowLookup::PerPixel,
         }
     }
 }

@@ -44,6 +44,10 @@ pub(super) const RULES: &[(&str, Rule)] = &[
     ("light.shadows.grass_radius", Rule::Real(GRASS_RADIUS)),
     ("light.shadows.softness", Rule::Real(SOFTNESS)),
     ("light.shadows.bias", Rule::Real(BIAS)),
+    (
+        "light.shadows.blade_lookup",
+        Rule::Choice("one of PerPixel, PerRow"),
+    ),
     ("light.shading.rounded_normal", Rule::Real(STRENGTH)),
     ("light.shading.translucency", Rule::Real(STRENGTH)),
     ("light.shading.specular", Rule::Real(STRENGTH)),
