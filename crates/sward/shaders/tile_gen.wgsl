@@ -230,8 +230,11 @@ fn gen_blades(
     }
     blades[at] = blade;
     states[at].rest_eta = vec4<f32>(rest, eta);
-    // A new tile has not been seen: its blades wait for the late occlusion test.
-    seen[at] = 0u;
+    // A new tile's blades count as seen (SEEN_YES): drawn early in their first frame, so
+    // that they cast their shadows then (the casters are the early lists: a blade left to
+    // the late test would cast nothing until its second frame); the late test rechecks
+    // them against the grass drawn early.
+    seen[at] = 1u;
 }
 
 var<workgroup> lo: array<vec3<f32>, 64>;

@@ -222,13 +222,22 @@ impl BladeBuffers {
             usage: storage | wgpu::BufferUsages::INDIRECT,
             mapped_at_creation: false,
         });
-        // Zeroed (SEEN_NO): on the first frame every blade waits for the late test.
+        // SEEN_YES: on the first frame every blade the tests keep is drawn early, so that
+        // it casts its shadow (the grass casters are the early lists, drawn before the late
+        // test); the late test then rechecks them against the grass drawn early.
         let seen = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.blades.seen"),
             size: count.max(1) * 4,
             usage: storage,
-            mapped_at_creation: false,
+            mapped_at_creation: true,
         });
+        // Mapped at creation the range is always there; were it not, the blades would start
+        // unseen (SEEN_NO: drawn late, casting from their second frame).
+        if let Ok(mut view) = seen.slice(..).get_mapped_range_mut() {
+            let (mut words, _) = view.slice(..).into_chunks::<4>();
+            words.fill(super::layout::SEEN_YES.to_le_bytes());
+        }
+        seen.unmap();
         let sun = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.blades.sun"),
             size: count.max(1) * 8,
