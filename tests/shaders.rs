@@ -47,7 +47,8 @@ fn every_shader_file_is_reachable_from_an_entry_file() {
 #[test]
 fn shared_constants_match_rust() {
     use sward::sim::layout::{
-        BVH_NODE_BASE, DRAW_BATCH, MAX_SPHERES, PATCH_SPHERE_STRIDE, SPHERES_ALL,
+        BVH_NODE_BASE, DRAW_BATCH, MAX_SPHERES, PATCH_SPHERE_STRIDE, SEEN_CANDIDATE,
+        SEEN_DRAWN_EARLY, SEEN_NO, SEEN_YES, SPHERES_ALL,
     };
     let value_in = |file: &str, name: &str| -> u64 {
         let src = source(file);
@@ -73,6 +74,15 @@ fn shared_constants_match_rust() {
     assert_eq!(value("DRAW_BATCH"), u64::from(DRAW_BATCH));
     assert_eq!(value("SPHERE_WORDS"), (MAX_SPHERES / 32) as u64);
     assert_eq!(value("BVH_NODE_BASE"), BVH_NODE_BASE as u64);
+    // The blades' seen states: the cull's and the tile generation's (a new tile's start).
+    for (name, rust) in [
+        ("SEEN_NO", SEEN_NO),
+        ("SEEN_YES", SEEN_YES),
+        ("SEEN_DRAWN_EARLY", SEEN_DRAWN_EARLY),
+        ("SEEN_CANDIDATE", SEEN_CANDIDATE),
+    ] {
+        assert_eq!(value(name), u64::from(rust), "{name}");
+    }
     // The deferred light's dispatch sizes: the shading's workgroup and the pixel pass's run.
     use sward::render::deferred::{LIST_RUN, SHADE_GROUP, SUN_INVOCATIONS, SUN_POINTS};
     assert_eq!(

@@ -139,6 +139,13 @@ const DRAW_BATCH: u32 = 32u;
 // (`mesh::CASTER_VERTICES` in Rust).
 const CASTER_VERTICES: u32 = 3u;
 
+// A blade's `seen` state (SEEN_* in Rust): the cull's two-phase occlusion test keeps it,
+// the tile generation starts a new tile's blades at SEEN_YES.
+const SEEN_NO: u32 = 0u;
+const SEEN_YES: u32 = 1u;
+const SEEN_DRAWN_EARLY: u32 = 2u;
+const SEEN_CANDIDATE: u32 = 3u;
+
 // What the grass draw reads of the cull's output (the whole buffer, bound read-only): how
 // many blades each level's early and late lists hold (`CullOutput.blades`, `late_blades`),
 // so that the slots past a list's end in its last batch draw nothing.

@@ -17,8 +17,8 @@
 //    now holds the grass drawn early (level 0 of the pyramid, the only level a blade's test
 //    reads: with one sample the depth buffer itself, multisampled its farthest samples,
 //    rebuilt by `DepthPyramid::encode_base`), and draws those it does not hide. It also
-//    re-tests the early blades, so that next frame's early set is what is visible now. Nothing is culled on old information: a blade hidden now by
-//    grass drawn now. The twin is `reference::grass_hidden`.
+//    re-tests the early blades, so that next frame's early set is what is visible now.
+//    Nothing is culled on old information: a blade hidden now by grass drawn now. The twin is `reference::grass_hidden`.
 // The twins are `reference::cull_patch` and `reference::cull_blade`.
 //!include common.wgsl
 //!include bvh_node.wgsl
@@ -78,11 +78,6 @@ const TEST_FRUSTUM: u32 = 4u;
 const TEST_DISTANCE: u32 = 8u;
 const TEST_OCCLUSION: u32 = 16u;
 const TEST_GRASS_OCCLUSION: u32 = 32u;
-// `seen` states (SEEN_* in Rust).
-const SEEN_NO: u32 = 0u;
-const SEEN_YES: u32 = 1u;
-const SEEN_DRAWN_EARLY: u32 = 2u;
-const SEEN_CANDIDATE: u32 = 3u;
 // No blade for this invocation.
 const NO_BLADE: u32 = 0xffffffffu;
 // Marks a throttled entry of the update list (it steps with the longer Δt).

@@ -7,16 +7,17 @@
 //
 // 1. `vs_vis` / `fs_vis`: the blades' geometry as the lit pass builds it (`blade_vertex`);
 //    each fragment writes (blade index, pack2x16unorm(u, v), its depth's bits, 1).
-// 2. `blade_sun`: the sun's visibility at SUN_POINTS points along each drawn blade, from
-//    the shadow cascades; the shading interpolates it at the pixel's height on the blade,
-//    as the forward pass interpolates it between the blade's vertices.
+// 2. With `light.shadows.blade_lookup: PerRow`, `blade_sun_points` (grass_vis.wgsl): the
+//    sun's visibility at each drawn blade's rows, kept in `blade_sun`; the shading
+//    interpolates it at the pixel's height on the blade, as the forward pass interpolates
+//    it between the blade's vertices (`PerPixel` looks it up at the pixel).
 // 3. `grass_pixels`: one invocation per pixel keeps the pixels whose visibility texel is
 //    grass and whose depth is still the grass's (an object or the ground drawn later in
 //    front of it changed the depth), appending them to a list; every 256th appended pixel
 //    adds a workgroup to the shading's indirect dispatch.
 // 4. `shade_pixels`: one invocation per listed pixel rebuilds the blade's normal at (u, v)
-//    on its curve (Eq. 21-24, as the vertex stage does) and its colours, lights it with the forward pass's own `shade_blade` and fog, and
-//    writes the scene target.
+//    on its curve (Eq. 21-24, as the vertex stage does) and its colours, lights it with
+//    the forward pass's own `shade_blade` and fog, and writes the scene target.
 //
 // Used when the grass pipelines are specialised without flowers and debug views, with
 // one sample per pixel and filled triangles; otherwise the grass is drawn forward.

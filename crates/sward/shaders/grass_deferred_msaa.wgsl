@@ -11,10 +11,10 @@
 //    writes alpha 1, the arrows 0 and the cards their coverage, so a sample still at
 //    GRASS_ALPHA (negative) after all draws is grass that nothing covered later.
 // 3. After the hardware resolve, `blade_sun_points` looks the sun up along the drawn
-//    blades (grass_vis.wgsl), `grass_pixels_ms` lists the pixels with a grass sample,
-//    with the first such sample; `shade_pixels_ms` lights that sample's blade point once
-//    (`vis_lit`, the sun interpolated along the blade) and resolves the pixel itself: in each grass sample that light on the
-//    sample's own blade albedo, the multisampled colour in the others, averaged as the
+//    blades (grass_vis.wgsl, with `PerRow`), `grass_pixels_ms` lists the pixels with a
+//    grass sample, with the first such sample; `shade_pixels_ms` lights that sample's
+//    blade point once (`vis_lit`) and resolves the pixel itself: in each grass sample that
+//    light on the sample's own blade albedo, the multisampled colour in the others, averaged as the
 //    hardware resolve averages.
 //
 // Where two blades share a pixel both take the first one's light, each on its own albedo

@@ -153,7 +153,7 @@ const SUN_INVOCATIONS: u32 = 1024u;
 
 // The drawn blades' sun (`blade_sun` above). One lookup per listed pixel cost four
 // filtered taps and the cascade's choice for each of the 670,000 pixels the peer's 8,192
-// blades cover at 1280 x 720; here 8 per drawn blade (about 30,000). The slots visited
+// blades cover at 1280 x 720; here one per row of each drawn blade (about 27,000). The slots visited
 // are those the draw drew: each level's early list, then its late list (`blade_vertex`),
 // the levels one after the other in one loop.
 @compute @workgroup_size(64)

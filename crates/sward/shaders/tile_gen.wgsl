@@ -234,7 +234,7 @@ fn gen_blades(
     // that they cast their shadows then (the casters are the early lists: a blade left to
     // the late test would cast nothing until its second frame); the late test rechecks
     // them against the grass drawn early.
-    seen[at] = 1u;
+    seen[at] = SEEN_YES;
 }
 
 var<workgroup> lo: array<vec3<f32>, 64>;
