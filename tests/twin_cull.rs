@@ -10,7 +10,10 @@ use sward::render::camera::CameraView;
 use sward::render::target::Target;
 use sward::scene::{HeightSource, Scene};
 use sward::session::Session;
-use sward::sim::layout::{CullCounters, DRAW_BATCH, LOD_LEVELS, SEEN_NO, SEEN_YES};
+use sward::sim::layout::{
+    CullCounters, CHUNK_THINNED, CHUNK_THROTTLED, DRAW_BATCH, LOD_LEVELS, SEEN_NO, SEEN_YES,
+};
+use sward::sim::reference::thin_order::update_chunks;
 use sward::sim::reference::{
     cull_blade, early_seen, grass_hidden, late_pass, patch_spheres, patch_update, wave_of,
     CullOutcome, Late, Pyramid,
@@ -150,7 +153,9 @@ fn run(
     let mut stepped = 0;
     let mut throttled = 0;
     let mut pairs = 0;
+    let mut chunks = Vec::new();
     for (p, patch) in session.field.patches.iter().enumerate() {
+        chunks.extend(update_chunks(p as u32, patch, &cp));
         let Some(slow) = patch_update(p as u32, patch, &cp) else {
             continue;
         };
@@ -162,6 +167,19 @@ fn run(
     }
     assert_eq!(counters.updated_patches, stepped);
     assert_eq!(counters.throttled_patches, throttled);
+    // The update list: which chunks of 64 blades (in class order) step, at which rate.
+    chunks.sort_unstable();
+    let gpu_chunks = r
+        .cull
+        .read_update_list(&gpu, &r.buffers)
+        .expect("update list");
+    assert_eq!(gpu_chunks, chunks, "update list");
+    let slow = |c: &&u32| **c & (CHUNK_THROTTLED | CHUNK_THINNED) != 0;
+    assert_eq!(counters.updated_chunks as usize, chunks.len());
+    assert_eq!(
+        counters.throttled_chunks as usize,
+        chunks.iter().filter(slow).count()
+    );
     assert_eq!(counters.patch_sphere_pairs, pairs);
     counters
 }
@@ -214,6 +232,34 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
         "{c:?}"
     );
     assert!(c.spheres_considered() <= 12, "{c:?}");
+}
+
+#[test]
+fn the_update_steps_the_thinned_classes_in_turn_as_the_cpu_lists_them() {
+    // Seven distance levels in patches of 256 blades: a patch's local classes are not its
+    // index classes (256 mod 7 = 4), so the kept classes wrap around the class order. The
+    // camera low over the field, so the patches in view span every distance level.
+    let mut scene = Scene::default();
+    scene.culling.distance = true;
+    scene.culling.max_distance = 7.0;
+    scene.culling.distance_levels = 7;
+    scene.culling.physics_radius = 0.5;
+    scene.field.patch_size = 256;
+    scene.colliders.clear();
+    let c = run(scene, Some(16384), |_| {
+        camera(
+            glam::Vec3::new(-4.0, 1.0, 0.0),
+            glam::Vec3::new(4.0, 0.0, 0.5),
+        )
+    });
+    // Chunks of patches stepped every frame go at the throttled rate: more than the
+    // throttled patches' own chunks.
+    let per_patch = 256 / sward::sim::layout::UPDATE_CHUNK;
+    assert!(
+        c.throttled_chunks > c.throttled_patches * per_patch,
+        "{c:?}"
+    );
+    assert!(c.updated_chunks < c.updated_patches * per_patch, "{c:?}");
 }
 
 #[test]

@@ -742,6 +742,11 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 c.visible_patches, c.updated_patches, c.throttled_patches
             ));
             ui.label(format!(
+                "blades stepped: {} ({} at the throttled rate)",
+                u64::from(c.updated_chunks) * u64::from(sward::sim::layout::UPDATE_CHUNK),
+                u64::from(c.throttled_chunks) * u64::from(sward::sim::layout::UPDATE_CHUNK)
+            ));
+            ui.label(format!(
                 "blades reset (non-finite state, since start): {}",
                 app.stats.blades_reset_nonfinite
             ));

@@ -97,7 +97,7 @@ pub struct ColliderRun {
     pub update_ms: Option<f64>,
     /// Mean GPU ms of the patch pass (patch culling and the broad phase) per frame.
     pub patches_ms: Option<f64>,
-    /// Mean blades stepped per frame (whole stepped patches).
+    /// Mean blade slots stepped per frame (the update's chunks of 64).
     pub stepped_blades: f64,
     /// `update_ms` per stepped blade, in nanoseconds.
     pub ns_per_stepped_blade: Option<f64>,
@@ -221,7 +221,6 @@ fn run_mode(
     let mut renderer = super::measure::fresh_renderer(gpu, session, scene)?;
     let (mut update, mut patches, mut timed) = (0.0, 0.0, 0u32);
     let (mut stepped, mut entries, mut patches_stepped) = (0.0f64, 0.0f64, 0.0f64);
-    let patch_size = f64::from(renderer.buffers.patch_size);
     let frame = super::measure::run_frames(
         gpu,
         &mut renderer,
@@ -230,7 +229,7 @@ fn run_mode(
         (o.warmup, o.frames),
         |stats| {
             let c = &stats.counters;
-            stepped += f64::from(c.updated_patches) * patch_size;
+            stepped += f64::from(c.updated_chunks) * f64::from(sward::sim::layout::UPDATE_CHUNK);
             patches_stepped += f64::from(c.updated_patches);
             entries += f64::from(c.patch_sphere_pairs);
             if let Some(ms) = stats.pass_ms {

@@ -143,7 +143,7 @@ pub(super) fn measure(
         }
     });
     Ok(Measured {
-        blades: BladeCounts::new(renderer.buffers.count, renderer.buffers.patch_size, &last),
+        blades: BladeCounts::new(renderer.buffers.count, &last),
         gpu_ms,
         wall_ms: wall / n,
         gpu_bytes: renderer.gpu_bytes(),

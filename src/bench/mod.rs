@@ -322,15 +322,19 @@ pub struct BladeCounts {
     pub drawn_late: u64,
     /// Patches that passed the patch tests.
     pub visible_patches: u64,
-    /// Blades the update stepped this frame (whole patches), and of those the ones
-    /// stepped at the throttled rate.
+    /// Blade slots the update stepped this frame (its chunks of 64 in class order, empty
+    /// slots of a partial patch included), and of those the ones stepped at the throttled
+    /// rate (a throttled patch's, or classes Eq. 20 thins out everywhere in a patch in
+    /// view).
     pub stepped: u64,
     pub stepped_throttled: u64,
 }
 
 impl BladeCounts {
-    fn new(total: u32, patch_size: u32, c: &CullCounters) -> Self {
-        let blades = |patches: u32| (u64::from(patches) * u64::from(patch_size)).min(total.into());
+    fn new(total: u32, c: &CullCounters) -> Self {
+        let blades = |chunks: u32| {
+            (u64::from(chunks) * u64::from(sward::sim::layout::UPDATE_CHUNK)).min(total.into())
+        };
         Self {
             total: total.into(),
             drawn: c.drawn().into(),
@@ -345,8 +349,8 @@ impl BladeCounts {
             culled_occlusion_grass: c.culled_occlusion_grass.into(),
             drawn_late: c.drawn_late().into(),
             visible_patches: c.visible_patches.into(),
-            stepped: blades(c.updated_patches),
-            stepped_throttled: blades(c.throttled_patches),
+            stepped: blades(c.updated_chunks),
+            stepped_throttled: blades(c.throttled_chunks),
         }
     }
 

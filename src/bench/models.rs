@@ -115,7 +115,6 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
         scene.physics.model = model;
         let mut renderer = super::measure::fresh_renderer(&gpu, &session, scene)?;
         blades = u64::from(renderer.buffers.count);
-        let patch_size = f64::from(renderer.buffers.patch_size);
         let (mut physics, mut draw, mut timed) = (0.0, 0.0, 0u32);
         let (mut stepped, mut drawn) = (0.0f64, 0.0f64);
         let frame = super::measure::run_frames(
@@ -125,7 +124,8 @@ pub fn run_model_bench(o: &BenchOptions) -> Result<ModelBenchReport> {
             &target,
             (o.warmup, o.frames),
             |stats| {
-                stepped += f64::from(stats.counters.updated_patches) * patch_size;
+                stepped += f64::from(stats.counters.updated_chunks)
+                    * f64::from(sward::sim::layout::UPDATE_CHUNK);
                 drawn += f64::from(stats.counters.drawn());
                 if let Some(ms) = stats.pass_ms {
                     physics += ms[timing::UPDATE];

@@ -51,7 +51,8 @@ struct SimParams {
     patch_size: u32,
     patch_count: u32,
     fluid_layer_height: f32,
-    pad_c: u32,
+    // Eq. 20's n: the update steps each patch's blades in its class order (thin_order.wgsl).
+    distance_levels: u32,
     // Collision hierarchy: camera x, y, z, exact-walk distance; on, nodes, depth, unused.
     bvh_camera: vec4<f32>,
     bvh_info: vec4<u32>,

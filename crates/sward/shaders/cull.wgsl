@@ -4,8 +4,10 @@
 // 1. `reset`, `patches`, `finalize` (one pass, before the update): every patch box is tested
 //    against the frustum and the depth pyramid of the opaque objects; survivors go to the
 //    visible-patch list. Patches in view or near the camera, and every `physics_throttle`-th
-//    other patch in turn, go to the update list. `finalize` turns both counts into the
-//    indirect dispatches of the update and of step 2.
+//    other patch in turn, go to the update list, in chunks of 64 blades in class order
+//    (`thin_order.wgsl`): a patch in view steps the chunks of classes Eq. 20 may keep
+//    every frame and the others (thinned everywhere in the patch) in turn. `finalize`
+//    turns both counts into the indirect dispatches of the update and of step 2.
 // 2. `main` (indirect, over visible patches only): every blade of a visible patch is tested
 //    for orientation (Eq. 17), frustum on v0 / m / v2 (Eq. 18), distance levels (Eq. 19-20)
 //    and occlusion (v0 / m / v2 against the depth pyramid with a bias). Survivors are sorted
@@ -22,6 +24,7 @@
 // The twins are `reference::cull_patch` and `reference::cull_blade`.
 //!include common.wgsl
 //!include bvh_node.wgsl
+//!include thin_order.wgsl
 
 struct DrawArgs {
     index_count: u32,
@@ -56,6 +59,10 @@ struct CullOutput {
     // The gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`).
     wave_sum: atomic<u32>,
     wave_blades: atomic<u32>,
+    // Update list entries (chunks of CHUNK blades) this frame, and of those the ones
+    // stepped at the throttled rate (a throttled patch's, or thinned in a patch in view).
+    updated_chunks: atomic<u32>,
+    throttled_chunks: atomic<u32>,
 }
 
 // PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
@@ -80,8 +87,10 @@ const TEST_OCCLUSION: u32 = 16u;
 const TEST_GRASS_OCCLUSION: u32 = 32u;
 // No blade for this invocation.
 const NO_BLADE: u32 = 0xffffffffu;
-// Marks a throttled entry of the update list (it steps with the longer Δt).
+// An update list entry's rate bits: a throttled patch's chunk, and a thinned chunk of a
+// patch stepped every frame (both step with the longer Δt; `update_slot.wgsl`).
 const THROTTLED: u32 = 0x80000000u;
+const THINNED: u32 = 0x40000000u;
 // Largest workgroup count per dimension every adapter allows.
 const MAX_GROUPS: u32 = 65535u;
 
@@ -94,7 +103,8 @@ const MAX_GROUPS: u32 = 65535u;
 @group(0) @binding(3) var<storage, read_write> visible: array<u32>;
 @group(0) @binding(4) var<storage, read_write> out: CullOutput;
 // Two lists of patch_count + 1 slots: [count, patch, ...], the patches that passed the
-// patch tests; then [count, patch | THROTTLED?, ...], the patches the update steps.
+// patch tests; then [count, chunk | rate bits, ...] (patch_count * patch_size / CHUNK + 1
+// slots), the chunks the update steps.
 @group(0) @binding(5) var<storage, read_write> patch_lists: array<u32>;
 // Max-depth pyramid of the opaque objects: levels 1 and up (mip k is level k + 1), and
 // level 0, the depth buffer itself (with MSAA its farthest sample per pixel).
@@ -153,6 +163,8 @@ fn reset() {
     atomicStore(&out.visible_patches, 0u);
     atomicStore(&out.updated_patches, 0u);
     atomicStore(&out.throttled_patches, 0u);
+    atomicStore(&out.updated_chunks, 0u);
+    atomicStore(&out.throttled_chunks, 0u);
     atomicStore(&out.culled_patch, 0u);
     atomicStore(&out.culled_orientation, 0u);
     atomicStore(&out.culled_frustum, 0u);
@@ -349,18 +361,76 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let throttle = max(params.physics_throttle, 1u);
     let near = box_distance(pbox.min.xyz, pbox.max.xyz) <= params.physics_radius;
     let every_frame = (in_view && !too_far) || near || throttle == 1u;
-    if every_frame || (!too_far && (params.frame + p) % throttle == 0u) {
-        let slot = atomicAdd(&out.updated_patches, 1u);
-        var entry = p;
+    let turn = !too_far && (params.frame + p) % throttle == 0u;
+    if every_frame || turn {
+        atomicAdd(&out.updated_patches, 1u);
         if !every_frame {
-            entry |= THROTTLED;
             atomicAdd(&out.throttled_patches, 1u);
         }
-        patch_lists[update_list() + 1u + slot] = entry;
+        // Thinning steps only the classes Eq. 20 may keep every frame where the patch would
+        // step whole every frame for being in view; near the camera (the colliders' reach)
+        // every blade steps every frame.
+        var keep = max(params.distance_levels, 1u);
+        if every_frame && !near && throttle > 1u && (params.tests & TEST_DISTANCE) != 0u {
+            keep = patch_keep(pbox.min.xyz, pbox.max.xyz, pbox.max.w);
+        }
+        list_chunks(p, every_frame, turn, keep);
         if (params.collide.y & COLLIDE_HIERARCHY) != 0u && params.collide.z > 0u {
             broad_phase_bvh(p, pbox, !every_frame);
         } else {
             broad_phase(p, pbox);
+        }
+    }
+}
+
+// The most classes Eq. 20 keeps for any blade of a patch (`floor(n (1 - d / d_max))` at
+// the least distance the box allows, as `patch_beyond_distance` bounds it), less a
+// centimetre against rounding: a class at or above it is culled by distance in every
+// blade of the patch. The twin is `reference::patch_keep`.
+fn patch_keep(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> u32 {
+    let c = params.camera_pos.xyz;
+    let dh = max(max(bmin.xz - c.xz, c.xz - bmax.xz), vec2<f32>(0.0));
+    let y = max(abs(c.y - bmin.y), abs(c.y - bmax.y));
+    let cos_up = clamp(up_y, 0.0, 1.0);
+    let sin_up = sqrt(max(1.0 - cos_up * cos_up, 0.0));
+    let d = max(cos_up * length(dh) - sin_up * y - 0.01, 0.0);
+    let n = max(params.distance_levels, 1u);
+    let keep = floor(f32(n) * (1.0 - d / params.max_distance));
+    return u32(clamp(keep, 0.0, f32(n)));
+}
+
+// Puts stepped patch `p`'s chunks on the update list: each chunk with a class below `keep`
+// every frame (unmarked, or THROTTLED for a patch stepped only on its `turn`), the others
+// marked THINNED on the patch's turn only.
+fn list_chunks(p: u32, every_frame: bool, turn: bool, keep: u32) {
+    let size = params.patch_size;
+    let per_patch = size / CHUNK;
+    let n = max(params.distance_levels, 1u);
+    var count = 0u;
+    var thinned = 0u;
+    for (var c = 0u; c < per_patch; c++) {
+        let lo = order_class(c * CHUNK, size, n).x;
+        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
+        let kept = chunk_keeps(lo, hi, keep, p, size, n);
+        count += u32(kept || turn);
+        thinned += u32(!kept && turn);
+    }
+    let at = atomicAdd(&out.updated_chunks, count);
+    atomicAdd(&out.throttled_chunks, select(thinned, count, !every_frame));
+    var k = update_list() + 1u + at;
+    for (var c = 0u; c < per_patch; c++) {
+        let lo = order_class(c * CHUNK, size, n).x;
+        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
+        let kept = chunk_keeps(lo, hi, keep, p, size, n);
+        var entry = p * per_patch + c;
+        if !every_frame {
+            entry |= THROTTLED;
+        } else if !kept {
+            entry |= THINNED;
+        }
+        if kept || turn {
+            patch_lists[k] = entry;
+            k += 1u;
         }
     }
 }
@@ -532,14 +602,14 @@ fn split(groups: u32) -> vec3<u32> {
 fn finalize() {
     let per_patch = params.patch_size / 64u;
     let vis = atomicLoad(&out.visible_patches);
-    let upd = atomicLoad(&out.updated_patches);
+    let upd = atomicLoad(&out.updated_chunks);
     patch_lists[0] = vis;
     patch_lists[update_list()] = upd;
     let c = split(vis * per_patch);
     dispatch.cull_x = c.x;
     dispatch.cull_y = c.y;
     dispatch.cull_z = 1u;
-    let u = split(upd * per_patch);
+    let u = split(upd);
     dispatch.update_x = u.x;
     dispatch.update_y = u.y;
     dispatch.update_z = 1u;

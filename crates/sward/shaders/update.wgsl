@@ -126,7 +126,7 @@ fn main(
     // The push the colliders gave the tip: the propagation's ancestors.
     var pushed = vec3<f32>(0.0);
     if params.collisions != 0u {
-        let limit = bvh_depth_limit(v0, slot.throttled);
+        let limit = bvh_depth_limit(v0, slot.coarse);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
             let c = collide(v0, corrected[0], corrected[1], patch_id, height, limit);
             if c.w <= 0.0 {

@@ -163,7 +163,7 @@ fn main(
     eta = max(decayed, 0.0);
     var pushed = vec3<f32>(0.0);
     if params.collisions != 0u {
-        let limit = bvh_depth_limit(v0, slot.throttled);
+        let limit = bvh_depth_limit(v0, slot.coarse);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
             var contact = Contact(p[1], p[2], p[3], 0.0);
             collide_listed(slot.patch_id, v0, height, limit, &contact);

@@ -80,6 +80,10 @@ const FILES: &[(&str, &str)] = &[
         "update_slot.wgsl",
         include_str!("../shaders/update_slot.wgsl"),
     ),
+    (
+        "thin_order.wgsl",
+        include_str!("../shaders/thin_order.wgsl"),
+    ),
     ("propagate.wgsl", include_str!("../shaders/propagate.wgsl")),
     ("clumps.wgsl", include_str!("../shaders/clumps.wgsl")),
     (

@@ -662,6 +662,8 @@ impl Renderer {
         );
         params.patch_size = self.buffers.patch_size;
         params.patch_count = self.buffers.patch_count;
+        // The class order the patch pass listed the chunks in (its `distance_levels`).
+        params.distance_levels = self.scene.culling.distance_levels.max(1);
         crate::sim::bvh::fill_params(
             &mut params,
             &self.bvh,

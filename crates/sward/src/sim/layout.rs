@@ -32,6 +32,14 @@ pub const COLLIDE_HIERARCHY: u32 = 2;
 /// (llvmpipe: ~17 µs each, most of the grass draw); an instance of 32 blades amortises it.
 /// Divides 64, so a level's region (a multiple of 64) holds whole batches.
 pub const DRAW_BATCH: u32 = 32;
+/// Blades per entry of the update list, one workgroup of the update (`CHUNK` in
+/// `thin_order.wgsl`).
+pub const UPDATE_CHUNK: u32 = 64;
+/// An update list entry's rate bits (`cull.wgsl`): the chunk of a throttled patch, and a
+/// thinned chunk of a patch stepped every frame.
+pub const CHUNK_THROTTLED: u32 = 0x8000_0000;
+/// See [`CHUNK_THROTTLED`].
+pub const CHUNK_THINNED: u32 = 0x4000_0000;
 /// Count value of a patch whose spheres did not fit its list.
 pub const SPHERES_ALL: u32 = u32::MAX;
 
@@ -105,8 +113,9 @@ pub struct SimParams {
     pub patch_count: u32,
     /// Wind grid: thickness of a layer in metres (3D grids).
     pub fluid_layer_height: f32,
-    /// Padding to the next 16-byte boundary (`pad_c` in `common.wgsl`).
-    pub _pad: u32,
+    /// Eq. 20's n (`culling.distance_levels`, at least 1): the update steps each patch's
+    /// blades in this class order (`sim::reference::thin_order`).
+    pub distance_levels: u32,
     /// Collision hierarchy (`sim::bvh`): the camera's x, y, z and the distance within which
     /// the walk goes down to the colliders.
     pub bvh_camera: [f32; 4],
@@ -285,6 +294,11 @@ pub struct CullCounters {
     pub wave_sum: u32,
     /// Blades summed into `wave_sum`.
     pub wave_blades: u32,
+    /// Chunks of [`UPDATE_CHUNK`] blades the update stepped this frame.
+    pub updated_chunks: u32,
+    /// Of those, chunks stepped at the throttled rate: a throttled patch's, or a chunk of
+    /// classes Eq. 20 thins out everywhere in a patch stepped every frame.
+    pub throttled_chunks: u32,
 }
 
 /// Byte offset of [`CullCounters::wave_sum`] (the draw copies the two wave words from
@@ -436,7 +450,7 @@ const _: () = assert!(std::mem::size_of::<VerletState>() == 64);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 288);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 200 + MAX_SPHERES / 8);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 208 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);

@@ -438,5 +438,6 @@ pub fn update_all_splat(
 pub mod cull;
 pub mod fluid;
 pub mod hiz;
+pub mod thin_order;
 
 pub use cull::*;

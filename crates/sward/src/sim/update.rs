@@ -9,7 +9,7 @@ use super::layout::{
     Blade, BladeState, PatchBox, PatchDispatch, SimParams, VerletState, BVH_NODE_BASE, DRAW_BATCH,
     WIND_ANALYTIC, WIND_FLUID,
     LOD_LEVELS, MAX_SPHERES, PATCH_SPHERE_POOL, PATCH_SPHERE_STRIDE, SPHERE_BUFFER_BYTES,
-    WORKGROUP_SIZE,
+    UPDATE_CHUNK, WORKGROUP_SIZE,
 };
 use crate::error::{Error, Result};
 use crate::field::tiles::{empty_patch, TileLayout};
@@ -75,10 +75,10 @@ pub struct BladeBuffers {
 
 impl BladeBuffers {
     /// Bytes of GPU memory the blade buffers take for `count` blades and `patches` patches.
-    pub fn bytes_for(count: u64, patches: u64) -> u64 {
+    pub fn bytes_for(count: u64, patches: u64, patch_size: u32) -> u64 {
         count * super::layout::BYTES_PER_BLADE as u64
-            + patches
-                * (std::mem::size_of::<PatchBox>() as u64 + 8 + PATCH_SPHERE_STRIDE as u64 * 4)
+            + patches * (std::mem::size_of::<PatchBox>() as u64 + PATCH_SPHERE_STRIDE as u64 * 4)
+            + list_words(patches as u32, patch_size) * 4
             + PATCH_SPHERE_POOL as u64 * 4
             + SPHERE_BUFFER_BYTES
             + 8
@@ -204,7 +204,7 @@ impl BladeBuffers {
         });
         let patch_lists = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.patch_lists"),
-            size: 2 * (patch_count as u64 + 1) * 4,
+            size: list_words(patch_count, patch_size) * 4,
             usage: storage,
             mapped_at_creation: false,
         });
@@ -472,6 +472,13 @@ impl BladeBuffers {
 }
 
 /// The trail map's buffer of `bytes` (zeroed).
+/// Words of the patch lists: the visible patches `[count, patch, ...]`, then the update's
+/// chunks `[count, chunk | rate bits, ...]`, one per [`UPDATE_CHUNK`] blades of each patch.
+fn list_words(patch_count: u32, patch_size: u32) -> u64 {
+    let chunks = u64::from(patch_count) * u64::from(patch_size / UPDATE_CHUNK);
+    u64::from(patch_count) + 1 + chunks + 1
+}
+
 fn trails_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sward.trails"),
@@ -715,7 +722,7 @@ mod tests {
         // The bar (CWD-Sim's 7,000,000 blades): every per-blade and per-patch
         // buffer at the smallest patch size (64 blades, the most patches).
         let blades = 7_000_000u64;
-        let bytes = BladeBuffers::bytes_for(blades, blades.div_ceil(64));
+        let bytes = BladeBuffers::bytes_for(blades, blades.div_ceil(64), 64);
         assert!(bytes < 1 << 30, "{bytes} bytes");
         assert_eq!(crate::sim::layout::BYTES_PER_BLADE, 104);
     }
