@@ -9,6 +9,7 @@
 //    every frame and the others (thinned everywhere in the patch) in turn. `finalize`
 //    turns both counts into the indirect dispatches of the update and of step 2.
 // 2. `main` (indirect, over visible patches only): every blade of a visible patch is tested
+//    (but the classes Eq. 20 culls everywhere in the patch, culled by distance in step 1)
 //    for orientation (Eq. 17), frustum on v0 / m / v2 (Eq. 18), distance levels (Eq. 19-20)
 //    and occlusion (v0 / m / v2 against the depth pyramid with a bias). Survivors are sorted
 //    by projected height into three level-of-detail lists, each drawn by its own indirect
@@ -63,6 +64,8 @@ struct CullOutput {
     // stepped at the throttled rate (a throttled patch's, or thinned in a patch in view).
     updated_chunks: atomic<u32>,
     throttled_chunks: atomic<u32>,
+    // Chunks on the blade cull's list (of visible patches, less the thinned classes).
+    visible_chunks: atomic<u32>,
 }
 
 // PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
@@ -102,9 +105,9 @@ const MAX_GROUPS: u32 = 65535u;
 // Three regions of `region` slots, one per level of detail.
 @group(0) @binding(3) var<storage, read_write> visible: array<u32>;
 @group(0) @binding(4) var<storage, read_write> out: CullOutput;
-// Two lists of patch_count + 1 slots: [count, patch, ...], the patches that passed the
-// patch tests; then [count, chunk | rate bits, ...] (patch_count * patch_size / CHUNK + 1
-// slots), the chunks the update steps.
+// Two lists of patch_count * patch_size / CHUNK + 1 slots: [count, chunk, ...], the chunks
+// of CHUNK blades (in class order) of the patches that passed the patch tests that the
+// blade cull tests; then [count, chunk | rate bits, ...], the chunks the update steps.
 @group(0) @binding(5) var<storage, read_write> patch_lists: array<u32>;
 // Max-depth pyramid of the opaque objects: levels 1 and up (mip k is level k + 1), and
 // level 0, the depth buffer itself (with MSAA its farthest sample per pixel).
@@ -131,8 +134,10 @@ fn hiz_texel(p: vec2<i32>, level: u32) -> f32 {
 // The blades' rest tips (the blade passes' group 1): how far the gusts bend them.
 @group(1) @binding(4) var<storage, read> states: array<BladeState>;
 
+// Where the update list starts: after the cull's list of patch_count * patch_size / CHUNK
+// + 1 slots.
 fn update_list() -> u32 {
-    return params.patch_count + 1u;
+    return params.patch_count * (params.patch_size / CHUNK) + 1u;
 }
 
 // Slots per level-of-detail list.
@@ -165,6 +170,7 @@ fn reset() {
     atomicStore(&out.throttled_patches, 0u);
     atomicStore(&out.updated_chunks, 0u);
     atomicStore(&out.throttled_chunks, 0u);
+    atomicStore(&out.visible_chunks, 0u);
     atomicStore(&out.culled_patch, 0u);
     atomicStore(&out.culled_orientation, 0u);
     atomicStore(&out.culled_frustum, 0u);
@@ -351,8 +357,12 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     if visible_patch {
-        let slot = atomicAdd(&out.visible_patches, 1u);
-        patch_lists[1u + slot] = p;
+        atomicAdd(&out.visible_patches, 1u);
+        var keep = max(params.distance_levels, 1u);
+        if (params.tests & TEST_DISTANCE) != 0u && n == params.patch_size {
+            keep = patch_keep(pbox.min.xyz, pbox.max.xyz, pbox.max.w);
+        }
+        list_visible(p, keep);
     }
     // Physics: patches in the frustum or near the camera every frame, the others in turn;
     // patches beyond the blades' radius not at all (no turn of the camera shows them as
@@ -397,6 +407,34 @@ fn patch_keep(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> u32 {
     let n = max(params.distance_levels, 1u);
     let keep = floor(f32(n) * (1.0 - d / params.max_distance));
     return u32(clamp(keep, 0.0, f32(n)));
+}
+
+// Puts visible patch `p`'s chunks on the blade cull's list: those holding a class below
+// `keep`. The others' blades are culled by distance here, whole (a partial patch, the
+// field's last, lists every chunk). The twin is `reference::thin_order::cull_skips`.
+fn list_visible(p: u32, keep: u32) {
+    let size = params.patch_size;
+    let per_patch = size / CHUNK;
+    let n = max(params.distance_levels, 1u);
+    var count = 0u;
+    for (var c = 0u; c < per_patch; c++) {
+        let lo = order_class(c * CHUNK, size, n).x;
+        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
+        count += u32(chunk_keeps(lo, hi, keep, p, size, n));
+    }
+    let skipped = (per_patch - count) * CHUNK;
+    if skipped != 0u {
+        atomicAdd(&out.culled_distance, skipped);
+    }
+    var k = 1u + atomicAdd(&out.visible_chunks, count);
+    for (var c = 0u; c < per_patch; c++) {
+        let lo = order_class(c * CHUNK, size, n).x;
+        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
+        if chunk_keeps(lo, hi, keep, p, size, n) {
+            patch_lists[k] = p * per_patch + c;
+            k += 1u;
+        }
+    }
 }
 
 // Puts stepped patch `p`'s chunks on the update list: each chunk with a class below `keep`
@@ -600,12 +638,11 @@ fn split(groups: u32) -> vec3<u32> {
 
 @compute @workgroup_size(1)
 fn finalize() {
-    let per_patch = params.patch_size / 64u;
-    let vis = atomicLoad(&out.visible_patches);
+    let vis = atomicLoad(&out.visible_chunks);
     let upd = atomicLoad(&out.updated_chunks);
     patch_lists[0] = vis;
     patch_lists[update_list()] = upd;
-    let c = split(vis * per_patch);
+    let c = split(vis);
     dispatch.cull_x = c.x;
     dispatch.cull_y = c.y;
     dispatch.cull_z = 1u;
@@ -615,17 +652,18 @@ fn finalize() {
     dispatch.update_z = 1u;
 }
 
-// The blade of this invocation of an indirect blade pass over the visible patches, or
-// NO_BLADE past the list or the field.
+// The blade of this invocation of an indirect blade pass over the visible patches' listed
+// chunks (in class order, `thin_order.wgsl`), or NO_BLADE past the list or the field.
 fn blade_of(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> u32 {
-    let per_patch = params.patch_size / 64u;
+    let per_patch = params.patch_size / CHUNK;
     let flat = wid.y * groups.x + wid.x;
-    let slot = flat / per_patch;
-    if slot >= patch_lists[0] {
+    if flat >= patch_lists[0] {
         return NO_BLADE;
     }
-    let p = patch_lists[1u + slot];
-    let i = p * params.patch_size + (flat % per_patch) * 64u + lid;
+    let chunk = patch_lists[1u + flat];
+    let p = chunk / per_patch;
+    let pos = (chunk % per_patch) * CHUNK + lid;
+    let i = p * params.patch_size + order_blade(pos, params.patch_size, max(params.distance_levels, 1u));
     if i >= params.blade_count {
         return NO_BLADE;
     }

@@ -56,7 +56,7 @@ fn blade_slot(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> Slot {
     var s = Slot(0u, 0u, false, false, false);
     let per_patch = params.patch_size / CHUNK;
     let flat = wid.y * groups.x + wid.x;
-    let list = params.patch_count + 1u;
+    let list = params.patch_count * per_patch + 1u;
     if flat >= patch_lists[list] {
         return s;
     }

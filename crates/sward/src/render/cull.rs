@@ -378,7 +378,8 @@ impl CullPass {
     pub fn read_update_list(&self, gpu: &Gpu, buffers: &BladeBuffers) -> Result<Vec<u32>> {
         let bytes = read_buffer(gpu, &buffers.patch_lists, buffers.patch_lists.size())?;
         let all: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        let start = buffers.patch_count as usize + 1;
+        let start =
+            crate::sim::update::list_chunks(buffers.patch_count, buffers.patch_size) as usize + 1;
         let count = all.get(start).copied().unwrap_or(0) as usize;
         let mut list = all
             .get(start + 1..start + 1 + count)

@@ -299,6 +299,9 @@ pub struct CullCounters {
     /// Of those, chunks stepped at the throttled rate: a throttled patch's, or a chunk of
     /// classes Eq. 20 thins out everywhere in a patch stepped every frame.
     pub throttled_chunks: u32,
+    /// Chunks of [`UPDATE_CHUNK`] blades the blade cull tested: the visible patches' less
+    /// the classes Eq. 20 culls in every blade of the patch (counted as distance whole).
+    pub visible_chunks: u32,
 }
 
 /// Byte offset of [`CullCounters::wave_sum`] (the draw copies the two wave words from
@@ -450,7 +453,7 @@ const _: () = assert!(std::mem::size_of::<VerletState>() == 64);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 288);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 208 + MAX_SPHERES / 8);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 212 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);

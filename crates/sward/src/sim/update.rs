@@ -472,11 +472,16 @@ impl BladeBuffers {
 }
 
 /// The trail map's buffer of `bytes` (zeroed).
-/// Words of the patch lists: the visible patches `[count, patch, ...]`, then the update's
-/// chunks `[count, chunk | rate bits, ...]`, one per [`UPDATE_CHUNK`] blades of each patch.
+/// Words of the patch lists: the blade cull's chunks `[count, chunk, ...]`, then the
+/// update's `[count, chunk | rate bits, ...]`, room for every [`UPDATE_CHUNK`] blades of
+/// each patch in both.
 fn list_words(patch_count: u32, patch_size: u32) -> u64 {
-    let chunks = u64::from(patch_count) * u64::from(patch_size / UPDATE_CHUNK);
-    u64::from(patch_count) + 1 + chunks + 1
+    2 * (list_chunks(patch_count, patch_size) + 1)
+}
+
+/// Chunks of [`UPDATE_CHUNK`] blades in `patch_count` patches of `patch_size`.
+pub fn list_chunks(patch_count: u32, patch_size: u32) -> u64 {
+    u64::from(patch_count) * u64::from(patch_size / UPDATE_CHUNK)
 }
 
 fn trails_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {

@@ -405,6 +405,10 @@ pub fn cull_blade(
     if patch_outcome != CullOutcome::Drawn(0) {
         return patch_outcome;
     }
+    // The classes Eq. 20 culls everywhere in the patch: culled with their chunk.
+    if super::thin_order::cull_skips(index, patch, params) {
+        return CullOutcome::Distance;
+    }
     if blade.v1_height[3] <= 0.0 {
         return CullOutcome::Empty;
     }

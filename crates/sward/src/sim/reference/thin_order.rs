@@ -63,6 +63,34 @@ pub fn patch_keep(patch: &PatchBox, params: &CullParams) -> u32 {
     keep.clamp(0.0, n as f32) as u32
 }
 
+/// Position of blade `local` (its index within the patch) in the class order: its class
+/// starts after the blades of the classes before it.
+pub fn order_position(local: u32, size: u32, n: u32) -> u32 {
+    let n = n.max(1);
+    let (q, rem) = (size / n, size % n);
+    let r = local % n;
+    r * q + r.min(rem) + local / n
+}
+
+/// Whether the blade cull leaves blade `index` of a visible `patch` off its list (the
+/// patch step culls it by distance with its chunk): with the distance test on, in a whole
+/// patch, its chunk of the class order holds no class [`patch_keep`] allows.
+pub fn cull_skips(index: u32, patch: &PatchBox, params: &CullParams) -> bool {
+    let size = params.patch_size;
+    if params.tests & TEST_DISTANCE == 0 || size == 0 {
+        return false;
+    }
+    let p = index / size;
+    if u64::from(p + 1) * u64::from(size) > u64::from(params.blade_count) {
+        return false;
+    }
+    let n = params.distance_levels.max(1);
+    let k = order_position(index % size, size, n) / UPDATE_CHUNK;
+    let lo = order_class(k * UPDATE_CHUNK, size, n).0;
+    let hi = order_class(k * UPDATE_CHUNK + UPDATE_CHUNK - 1, size, n).0;
+    !chunk_keeps(lo, hi, patch_keep(patch, params), p, size, n)
+}
+
 /// The update list's entries for patch `p` this frame, in the order the patch step writes
 /// them: chunk `p · (size / 64) + c` with [`CHUNK_THROTTLED`] for a patch stepped only on
 /// its turn, [`CHUNK_THINNED`] for a chunk of classes no blade of a patch in view keeps
@@ -114,6 +142,10 @@ mod tests {
             let mut sorted = blades.clone();
             sorted.sort_unstable();
             assert_eq!(sorted, (0..size).collect::<Vec<_>>(), "size {size}, n {n}");
+            // The position of each blade is where the order puts it.
+            for (pos, &b) in blades.iter().enumerate() {
+                assert_eq!(order_position(b, size, n), pos as u32, "size {size}, n {n}");
+            }
             // Classes never decrease along the order, and each holds its blades in order.
             for w in blades.windows(2) {
                 let (a, b) = (w[0] % n, w[1] % n);
