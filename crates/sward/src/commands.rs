@@ -263,6 +263,16 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             c.culled_occlusion,
             c.culled_occlusion_grass
         );
+        let chunk = u64::from(crate::sim::layout::UPDATE_CHUNK);
+        println!(
+            "patches: {} visible, {} stepped ({} throttled); blades stepped: {} ({} at the throttled rate), tested one by one: {}",
+            c.visible_patches,
+            c.updated_patches,
+            c.throttled_patches,
+            u64::from(c.updated_chunks) * chunk,
+            u64::from(c.throttled_chunks) * chunk,
+            u64::from(c.visible_chunks) * chunk
+        );
         println!(
             "blades reset (non-finite state, since start): {}",
             stats.blades_reset_nonfinite
