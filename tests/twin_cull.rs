@@ -153,33 +153,39 @@ fn run(
     let mut stepped = 0;
     let mut throttled = 0;
     let mut pairs = 0;
-    let mut chunks = Vec::new();
+    // The update's chunks, of patches with a collider near and of the others.
+    let mut chunks = [Vec::new(), Vec::new()];
     for (p, patch) in session.field.patches.iter().enumerate() {
-        chunks.extend(update_chunks(p as u32, patch, &cp));
         let Some(slow) = patch_update(p as u32, patch, &cp) else {
+            assert!(update_chunks(p as u32, patch, &cp).is_empty());
             continue;
         };
         stepped += 1;
         throttled += slow as u32;
         let list = patch_spheres(patch, &cp, &spheres);
+        chunks[usize::from(list.is_empty())].extend(update_chunks(p as u32, patch, &cp));
         pairs += list.len() as u32;
         assert_eq!(gpu_lists[p], Some(list), "patch {p}: broad-phase list");
     }
     assert_eq!(counters.updated_patches, stepped);
     assert_eq!(counters.throttled_patches, throttled);
-    // The update list: which chunks of 64 blades (in class order) step, at which rate.
-    chunks.sort_unstable();
+    // The update lists: which chunks of 64 blades (in class order) step, at which rate, and
+    // with collisions or without.
+    chunks.iter_mut().for_each(|c| c.sort_unstable());
     let gpu_chunks = r
         .cull
-        .read_update_list(&gpu, &r.buffers)
-        .expect("update list");
-    assert_eq!(gpu_chunks, chunks, "update list");
+        .read_update_lists(&gpu, &r.buffers)
+        .expect("update lists");
+    assert_eq!(gpu_chunks, chunks, "update lists");
     let slow = |c: &&u32| **c & (CHUNK_THROTTLED | CHUNK_THINNED) != 0;
-    assert_eq!(counters.updated_chunks as usize, chunks.len());
+    let all = chunks.concat();
+    assert_eq!(counters.updated_chunks as usize, all.len());
     assert_eq!(
         counters.throttled_chunks as usize,
-        chunks.iter().filter(slow).count()
+        all.iter().filter(slow).count()
     );
+    assert_eq!(counters.collide_chunks as usize, chunks[0].len());
+    assert_eq!(counters.free_chunks as usize, chunks[1].len());
     assert_eq!(counters.patch_sphere_pairs, pairs);
     counters
 }

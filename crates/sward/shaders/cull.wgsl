@@ -66,6 +66,10 @@ struct CullOutput {
     throttled_chunks: atomic<u32>,
     // Chunks on the blade cull's list (of visible patches, less the thinned classes).
     visible_chunks: atomic<u32>,
+    // Of the update's chunks, those on the colliding list (their patch's broad phase
+    // found something) and on the free list (it found nothing): the slots of each.
+    collide_chunks: atomic<u32>,
+    free_chunks: atomic<u32>,
 }
 
 // PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
@@ -76,8 +80,12 @@ struct PatchDispatch {
     update_x: u32,
     update_y: u32,
     update_z: u32,
+    free_x: u32,
+    free_y: u32,
+    free_z: u32,
     pad0: u32,
     pad1: u32,
+    pad2: u32,
 }
 
 const TEST_PATCH: u32 = 1u;
@@ -107,7 +115,8 @@ const MAX_GROUPS: u32 = 65535u;
 @group(0) @binding(4) var<storage, read_write> out: CullOutput;
 // Two lists of patch_count * patch_size / CHUNK + 1 slots: [count, chunk, ...], the chunks
 // of CHUNK blades (in class order) of the patches that passed the patch tests that the
-// blade cull tests; then [count, chunk | rate bits, ...], the chunks the update steps.
+// blade cull tests; then twice [count, chunk | rate bits, ...], the chunks the update
+// steps, of patches with a collider near and without.
 @group(0) @binding(5) var<storage, read_write> patch_lists: array<u32>;
 // Max-depth pyramid of the opaque objects: levels 1 and up (mip k is level k + 1), and
 // level 0, the depth buffer itself (with MSAA its farthest sample per pixel).
@@ -134,10 +143,11 @@ fn hiz_texel(p: vec2<i32>, level: u32) -> f32 {
 // The blades' rest tips (the blade passes' group 1): how far the gusts bend them.
 @group(1) @binding(4) var<storage, read> states: array<BladeState>;
 
-// Where the update list starts: after the cull's list of patch_count * patch_size / CHUNK
-// + 1 slots.
-fn update_list() -> u32 {
-    return params.patch_count * (params.patch_size / CHUNK) + 1u;
+// Where the update's lists start, each after the one before, of patch_count * patch_size /
+// CHUNK + 1 slots (the blade cull's list first): `free` the list of chunks whose patch
+// has no collider near (`update_slot.wgsl`).
+fn update_list(free: bool) -> u32 {
+    return (params.patch_count * (params.patch_size / CHUNK) + 1u) * (1u + u32(free));
 }
 
 // Slots per level-of-detail list.
@@ -171,6 +181,8 @@ fn reset() {
     atomicStore(&out.updated_chunks, 0u);
     atomicStore(&out.throttled_chunks, 0u);
     atomicStore(&out.visible_chunks, 0u);
+    atomicStore(&out.collide_chunks, 0u);
+    atomicStore(&out.free_chunks, 0u);
     atomicStore(&out.culled_patch, 0u);
     atomicStore(&out.culled_orientation, 0u);
     atomicStore(&out.culled_frustum, 0u);
@@ -384,12 +396,15 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if every_frame && !near && throttle > 1u && (params.tests & TEST_DISTANCE) != 0u {
             keep = patch_keep(pbox.min.xyz, pbox.max.xyz, pbox.max.w);
         }
-        list_chunks(p, every_frame, turn, keep);
         if (params.collide.y & COLLIDE_HIERARCHY) != 0u && params.collide.z > 0u {
             broad_phase_bvh(p, pbox, !every_frame);
         } else {
             broad_phase(p, pbox);
         }
+        // A patch whose broad phase found no collider steps in the update's pipeline
+        // without collisions: on a software adapter the collision rounds cost every blade
+        // whether or not a sphere is near (half the update on the default meadow).
+        list_chunks(p, every_frame, turn, keep, patch_spheres[p * PATCH_SPHERE_STRIDE] == 0u);
     }
 }
 
@@ -437,10 +452,10 @@ fn list_visible(p: u32, keep: u32) {
     }
 }
 
-// Puts stepped patch `p`'s chunks on the update list: each chunk with a class below `keep`
-// every frame (unmarked, or THROTTLED for a patch stepped only on its `turn`), the others
-// marked THINNED on the patch's turn only.
-fn list_chunks(p: u32, every_frame: bool, turn: bool, keep: u32) {
+// Puts stepped patch `p`'s chunks on an update list (the free one when it has no collider
+// near): each chunk with a class below `keep` every frame (unmarked, or THROTTLED for a
+// patch stepped only on its `turn`), the others marked THINNED on the patch's turn only.
+fn list_chunks(p: u32, every_frame: bool, turn: bool, keep: u32, free: bool) {
     let size = params.patch_size;
     let per_patch = size / CHUNK;
     let n = max(params.distance_levels, 1u);
@@ -453,9 +468,15 @@ fn list_chunks(p: u32, every_frame: bool, turn: bool, keep: u32) {
         count += u32(kept || turn);
         thinned += u32(!kept && turn);
     }
-    let at = atomicAdd(&out.updated_chunks, count);
+    atomicAdd(&out.updated_chunks, count);
     atomicAdd(&out.throttled_chunks, select(thinned, count, !every_frame));
-    var k = update_list() + 1u + at;
+    var at = 0u;
+    if free {
+        at = atomicAdd(&out.free_chunks, count);
+    } else {
+        at = atomicAdd(&out.collide_chunks, count);
+    }
+    var k = update_list(free) + 1u + at;
     for (var c = 0u; c < per_patch; c++) {
         let lo = order_class(c * CHUNK, size, n).x;
         let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
@@ -639,9 +660,11 @@ fn split(groups: u32) -> vec3<u32> {
 @compute @workgroup_size(1)
 fn finalize() {
     let vis = atomicLoad(&out.visible_chunks);
-    let upd = atomicLoad(&out.updated_chunks);
+    let upd = atomicLoad(&out.collide_chunks);
+    let free = atomicLoad(&out.free_chunks);
     patch_lists[0] = vis;
-    patch_lists[update_list()] = upd;
+    patch_lists[update_list(false)] = upd;
+    patch_lists[update_list(true)] = free;
     let c = split(vis);
     dispatch.cull_x = c.x;
     dispatch.cull_y = c.y;
@@ -650,6 +673,10 @@ fn finalize() {
     dispatch.update_x = u.x;
     dispatch.update_y = u.y;
     dispatch.update_z = 1u;
+    let f = split(free);
+    dispatch.free_x = f.x;
+    dispatch.free_y = f.y;
+    dispatch.free_z = 1u;
 }
 
 // The blade of this invocation of an indirect blade pass over the visible patches' listed

@@ -8,6 +8,11 @@
 // Most collide + validate rounds per step.
 const COLLISION_ROUNDS: u32 = 4u;
 
+// Whether this pipeline collides: the update list of patches with no collider near is
+// stepped by a pipeline without the collision rounds (a software adapter runs them for
+// every blade, however few touch a sphere).
+override COLLIDE: bool = true;
+
 // Whether a blade's new state is sound: every value finite and the curve's length (Eq. 12)
 // within half a height of the height (the validation makes it equal; only overflow, e.g.
 // from an absurd force, breaks that). The twin of `reference::state_sound`.
@@ -125,7 +130,7 @@ fn main(
     var corrected = validate(v0, v2, up, height);
     // The push the colliders gave the tip: the propagation's ancestors.
     var pushed = vec3<f32>(0.0);
-    if params.collisions != 0u {
+    if COLLIDE && params.collisions != 0u {
         let limit = bvh_depth_limit(v0, slot.coarse);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
             let c = collide(v0, corrected[0], corrected[1], patch_id, height, limit);

@@ -9,6 +9,10 @@
 const THROTTLED: u32 = 0x80000000u;
 const THINNED: u32 = 0x40000000u;
 
+// Which update list a pipeline steps (`cull.wgsl`): 0 the chunks of patches with a collider
+// near, 1 those without (their pipeline leaves the collisions out).
+override UPDATE_LIST: u32 = 0u;
+
 // The update's output beside the reset counter: per propagation cell the pushes' x and z
 // (fixed point, micrometres) and their count.
 struct UpdateOut {
@@ -56,7 +60,7 @@ fn blade_slot(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> Slot {
     var s = Slot(0u, 0u, false, false, false);
     let per_patch = params.patch_size / CHUNK;
     let flat = wid.y * groups.x + wid.x;
-    let list = params.patch_count * per_patch + 1u;
+    let list = (params.patch_count * per_patch + 1u) * (1u + UPDATE_LIST);
     if flat >= patch_lists[list] {
         return s;
     }

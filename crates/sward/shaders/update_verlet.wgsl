@@ -19,6 +19,11 @@
 @group(0) @binding(8) var<storage, read_write> verlet: array<VerletState>;
 
 const COLLISION_ROUNDS: u32 = 4u;
+
+// Whether this pipeline collides: the update list of patches with no collider near is
+// stepped by a pipeline without the collision rounds (a software adapter runs them for
+// every blade, however few touch a sphere).
+override COLLIDE: bool = true;
 const MAX_SUBSTEPS: u32 = 8u;
 
 // The backbone's control points P0 (the root) .. P3 (the tip).
@@ -162,7 +167,7 @@ fn main(
     let decayed = eta - params.collision_decay * dt;
     eta = max(decayed, 0.0);
     var pushed = vec3<f32>(0.0);
-    if params.collisions != 0u {
+    if COLLIDE && params.collisions != 0u {
         let limit = bvh_depth_limit(v0, slot.coarse);
         for (var round = 0u; round < COLLISION_ROUNDS; round++) {
             var contact = Contact(p[1], p[2], p[3], 0.0);

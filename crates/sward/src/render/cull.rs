@@ -372,21 +372,24 @@ impl CullPass {
             .collect())
     }
 
-    /// Reads the update list of the last frame back (blocking): its entries, each a chunk of
-    /// [`crate::sim::layout::UPDATE_CHUNK`] blades with its rate bits, sorted (the patch
-    /// step appends them in whatever order its invocations run).
-    pub fn read_update_list(&self, gpu: &Gpu, buffers: &BladeBuffers) -> Result<Vec<u32>> {
+    /// Reads the update lists of the last frame back (blocking): the chunks of patches with
+    /// a collider near and of the others, each entry a chunk of
+    /// [`crate::sim::layout::UPDATE_CHUNK`] blades with its rate bits, each list sorted
+    /// (the patch step appends them in whatever order its invocations run).
+    pub fn read_update_lists(&self, gpu: &Gpu, buffers: &BladeBuffers) -> Result<[Vec<u32>; 2]> {
         let bytes = read_buffer(gpu, &buffers.patch_lists, buffers.patch_lists.size())?;
         let all: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        let start =
+        let stride =
             crate::sim::update::list_chunks(buffers.patch_count, buffers.patch_size) as usize + 1;
-        let count = all.get(start).copied().unwrap_or(0) as usize;
-        let mut list = all
-            .get(start + 1..start + 1 + count)
-            .map(<[u32]>::to_vec)
-            .unwrap_or_default();
-        list.sort_unstable();
-        Ok(list)
+        Ok([stride, 2 * stride].map(|start| {
+            let count = all.get(start).copied().unwrap_or(0) as usize;
+            let mut list = all
+                .get(start + 1..start + 1 + count)
+                .map(<[u32]>::to_vec)
+                .unwrap_or_default();
+            list.sort_unstable();
+            list
+        }))
     }
 
     /// Reads the visible blade indices of the last frame back, all levels (blocking).

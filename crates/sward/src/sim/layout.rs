@@ -302,6 +302,11 @@ pub struct CullCounters {
     /// Chunks of [`UPDATE_CHUNK`] blades the blade cull tested: the visible patches' less
     /// the classes Eq. 20 culls in every blade of the patch (counted as distance whole).
     pub visible_chunks: u32,
+    /// Of the update's chunks, those of patches whose broad phase found a collider near
+    /// (stepped with collisions) and those of the others (stepped without).
+    pub collide_chunks: u32,
+    /// See [`CullCounters::collide_chunks`].
+    pub free_chunks: u32,
 }
 
 /// Byte offset of [`CullCounters::wave_sum`] (the draw copies the two wave words from
@@ -354,10 +359,14 @@ impl CullCounters {
 pub struct PatchDispatch {
     /// Workgroups of the blade cull over the visible patches.
     pub cull: DispatchIndirect,
-    /// Workgroups of the blade update over the patches stepped this frame.
+    /// Workgroups of the blade update over the chunks stepped this frame whose patch has a
+    /// collider near.
     pub update: DispatchIndirect,
-    /// Padding to 32 bytes.
-    pub _pad: [u32; 2],
+    /// Workgroups of the blade update (its pipeline without collisions) over the chunks
+    /// stepped this frame whose patch has no collider near.
+    pub update_free: DispatchIndirect,
+    /// Padding to 48 bytes.
+    pub _pad: [u32; 3],
 }
 
 /// Uniforms of every draw pass (`shaders/common.wgsl` `Frame`).
@@ -453,10 +462,10 @@ const _: () = assert!(std::mem::size_of::<VerletState>() == 64);
 const _: () = assert!(std::mem::size_of::<PatchBox>() == 32);
 const _: () = assert!(std::mem::size_of::<SimParams>() == 288);
 const _: () = assert!(std::mem::size_of::<CullParams>() == 256);
-const _: () = assert!(std::mem::size_of::<CullCounters>() == 212 + MAX_SPHERES / 8);
+const _: () = assert!(std::mem::size_of::<CullCounters>() == 220 + MAX_SPHERES / 8);
 // `DrawnBlades.head` in common.wgsl skips this many words.
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
-const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 32);
+const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 48);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 272);
 const _: () = assert!(std::mem::size_of::<LightUniforms>() == 496);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);

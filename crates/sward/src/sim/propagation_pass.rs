@@ -25,7 +25,8 @@ pub fn update_out_bytes(n: u32) -> u64 {
 pub struct PropagationPass {
     init: wgpu::ComputePipeline,
     generation: wgpu::ComputePipeline,
-    apply: wgpu::ComputePipeline,
+    /// The apply over each update list (`UPDATE_LIST` 0 and 1).
+    apply: [wgpu::ComputePipeline; 2],
     /// One bind group per generation (each binds its generation's uniform).
     groups: Vec<wgpu::BindGroup>,
     /// Cells per side the buffers were made for.
@@ -96,20 +97,24 @@ impl PropagationPass {
             immediate_size: 0,
         });
         let module = shaders::module(device, "propagate.wgsl");
-        let pipeline = |entry: &str| {
+        // `list`: the update list the apply walks (`UPDATE_LIST` in `update_slot.wgsl`).
+        let pipeline = |entry: &str, list: u32| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&format!("sward.propagation.{entry}")),
+                label: Some(&format!("sward.propagation.{entry}{}", ["", "_free"][list as usize])),
                 layout: Some(&pipeline_layout),
                 module: &module,
                 entry_point: Some(entry),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &[("UPDATE_LIST", f64::from(list))],
+                    ..Default::default()
+                },
                 cache: None,
             })
         };
         Ok(Self {
-            init: pipeline("init"),
-            generation: pipeline("generation"),
-            apply: pipeline("apply"),
+            init: pipeline("init", 0),
+            generation: pipeline("generation", 0),
+            apply: [pipeline("apply", 0), pipeline("apply", 1)],
             groups,
             n,
             update_out: buffers.resets.clone(),
@@ -142,10 +147,16 @@ impl PropagationPass {
             pass.dispatch_workgroups(gx, gy, 1);
         }
         if apply {
-            pass.set_pipeline(&self.apply);
+            // Over both update lists: the patches with a collider near and the others.
             pass.set_bind_group(0, &self.groups[0], &[]);
-            let offset = std::mem::offset_of!(PatchDispatch, update) as u64;
-            pass.dispatch_workgroups_indirect(&self.dispatch, offset);
+            let offsets = [
+                std::mem::offset_of!(PatchDispatch, update),
+                std::mem::offset_of!(PatchDispatch, update_free),
+            ];
+            for (pipeline, offset) in self.apply.iter().zip(offsets) {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups_indirect(&self.dispatch, offset as u64);
+            }
         }
     }
 }

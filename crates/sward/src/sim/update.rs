@@ -473,10 +473,10 @@ impl BladeBuffers {
 
 /// The trail map's buffer of `bytes` (zeroed).
 /// Words of the patch lists: the blade cull's chunks `[count, chunk, ...]`, then the
-/// update's `[count, chunk | rate bits, ...]`, room for every [`UPDATE_CHUNK`] blades of
-/// each patch in both.
+/// update's two `[count, chunk | rate bits, ...]` (patches with a collider near, and
+/// without), room for every [`UPDATE_CHUNK`] blades of each patch in each.
 fn list_words(patch_count: u32, patch_size: u32) -> u64 {
-    2 * (list_chunks(patch_count, patch_size) + 1)
+    3 * (list_chunks(patch_count, patch_size) + 1)
 }
 
 /// Chunks of [`UPDATE_CHUNK`] blades in `patch_count` patches of `patch_size`.
@@ -512,8 +512,10 @@ pub struct UpdatePass {
     /// Verlet update or CWD-Sim's pose (`BladeModel::id`), each for the wind sources it
     /// reads (`WIND_KINDS` in `wind_sample.wgsl`: a source the scene does not have is
     /// compiled out, since llvmpipe runs both sides of the uniform test for every blade).
-    /// Built when a frame first needs one: at most 4 × 3.
-    pipelines: Vec<((u32, u32), wgpu::ComputePipeline)>,
+    /// Built when a frame first needs one: at most 4 × 3. Each is a pair: the pipeline
+    /// over the update list of patches with a collider near, and the one over the list of
+    /// those without, compiled without the collisions (`COLLIDE` in `update.wgsl`).
+    pipelines: Vec<((u32, u32), [wgpu::ComputePipeline; 2])>,
     /// Which of `pipelines` this frame's step takes (`prepare`).
     current: Option<usize>,
     pipeline_layout: wgpu::PipelineLayout,
@@ -676,18 +678,28 @@ impl UpdatePass {
                     ("update_cwd.wgsl", "cwd"),
                 ][key.1 as usize];
                 let module = shaders::module(device, file);
-                let label = format!("sward.update.{name}_pipeline.wind{}", key.0);
-                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&label),
-                    layout: Some(&self.pipeline_layout),
-                    module: &module,
-                    entry_point: Some("main"),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &[("WIND_KINDS", f64::from(key.0))],
-                        ..Default::default()
-                    },
-                    cache: None,
-                });
+                let wind = f64::from(key.0);
+                // CWD-Sim's pose has no collisions to leave out.
+                let collides = key.1 != 2;
+                let pipeline = |list: u32| {
+                    let kind = ["", "_free"][list as usize];
+                    let label = format!("sward.update.{name}{kind}_pipeline.wind{}", key.0);
+                    let collide = ("COLLIDE", f64::from(u32::from(list == 0)));
+                    let constants = [("WIND_KINDS", wind), ("UPDATE_LIST", f64::from(list)), collide];
+                    let n = if collides { 3 } else { 2 };
+                    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some(&label),
+                        layout: Some(&self.pipeline_layout),
+                        module: &module,
+                        entry_point: Some("main"),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants: &constants[..n],
+                            ..Default::default()
+                        },
+                        cache: None,
+                    })
+                };
+                let pipeline = [pipeline(0), pipeline(1)];
                 self.pipelines.push((key, pipeline));
                 self.pipelines.len() - 1
             }
@@ -697,9 +709,9 @@ impl UpdatePass {
 
     /// Records the update with the pipeline `prepare` made ready (Verlet needs the
     /// buffers' Verlet states bound when this pass was built), dispatched indirectly over
-    /// the patch pass's update list (the patch pass must be recorded before).
+    /// the patch pass's two update lists (the patch pass must be recorded before).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, q: PassQueries) {
-        let Some((_, pipeline)) = self.current.and_then(|at| self.pipelines.get(at)) else {
+        let Some((_, pipelines)) = self.current.and_then(|at| self.pipelines.get(at)) else {
             return;
         };
         if self.count == 0 {
@@ -710,10 +722,15 @@ impl UpdatePass {
             timestamp_writes: q.compute_writes(),
         });
         q.begin(&mut pass);
-        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        let offset = std::mem::offset_of!(PatchDispatch, update) as u64;
-        pass.dispatch_workgroups_indirect(&self.dispatch, offset);
+        let offsets = [
+            std::mem::offset_of!(PatchDispatch, update),
+            std::mem::offset_of!(PatchDispatch, update_free),
+        ];
+        for (pipeline, offset) in pipelines.iter().zip(offsets) {
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups_indirect(&self.dispatch, offset as u64);
+        }
         q.end(&mut pass);
     }
 }
