@@ -238,6 +238,8 @@ fn gpu_cull_matches_cpu_predicate_with_every_test_on() {
         "{c:?}"
     );
     assert!(c.spheres_considered() <= 12, "{c:?}");
+    // Both update lists hold chunks: patches by the spheres collide, the others do not.
+    assert!(c.collide_chunks > 0 && c.free_chunks > 0, "{c:?}");
 }
 
 #[test]
