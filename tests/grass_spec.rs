@@ -155,3 +155,38 @@ fn a_sky_model_changed_live_rebuilds_the_sky_pass() {
         sky.len()
     );
 }
+
+#[test]
+fn levels_without_the_morph_draw_the_same() {
+    // `culling.lod_morph: 0`: the blades change level at the thresholds; the pipelines
+    // built without the morph (`MORPH`) draw what the general ones draw with a band of 0.
+    let mut scene = shipped("meadow.ron");
+    scene.culling.lod_morph = 0.0;
+    let spec = same_picture("no morph", scene);
+    assert!(!spec.morph);
+}
+
+#[test]
+fn the_renderer_can_leave_the_morph_out_as_the_scene_does() {
+    // The window's frame budget switches the morph off without touching the scene
+    // (`Renderer::lod_morph`): the picture is the scene's with `lod_morph: 0`, and not the
+    // one with the morph (the meadow's near blades lie in the band, so the two differ).
+    let scene = shipped("meadow.ron");
+    let draw = |scene: &Scene, morph: bool| {
+        common::render_frames(scene.clone(), SIZE, FRAMES, |r| r.lod_morph = morph)
+    };
+    let (budget, r) = draw(&scene, false);
+    assert!(!r.grass_spec().morph);
+    let mut none = scene.clone();
+    none.culling.lod_morph = 0.0;
+    let (scene_off, _) = draw(&none, true);
+    let (morphing, r) = draw(&scene, true);
+    assert!(r.grass_spec().morph);
+    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
+    };
+    assert_eq!(differing(&budget, &scene_off), 0);
+    let moved = differing(&budget, &morphing);
+    println!("the morph moves {moved} pixels");
+    assert!(moved > 50, "{moved} pixels");
+}

@@ -20,6 +20,10 @@
 //!   to their coarser meshes at [`LOD_COARSEN`] times the scene's pixel heights (fewer
 //!   segments for blades a few dozen pixels tall: on llvmpipe the window's draw fell from
 //!   about 51 to 39 ms at its settled state, and the pictures are hard to tell apart).
+//!   Then, where allowed ([`FrameBudget::with_morph_step`]), the blades change level at
+//!   the thresholds without the morph band (`culling.lod_morph`): a CPU adapter runs the
+//!   vertex stage on one thread and the morph's two more points on every blade vertex,
+//!   morphing or not; a blade now switches meshes in one frame at the thresholds.
 //!   Then the render scale of the 3D passes ×
 //!   [`SHRINK`] (down to [`MIN_SCALE`]; the window upscales the smaller image and draws
 //!   the panel sharp on top): this costs sharpness, never grass. Only then the grass's
@@ -31,8 +35,9 @@
 //!   what the budget must keep. A machine too slow even then stays over its target.
 //! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
 //!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*),
-//!   then the render scale × [`GROW`] up to 1, then the blades' finer meshes, then the
-//!   blades' shadows, and last multisampling: the grass comes back before the sharpness.
+//!   then the render scale × [`GROW`] up to 1, then the morph, the blades' finer meshes,
+//!   the blades' shadows, and last multisampling: the grass comes back before the
+//!   sharpness.
 //! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
 //!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
 //!   step does not carry the time from one edge of the band across the other, and the
@@ -117,6 +122,10 @@ pub struct FrameBudget {
     /// Whether the budget may draw the blades with coarser meshes, and whether it does.
     lod_step: bool,
     lod_coarse: bool,
+    /// Whether the budget may let the blades change level without the morph band, and
+    /// whether it does.
+    morph_step: bool,
+    morph_off: bool,
     /// The share of the billboard radius drawn (1 = the scene's), when the budget may
     /// shorten it (after the resolution, before the blades).
     billboards: Option<f32>,
@@ -143,6 +152,8 @@ impl FrameBudget {
             grass_shadows_off: false,
             lod_step: false,
             lod_coarse: false,
+            morph_step: false,
+            morph_off: false,
             billboards: None,
         }
     }
@@ -189,6 +200,19 @@ impl FrameBudget {
     pub fn with_lod_step(mut self, allowed: bool) -> Self {
         self.lod_step = allowed;
         self
+    }
+
+    /// The same budget allowed to let the blades change level without morphing (the
+    /// renderer's `lod_morph`), after the coarser meshes and before the resolution.
+    pub fn with_morph_step(mut self, allowed: bool) -> Self {
+        self.morph_step = allowed;
+        self
+    }
+
+    /// Whether the blades morph between levels now (the scene's `culling.lod_morph`
+    /// applies), or the budget has them change level at the thresholds.
+    pub fn lod_morph(&self) -> bool {
+        !self.morph_off
     }
 
     /// The factor on the scene's level-of-detail heights now (1, or [`LOD_COARSEN`]).
@@ -295,6 +319,10 @@ impl FrameBudget {
             self.lod_coarse = true;
             return true;
         }
+        if self.morph_step && !self.morph_off {
+            self.morph_off = true;
+            return true;
+        }
         if self.scale > self.scale_floor {
             self.scale = (self.scale * SHRINK).max(self.scale_floor);
             return true;
@@ -335,6 +363,10 @@ impl FrameBudget {
         }
         if self.scale < 1.0 {
             self.scale = (self.scale * GROW).min(1.0);
+            return true;
+        }
+        if self.morph_off {
+            self.morph_off = false;
             return true;
         }
         if self.lod_coarse {
@@ -378,6 +410,9 @@ impl FrameBudget {
         }
         if self.lod_coarse {
             line.push_str(", coarser blade meshes");
+        }
+        if self.morph_off {
+            line.push_str(", levels without morphing");
         }
         if let Some(b) = self.billboards.filter(|b| *b < 1.0) {
             line.push_str(&format!(

@@ -204,6 +204,7 @@ impl AppState {
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
             .with_lod_step(true)
+            .with_morph_step(true)
             .with_billboard_step(true);
         let mut balls = Balls::new();
         // The scene camera's target point, kept as the orbit centre. A scene with an
@@ -532,6 +533,7 @@ impl AppState {
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
             .with_lod_step(true)
+            .with_morph_step(true)
             .with_billboard_step(true);
         self.balls.thrown.clear();
         // A new scene has its own objects: walk mode starts over on it.

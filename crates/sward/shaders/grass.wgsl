@@ -68,6 +68,11 @@ override CLUMPS: bool = true;
 override FLOWERS: bool = true;
 // False: the natural colours only (`frame.debug.x` is 0).
 override DEBUG_VIEWS: bool = true;
+// Whether blades morph towards the coarser level in the band above each threshold
+// (`culling.lod_morph` > 0, `GrassSpec::morph`). A software adapter runs the vertex stage
+// on one thread and every branch of it for every vertex: the morph's two more points on
+// the curve cost every blade vertex, morphing or not (0.6 of the window's draw without).
+override MORPH: bool = true;
 // True: fs_main writes display colour (the scene's exposure and tone curve applied) for a
 // host's target (`sward::embed` with `ColorOutput::ToneMapped`); false: linear radiance
 // for the tone mapping after the 3D passes.
@@ -481,8 +486,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     }
 
     let h_px = projected_height(v0, blade.v1_height.w, cull);
-    let morph = select(morph_factor(level, h_px), 0.0, flower || shadow_pass);
-    if morph > 0.0 {
+    let morph = select(morph_factor(level, h_px), 0.0, flower || shadow_pass || !MORPH);
+    if MORPH && morph > 0.0 {
         // The coarser rows around this one, in exact integer arithmetic so a row the two
         // levels share is its own target; on a coarser level without the middle axis the
         // target is flat across the width (fold 1), so the middle column unfolds.

@@ -556,3 +556,45 @@ fn rebase_takes_the_users_new_values_as_the_ceiling() {
     }
     assert_eq!((low.distance_levels, low.max_distance), (1, 2.0));
 }
+
+#[test]
+fn the_morph_goes_after_the_coarser_meshes_and_before_the_resolution() {
+    let mut c = culling();
+    let mut b = FrameBudget::new(&c, Some(100.0))
+        .with_lod_step(true)
+        .with_morph_step(true);
+    assert!(b.lod_morph());
+    let mut steps = Vec::new();
+    for _ in 0..3 * ACT_EVERY {
+        if b.observe(300.0, &mut c).is_some() {
+            steps.push((b.lod_coarsen(), b.lod_morph(), b.scale()));
+        }
+    }
+    assert_eq!(steps[0], (LOD_COARSEN, true, 1.0), "{steps:?}");
+    assert_eq!(steps[1], (LOD_COARSEN, false, 1.0), "{steps:?}");
+    assert!(steps[2].2 < 1.0, "{steps:?}");
+    assert!(
+        b.status().contains("levels without morphing"),
+        "{}",
+        b.status()
+    );
+    // The scene's band is left alone: the renderer applies it.
+    assert_eq!(c.lod_morph, culling().lod_morph);
+    // Fast again: the morph comes back after the resolution, before the finer meshes.
+    let mut order = Vec::new();
+    for _ in 0..400 {
+        if b.observe(1.0, &mut c).is_some() {
+            order.push((b.scale(), b.lod_morph(), b.lod_coarsen()));
+        }
+    }
+    let n = order.len();
+    assert_eq!(order[n - 1], (1.0, true, 1.0), "{order:?}");
+    assert_eq!(order[n - 2], (1.0, true, LOD_COARSEN), "{order:?}");
+    assert_eq!(order[n - 3], (1.0, false, LOD_COARSEN), "{order:?}");
+    // Without the step (the default) the morph is never touched.
+    let mut plain = FrameBudget::new(&c, Some(100.0)).with_lod_step(true);
+    for _ in 0..100 {
+        plain.observe(300.0, &mut c);
+    }
+    assert!(plain.lod_morph());
+}

@@ -54,6 +54,7 @@ impl AppState {
         self.renderer.billboard_share = self.budget.billboards();
         self.renderer.grass_shadows = !self.budget.grass_shadows_off();
         self.renderer.lod_coarsen = self.budget.lod_coarsen();
+        self.renderer.lod_morph = self.budget.lod_morph();
         // The balls push the grass as a host's colliders do; a scene whose own spheres
         // leave less room keeps the newest balls that fit.
         let room = MAX_SPHERES.saturating_sub(self.renderer.scene_sphere_count());

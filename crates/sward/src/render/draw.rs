@@ -325,11 +325,21 @@ impl DrawPass {
     /// Rebuilds the grass pipelines when `scene`'s switches (model, shape, colour view, sky
     /// model) no longer match their specialisation, and the sky pass's when the sky model
     /// changed; true when it did. Only on a change: the panel's edits, never per frame.
-    pub fn sync_grass_spec(&mut self, device: &wgpu::Device, scene: &crate::scene::Scene) -> bool {
+    /// `morph`: whether the renderer lets the blades morph between levels (the window's
+    /// frame budget may not).
+    pub fn sync_grass_spec(
+        &mut self,
+        device: &wgpu::Device,
+        scene: &crate::scene::Scene,
+        morph: bool,
+    ) -> bool {
         let spec = if self.general_grass {
             GrassSpec::GENERAL
         } else {
-            GrassSpec::of(scene, &self.traits)
+            GrassSpec {
+                morph: morph && scene.culling.lod_morph > 0.0,
+                ..GrassSpec::of(scene, &self.traits)
+            }
         };
         if spec == self.pipelines.grass.spec {
             return false;
@@ -342,12 +352,17 @@ impl DrawPass {
                 spec,
             );
         }
+        let start = std::time::Instant::now();
         self.pipelines.grass = GrassPipelines::new(
             device,
             self.format,
             self.pipelines.samples,
             &self.grass.layout,
             spec,
+        );
+        log::info!(
+            "grass pipelines rebuilt for {spec:?} in {:.0} ms",
+            start.elapsed().as_secs_f64() * 1e3
         );
         true
     }

@@ -85,7 +85,8 @@ impl Renderer {
     ) {
         self.sync_msaa(gpu);
         self.sync_taa(gpu, size);
-        self.draw.sync_grass_spec(&gpu.device, &self.scene);
+        self.draw
+            .sync_grass_spec(&gpu.device, &self.scene, self.lod_morph);
         self.post
             .sync_mapper(&gpu.device, self.scene.light.tone_mapping);
         if self.samples > 1 {

@@ -40,6 +40,9 @@ pub struct GrassSpec {
     /// (`BladeShadowLookup::PerRow`) instead of per pixel: the deferred modules'
     /// `SUN_PER_PIXEL` (`deferred::DeferredPipelines`), not one of grass.wgsl's.
     pub sun_per_row: bool,
+    /// Whether the blades morph between levels of detail (`culling.lod_morph` > 0 and
+    /// the renderer's `lod_morph`): grass.wgsl's `MORPH`.
+    pub morph: bool,
 }
 
 impl GrassSpec {
@@ -53,6 +56,7 @@ impl GrassSpec {
         debug_views: true,
         sky: None,
         sun_per_row: false,
+        morph: true,
     };
 
     /// The specialisation for drawing `scene`'s field, whose species, clumps and flowers
@@ -83,11 +87,12 @@ impl GrassSpec {
             debug_views: scene.render.color_mode.id() != 0,
             sky: Some(scene.light.sky.id()),
             sun_per_row: scene.light.shadows.blade_lookup == crate::scene::BladeShadowLookup::PerRow,
+            morph: scene.culling.lod_morph > 0.0,
         }
     }
 
     /// The pipeline constants (`override`s of `grass.wgsl`) for this specialisation.
-    pub fn constants(&self) -> [(&'static str, f64); 7] {
+    pub fn constants(&self) -> [(&'static str, f64); 8] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("BLADE_MODEL", self.model.unwrap_or(ANY) as f64),
@@ -97,6 +102,7 @@ impl GrassSpec {
             ("FLOWERS", flag(self.flowers)),
             ("DEBUG_VIEWS", flag(self.debug_views)),
             self.sky_constant(),
+            ("MORPH", flag(self.morph)),
         ]
     }
 

@@ -99,7 +99,8 @@ impl Renderer {
     /// What `encode_scene` brings up to date before a frame that a host's pass draws: the
     /// grass's specialisation for the scene as it now is.
     pub fn sync_for_host(&mut self, gpu: &crate::gpu::Gpu) {
-        self.draw.sync_grass_spec(&gpu.device, &self.scene);
+        self.draw
+            .sync_grass_spec(&gpu.device, &self.scene, self.lod_morph);
     }
 
     /// Draws the blades the last `encode_before_draw` kept (every level of detail) into

@@ -212,6 +212,10 @@ pub struct Renderer {
     /// Factor on `culling.lod_near_px` and `lod_far_px` (1: the scene's): the window's
     /// frame budget draws the blades with their coarser meshes without touching the scene.
     pub lod_coarsen: f32,
+    /// Whether the blades morph between levels of detail (`culling.lod_morph`; the
+    /// window's frame budget switches it off without touching the scene, and the grass
+    /// pipelines are then built without the morph: `GrassSpec::morph`).
+    pub lod_morph: bool,
     /// The density map, kept for the billboards' CPU count.
     density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
@@ -462,6 +466,7 @@ impl Renderer {
             grass_shadows: true,
             cache_ground_shadows: true,
             lod_coarsen: 1.0,
+            lod_morph: true,
             density,
             requested_samples,
             samples,
@@ -763,6 +768,10 @@ impl Renderer {
         };
         p.lod[1] *= coarsen;
         p.lod[2] *= coarsen;
+        // The window's frame budget: the levels change without the morph band.
+        if !self.lod_morph {
+            p.lod[3] = 0.0;
+        }
         p
     }
 
