@@ -6,8 +6,9 @@
 //    visible-patch list. Patches in view or near the camera, and every `physics_throttle`-th
 //    other patch in turn, go to the update list, in chunks of 64 blades in class order
 //    (`thin_order.wgsl`): a patch in view steps the chunks of classes Eq. 20 may keep
-//    every frame and the others (thinned everywhere in the patch) in turn. `finalize`
-//    turns both counts into the indirect dispatches of the update and of step 2.
+//    every frame and the others (thinned everywhere in the patch) in turn, on one of two
+//    lists by whether a collider is near it. `finalize` turns the counts into the indirect
+//    dispatches of the two updates and of step 2.
 // 2. `main` (indirect, over visible patches only): every blade of a visible patch is tested
 //    (but the classes Eq. 20 culls everywhere in the patch, culled by distance in step 1)
 //    for orientation (Eq. 17), frustum on v0 / m / v2 (Eq. 18), distance levels (Eq. 19-20)
@@ -72,7 +73,8 @@ struct CullOutput {
     free_chunks: atomic<u32>,
 }
 
-// PatchDispatch in Rust: two dispatch_workgroups_indirect argument blocks.
+// PatchDispatch in Rust: three dispatch_workgroups_indirect argument blocks (the blade
+// cull, the update with collisions, the update without).
 struct PatchDispatch {
     cull_x: u32,
     cull_y: u32,
@@ -113,7 +115,7 @@ const MAX_GROUPS: u32 = 65535u;
 // Three regions of `region` slots, one per level of detail.
 @group(0) @binding(3) var<storage, read_write> visible: array<u32>;
 @group(0) @binding(4) var<storage, read_write> out: CullOutput;
-// Two lists of patch_count * patch_size / CHUNK + 1 slots: [count, chunk, ...], the chunks
+// Three lists of patch_count * patch_size / CHUNK + 1 slots: [count, chunk, ...], the chunks
 // of CHUNK blades (in class order) of the patches that passed the patch tests that the
 // blade cull tests; then twice [count, chunk | rate bits, ...], the chunks the update
 // steps, of patches with a collider near and without.

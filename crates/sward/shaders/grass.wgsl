@@ -71,7 +71,7 @@ override DEBUG_VIEWS: bool = true;
 // Whether blades morph towards the coarser level in the band above each threshold
 // (`culling.lod_morph` > 0, `GrassSpec::morph`). A software adapter runs the vertex stage
 // on one thread and every branch of it for every vertex: the morph's two more points on
-// the curve cost every blade vertex, morphing or not (0.6 of the window's draw without).
+// the curve cost every blade vertex, morphing or not (the window's draw ×0.91 without).
 override MORPH: bool = true;
 // True: fs_main writes display colour (the scene's exposure and tone curve applied) for a
 // host's target (`sward::embed` with `ColorOutput::ToneMapped`); false: linear radiance
