@@ -114,6 +114,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/billboard_cull.wgsl"),
     ),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
+    (
+        "cull_broad_phase.wgsl",
+        include_str!("../shaders/cull_broad_phase.wgsl"),
+    ),
     ("bvh_node.wgsl", include_str!("../shaders/bvh_node.wgsl")),
     ("carry.wgsl", include_str!("../shaders/carry.wgsl")),
     ("hiz.wgsl", include_str!("../shaders/hiz.wgsl")),

@@ -6,7 +6,7 @@
 //!
 //! The spheres nest (a node's holds its children's whole), so a walk may start anywhere: the
 //! patch pass's broad phase walks the tree once per stepped patch against its box and lists
-//! the patch's cut of it (`broad_phase_bvh` in `cull.wgsl`, twin `reference::patch_nodes`),
+//! the patch's cut of it (`broad_phase_bvh` in `cull_broad_phase.wgsl`, twin `reference::patch_nodes`),
 //! and each blade walks on from the listed nodes, meeting what a walk from the root meets.
 //!
 //! The walk is depth first, left child first, and skips a node whose sphere the blade
@@ -169,7 +169,7 @@ pub fn fill_params(
 
 /// Puts the tree's size and depth and the precision camera into the cull pass's
 /// parameters. With `hierarchy` the broad phase then lists each stepped patch's cut of the
-/// tree (`broad_phase_bvh` in `cull.wgsl`, twin `reference::patch_nodes`); without, it
+/// tree (`broad_phase_bvh` in `cull_broad_phase.wgsl`, twin `reference::patch_nodes`); without, it
 /// lists the spheres near each patch and uses the tree only to skip the patches near none.
 /// `near` is `physics.hierarchy_precision_distance`.
 pub fn fill_cull_params(

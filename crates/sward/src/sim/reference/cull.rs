@@ -338,7 +338,7 @@ pub fn patch_spheres(patch: &PatchBox, params: &CullParams, spheres: &[[f32; 4]]
 }
 
 /// The collision broad phase of a stepped patch with the colliders' hierarchy
-/// (`broad_phase_bvh` in `cull.wgsl`): the nodes a walk from the root meets, in that order,
+/// (`broad_phase_bvh` in `cull_broad_phase.wgsl`): the nodes a walk from the root meets, in that order,
 /// that may touch the box (centre within two radii, as the flat list's test), stopping at
 /// the leaves and at the patch's cut level ([`bvh::cut_depth`]); `None` when more than
 /// `PATCH_SPHERE_STRIDE - 1` are met (the blades then walk from the root). Empty with
