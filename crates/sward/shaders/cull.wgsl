@@ -315,21 +315,27 @@ fn patch_blades(p: u32) -> u32 {
     return min(params.patch_size, params.blade_count - p * params.patch_size);
 }
 
-// Whether every blade of the box is beyond the distance test's reach (twin:
-// `reference::patch_beyond_distance`). A blade's test measures d_proj, the camera's offset
+// A lower bound on the distance test's d_proj over every blade of the box (twin:
+// `reference::patch_least_distance`). A blade's test measures d_proj, the camera's offset
 // from its root across its up vector: |rel x up|. With up leaning at most to up.y = c (the
 // box's max.w) and s = sqrt(1 - c^2), the horizontal part of rel x up alone gives
 // d_proj >= c H - s |y|, H the horizontal and y the vertical offset. Over the box, H is at
 // least the camera's distance to its (x, z) rectangle and |y| at most the camera's height
-// span to it, so a patch whose bound reaches max_distance has every blade culled by Eq. 20.
-fn patch_beyond_distance(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> bool {
+// span to it.
+fn patch_least_distance(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> f32 {
     let c = params.camera_pos.xyz;
     let dh = max(max(bmin.xz - c.xz, c.xz - bmax.xz), vec2<f32>(0.0));
     let h = length(dh);
     let y = max(abs(c.y - bmin.y), abs(c.y - bmax.y));
     let cos_up = clamp(up_y, 0.0, 1.0);
     let sin_up = sqrt(max(1.0 - cos_up * cos_up, 0.0));
-    return cos_up * h - sin_up * y >= params.max_distance;
+    return cos_up * h - sin_up * y;
+}
+
+// Whether every blade of the box is beyond the distance test's reach, culled by Eq. 20
+// (twin: `reference::patch_beyond_distance`).
+fn patch_beyond_distance(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> bool {
+    return patch_least_distance(bmin, bmax, up_y) >= params.max_distance;
 }
 
 // Distance from the camera to the box (0 inside it).
@@ -412,16 +418,10 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // The most classes Eq. 20 keeps for any blade of a patch (`floor(n (1 - d / d_max))` at
-// the least distance the box allows, as `patch_beyond_distance` bounds it), less a
-// centimetre against rounding: a class at or above it is culled by distance in every
-// blade of the patch. The twin is `reference::patch_keep`.
+// `patch_least_distance`, less a centimetre against rounding): a class at or above it is
+// culled by distance in every blade of the patch. The twin is `reference::patch_keep`.
 fn patch_keep(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> u32 {
-    let c = params.camera_pos.xyz;
-    let dh = max(max(bmin.xz - c.xz, c.xz - bmax.xz), vec2<f32>(0.0));
-    let y = max(abs(c.y - bmin.y), abs(c.y - bmax.y));
-    let cos_up = clamp(up_y, 0.0, 1.0);
-    let sin_up = sqrt(max(1.0 - cos_up * cos_up, 0.0));
-    let d = max(cos_up * length(dh) - sin_up * y - 0.01, 0.0);
+    let d = max(patch_least_distance(bmin, bmax, up_y) - 0.01, 0.0);
     let n = max(params.distance_levels, 1u);
     let keep = floor(f32(n) * (1.0 - d / params.max_distance));
     return u32(clamp(keep, 0.0, f32(n)));
@@ -436,9 +436,7 @@ fn list_visible(p: u32, keep: u32) {
     let n = max(params.distance_levels, 1u);
     var count = 0u;
     for (var c = 0u; c < per_patch; c++) {
-        let lo = order_class(c * CHUNK, size, n).x;
-        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
-        count += u32(chunk_keeps(lo, hi, keep, p, size, n));
+        count += u32(chunk_kept(c, keep, p, size, n));
     }
     let skipped = (per_patch - count) * CHUNK;
     if skipped != 0u {
@@ -446,9 +444,7 @@ fn list_visible(p: u32, keep: u32) {
     }
     var k = 1u + atomicAdd(&out.visible_chunks, count);
     for (var c = 0u; c < per_patch; c++) {
-        let lo = order_class(c * CHUNK, size, n).x;
-        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
-        if chunk_keeps(lo, hi, keep, p, size, n) {
+        if chunk_kept(c, keep, p, size, n) {
             patch_lists[k] = p * per_patch + c;
             k += 1u;
         }
@@ -465,9 +461,7 @@ fn list_chunks(p: u32, every_frame: bool, turn: bool, keep: u32, free: bool) {
     var count = 0u;
     var thinned = 0u;
     for (var c = 0u; c < per_patch; c++) {
-        let lo = order_class(c * CHUNK, size, n).x;
-        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
-        let kept = chunk_keeps(lo, hi, keep, p, size, n);
+        let kept = chunk_kept(c, keep, p, size, n);
         count += u32(kept || turn);
         thinned += u32(!kept && turn);
     }
@@ -481,9 +475,7 @@ fn list_chunks(p: u32, every_frame: bool, turn: bool, keep: u32, free: bool) {
     }
     var k = update_list(free) + 1u + at;
     for (var c = 0u; c < per_patch; c++) {
-        let lo = order_class(c * CHUNK, size, n).x;
-        let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
-        let kept = chunk_keeps(lo, hi, keep, p, size, n);
+        let kept = chunk_kept(c, keep, p, size, n);
         var entry = p * per_patch + c;
         if !every_frame {
             entry |= THROTTLED;

@@ -47,3 +47,11 @@ fn chunk_keeps(lo: u32, hi: u32, keep: u32, p: u32, size: u32, n: u32) -> bool {
     let wrapped = e > n && lo < e - n;
     return first || wrapped;
 }
+
+// Whether chunk `c` of patch `p` (positions c CHUNK .. c CHUNK + CHUNK - 1 of the class
+// order; patches are whole chunks) holds a class Eq. 20 keeps at `keep`.
+fn chunk_kept(c: u32, keep: u32, p: u32, size: u32, n: u32) -> bool {
+    let lo = order_class(c * CHUNK, size, n).x;
+    let hi = order_class(c * CHUNK + CHUNK - 1u, size, n).x;
+    return chunk_keeps(lo, hi, keep, p, size, n);
+}

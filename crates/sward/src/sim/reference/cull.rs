@@ -281,6 +281,13 @@ pub fn cull_patch(patch: &PatchBox, params: &CullParams, pyramid: Option<&Pyrami
 /// camera from the root; over the box H is at least the distance to its (x, z) rectangle
 /// and |y| at most the height span.
 pub fn patch_beyond_distance(patch: &PatchBox, params: &CullParams) -> bool {
+    patch_least_distance(patch, params) >= params.max_distance
+}
+
+/// The lower bound on the distance test's d_proj over every blade of `patch` that
+/// [`patch_beyond_distance`] compares with the reach: `c·H − s·|y|` (the twin of
+/// `patch_least_distance` in `cull.wgsl`).
+pub fn patch_least_distance(patch: &PatchBox, params: &CullParams) -> f32 {
     let c = v4(params.camera_pos).xyz();
     let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
     let dx = (min.x - c.x).max(c.x - max.x).max(0.0);
@@ -289,7 +296,7 @@ pub fn patch_beyond_distance(patch: &PatchBox, params: &CullParams) -> bool {
     let y = (c.y - min.y).abs().max((c.y - max.y).abs());
     let cos_up = patch.max[3].clamp(0.0, 1.0);
     let sin_up = (1.0 - cos_up * cos_up).max(0.0).sqrt();
-    cos_up * h - sin_up * y >= params.max_distance
+    cos_up * h - sin_up * y
 }
 
 /// Whether the patch step puts patch `p` on this frame's update list, and whether at the

@@ -14,7 +14,7 @@ use glam::Vec4Swizzles;
 use super::super::layout::{
     CullParams, PatchBox, CHUNK_THINNED, CHUNK_THROTTLED, TEST_DISTANCE, UPDATE_CHUNK,
 };
-use super::{box_in_frustum, patch_beyond_distance, v4};
+use super::{box_in_frustum, patch_beyond_distance, patch_least_distance, v4};
 
 /// The class (local index mod `n`) of position `pos` in a patch of `size` blades in class
 /// order, and its rank within the class. Class r holds `size / n` blades, one more for
@@ -47,20 +47,20 @@ pub fn chunk_keeps(lo: u32, hi: u32, keep: u32, p: u32, size: u32, n: u32) -> bo
 }
 
 /// The most classes Eq. 20 keeps for any blade of `patch`: `floor(n (1 − d / d_max))` at
-/// the least distance its box allows (as [`patch_beyond_distance`] bounds it), less a
-/// centimetre against rounding.
+/// [`patch_least_distance`], less a centimetre against rounding.
 pub fn patch_keep(patch: &PatchBox, params: &CullParams) -> u32 {
-    let c = v4(params.camera_pos).xyz();
-    let (min, max) = (v4(patch.min).xyz(), v4(patch.max).xyz());
-    let dx = (min.x - c.x).max(c.x - max.x).max(0.0);
-    let dz = (min.z - c.z).max(c.z - max.z).max(0.0);
-    let y = (c.y - min.y).abs().max((c.y - max.y).abs());
-    let cos_up = patch.max[3].clamp(0.0, 1.0);
-    let sin_up = (1.0 - cos_up * cos_up).max(0.0).sqrt();
-    let d = (cos_up * (dx * dx + dz * dz).sqrt() - sin_up * y - 0.01).max(0.0);
+    let d = (patch_least_distance(patch, params) - 0.01).max(0.0);
     let n = params.distance_levels.max(1);
     let keep = (n as f32 * (1.0 - d / params.max_distance)).floor();
     keep.clamp(0.0, n as f32) as u32
+}
+
+/// Whether chunk `k` of patch `p` (positions `64 k .. 64 k + 63` of the class order;
+/// patches are whole chunks) holds a class Eq. 20 keeps at `keep`.
+pub fn chunk_kept(k: u32, keep: u32, p: u32, size: u32, n: u32) -> bool {
+    let lo = order_class(k * UPDATE_CHUNK, size, n).0;
+    let hi = order_class(k * UPDATE_CHUNK + UPDATE_CHUNK - 1, size, n).0;
+    chunk_keeps(lo, hi, keep, p, size, n)
 }
 
 /// Position of blade `local` (its index within the patch) in the class order: its class
@@ -86,9 +86,7 @@ pub fn cull_skips(index: u32, patch: &PatchBox, params: &CullParams) -> bool {
     }
     let n = params.distance_levels.max(1);
     let k = order_position(index % size, size, n) / UPDATE_CHUNK;
-    let lo = order_class(k * UPDATE_CHUNK, size, n).0;
-    let hi = order_class(k * UPDATE_CHUNK + UPDATE_CHUNK - 1, size, n).0;
-    !chunk_keeps(lo, hi, patch_keep(patch, params), p, size, n)
+    !chunk_kept(k, patch_keep(patch, params), p, size, n)
 }
 
 /// The update list's entries for patch `p` this frame, in the order the patch step writes
@@ -118,9 +116,7 @@ pub fn update_chunks(p: u32, patch: &PatchBox, params: &CullParams) -> Vec<u32> 
     let per_patch = size / UPDATE_CHUNK;
     (0..per_patch)
         .filter_map(|k| {
-            let lo = order_class(k * UPDATE_CHUNK, size, n).0;
-            let hi = order_class(k * UPDATE_CHUNK + UPDATE_CHUNK - 1, size, n).0;
-            let kept = chunk_keeps(lo, hi, keep, p, size, n);
+            let kept = chunk_kept(k, keep, p, size, n);
             let entry = p * per_patch + k;
             match (every_frame, kept) {
                 (false, _) => Some(entry | CHUNK_THROTTLED),
