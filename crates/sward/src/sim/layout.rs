@@ -369,6 +369,16 @@ pub struct PatchDispatch {
     pub _pad: [u32; 3],
 }
 
+impl PatchDispatch {
+    /// Byte offsets of the two update dispatches, in the order of the update's pipelines
+    /// (`UPDATE_LIST` 0, with collisions, and 1, without): the update and the
+    /// propagation's apply each walk both lists.
+    pub const UPDATE_OFFSETS: [u64; 2] = [
+        std::mem::offset_of!(PatchDispatch, update) as u64,
+        std::mem::offset_of!(PatchDispatch, update_free) as u64,
+    ];
+}
+
 /// Uniforms of every draw pass (`shaders/common.wgsl` `Frame`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]

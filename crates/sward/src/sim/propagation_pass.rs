@@ -149,13 +149,9 @@ impl PropagationPass {
         if apply {
             // Over both update lists: the patches with a collider near and the others.
             pass.set_bind_group(0, &self.groups[0], &[]);
-            let offsets = [
-                std::mem::offset_of!(PatchDispatch, update),
-                std::mem::offset_of!(PatchDispatch, update_free),
-            ];
-            for (pipeline, offset) in self.apply.iter().zip(offsets) {
+            for (pipeline, offset) in self.apply.iter().zip(PatchDispatch::UPDATE_OFFSETS) {
                 pass.set_pipeline(pipeline);
-                pass.dispatch_workgroups_indirect(&self.dispatch, offset as u64);
+                pass.dispatch_workgroups_indirect(&self.dispatch, offset);
             }
         }
     }

@@ -723,13 +723,9 @@ impl UpdatePass {
         });
         q.begin(&mut pass);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        let offsets = [
-            std::mem::offset_of!(PatchDispatch, update),
-            std::mem::offset_of!(PatchDispatch, update_free),
-        ];
-        for (pipeline, offset) in pipelines.iter().zip(offsets) {
+        for (pipeline, offset) in pipelines.iter().zip(PatchDispatch::UPDATE_OFFSETS) {
             pass.set_pipeline(pipeline);
-            pass.dispatch_workgroups_indirect(&self.dispatch, offset as u64);
+            pass.dispatch_workgroups_indirect(&self.dispatch, offset);
         }
         q.end(&mut pass);
     }
