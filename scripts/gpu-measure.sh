@@ -7,7 +7,9 @@
 #
 # OUT_DIR gets every bench's JSON report and tables.md (docs/performance.md's tables, Markdown).
 # Needs only cargo and a GPU driver; CI never runs it. SWARD_ADAPTER picks the adapter
-# (default: auto, the hardware one). FRAMES / WARMUP override the frame counts.
+# (default: auto, the hardware one). FRAMES / WARMUP override the frame counts; SWEEP the
+# sweep's blade counts (comma-separated). On a machine without cargo, build here and point
+# SWARD_BIN and GPU_TABLES at the built `sward` and `examples/gpu_tables`: nothing is built then.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-gpu-figures}"
@@ -16,31 +18,38 @@ frames="${FRAMES:-60}"
 warmup="${WARMUP:-10}"
 export SWARD_ADAPTER="${SWARD_ADAPTER:-auto}"
 
-cargo build --release --bin sward --example gpu_tables
-sward=target/release/sward
+sweep="${SWEEP:-100000,500000,1000000,2000000,5000000,10000000}"
+sward="${SWARD_BIN:-target/release/sward}"
+tables="${GPU_TABLES:-target/release/examples/gpu_tables}"
+if [[ -z "${SWARD_BIN:-}" || -z "${GPU_TABLES:-}" ]]; then
+    cargo build --release --bin sward --example gpu_tables
+fi
+"$sward" --version >&2 || true
 bench() { # NAME ARGS...: one bench run, its JSON kept as OUT/NAME.json
     local name=$1
     shift
     echo "== $name: sward bench $*" >&2
-    "$sward" bench --json --frames "$frames" --warmup "$warmup" "$@" >"$out/$name.json"
+    "$sward" bench --json "$@" >"$out/$name.json"
 }
 
-bench nature --scene assets/scenes/nature.ron --size 1920x1080
-bench nature-msaa-off --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1
-bench helicopter --scene assets/scenes/helicopter.ron --size 1920x1080
-bench helicopter-msaa-off --scene assets/scenes/helicopter.ron --size 1920x1080 --set render.msaa=1
-bench nature-light --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1 --light
-bench prairie-flight --scene assets/scenes/prairie.ron --size 1920x1080 --flight
-bench sweep --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1 \
-    --frames 10 --warmup 3 --sweep 100000,500000,1000000,2000000,5000000,10000000
+run="--frames $frames --warmup $warmup"
+bench nature $run --scene assets/scenes/nature.ron --size 1920x1080
+bench nature-msaa-off $run --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1
+bench helicopter $run --scene assets/scenes/helicopter.ron --size 1920x1080
+bench helicopter-msaa-off $run --scene assets/scenes/helicopter.ron --size 1920x1080 --set render.msaa=1
+bench nature-light $run --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1 --light
+bench prairie-flight $run --scene assets/scenes/prairie.ron --size 1920x1080 --flight
+# The sweep's largest fields take a while to build: fewer frames.
+bench sweep --frames "${SWEEP_FRAMES:-10}" --warmup 3 --scene assets/scenes/nature.ron \
+    --size 1920x1080 --set render.msaa=1 --sweep "$sweep"
 
-target/release/examples/gpu_tables \
+"$tables" \
     "nature, 1920x1080, the scene's MSAA=$out/nature.json" \
     "nature, 1920x1080, MSAA off=$out/nature-msaa-off.json" \
     "helicopter, 1920x1080, the scene's MSAA=$out/helicopter.json" \
     "helicopter, 1920x1080, MSAA off=$out/helicopter-msaa-off.json" \
     "the light's cost, nature, 1920x1080, MSAA off=$out/nature-light.json" \
     "prairie flight, 1920x1080=$out/prairie-flight.json" \
-    "sweep to 10,000,000 blades, nature, 1920x1080, MSAA off=$out/sweep.json" \
+    "sweep to ${sweep##*,} blades, nature, 1920x1080, MSAA off=$out/sweep.json" \
     >"$out/tables.md"
 echo "wrote $out/tables.md: paste it under docs/performance.md's 'Measured' section" >&2
