@@ -1,6 +1,8 @@
 //! Writes the README's performance tables (Markdown) from `sward bench --json` reports:
 //! `cargo run --release --example gpu_tables -- LABEL=report.json ...` prints one table
-//! per report, headed by its label. `scripts/gpu-measure.sh` runs it after measuring.
+//! per report, headed by its label; a label `paper:nature` or `paper:helicopter` prints the
+//! paper's table for that scene beside the report instead. `scripts/gpu-measure.sh` runs it
+//! after measuring.
 
 use std::process::ExitCode;
 
@@ -21,7 +23,17 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
-        out += &sward_app::bench::gpu_tables::report_table(label, &report);
+        let table = match label.strip_prefix("paper:") {
+            Some(scene) => match sward_app::bench::gpu_tables::paper_table(scene, &report) {
+                Some(t) => t,
+                None => {
+                    eprintln!("gpu_tables: {label}: the paper measured nature and helicopter");
+                    return ExitCode::FAILURE;
+                }
+            },
+            None => sward_app::bench::gpu_tables::report_table(label, &report),
+        };
+        out += &table;
         out.push('\n');
     }
     print!("{out}");

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Measures what the guide's performance page (docs/performance.md) reports, on the machine's GPU, and
-# writes the tables: nature and helicopter at 1920x1080 (the scenes' own MSAA, then MSAA
-# off), the light's cost, the prairie flight, and a sweep to 10,000,000 blades.
+# writes the tables: nature and helicopter in the paper's setup (1024x768, 8x MSAA) beside
+# the paper's own tables, and at 1920x1080 (the scenes' own MSAA, then MSAA off), the
+# light's cost, the prairie flight, a sweep to 10,000,000 blades, the default meadow at
+# 1280x720 and the peer's scene from 8,192 to 524,288 blades. With nvidia-smi on the PATH
+# the SM clock is logged beside them (OUT_DIR/clocks.csv): a GPU left idle lowers it.
 #
 #   scripts/gpu-measure.sh [OUT_DIR]      (default: gpu-figures/)
 #
@@ -32,7 +35,15 @@ bench() { # NAME ARGS...: one bench run, its JSON kept as OUT/NAME.json
     "$sward" bench --json "$@" >"$out/$name.json"
 }
 
+if command -v nvidia-smi >/dev/null; then
+    nvidia-smi --query-gpu=timestamp,clocks.sm,utilization.gpu --format=csv -lms 500 \
+        >"$out/clocks.csv" &
+    trap 'kill $! 2>/dev/null' EXIT
+fi
+
 run="--frames $frames --warmup $warmup"
+bench nature-paper $run --scene assets/scenes/nature.ron --size 1024x768 --set render.msaa=8
+bench helicopter-paper $run --scene assets/scenes/helicopter.ron --size 1024x768 --set render.msaa=8
 bench nature $run --scene assets/scenes/nature.ron --size 1920x1080
 bench nature-msaa-off $run --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1
 bench helicopter $run --scene assets/scenes/helicopter.ron --size 1920x1080
@@ -42,8 +53,13 @@ bench prairie-flight $run --scene assets/scenes/prairie.ron --size 1920x1080 --f
 # The sweep's largest fields take a while to build: fewer frames.
 bench sweep --frames "${SWEEP_FRAMES:-10}" --warmup 3 --scene assets/scenes/nature.ron \
     --size 1920x1080 --set render.msaa=1 --sweep "$sweep"
+bench meadow $run --size 1280x720
+bench peer $run --scene assets/scenes/peer.ron --size 1280x720 --set render.msaa=1 \
+    --sweep 8192,32768,131072,524288
 
 "$tables" \
+    "paper:nature=$out/nature-paper.json" \
+    "paper:helicopter=$out/helicopter-paper.json" \
     "nature, 1920x1080, the scene's MSAA=$out/nature.json" \
     "nature, 1920x1080, MSAA off=$out/nature-msaa-off.json" \
     "helicopter, 1920x1080, the scene's MSAA=$out/helicopter.json" \
@@ -51,5 +67,7 @@ bench sweep --frames "${SWEEP_FRAMES:-10}" --warmup 3 --scene assets/scenes/natu
     "the light's cost, nature, 1920x1080, MSAA off=$out/nature-light.json" \
     "prairie flight, 1920x1080=$out/prairie-flight.json" \
     "sweep to ${sweep##*,} blades, nature, 1920x1080, MSAA off=$out/sweep.json" \
+    "the default meadow, 1280x720=$out/meadow.json" \
+    "the peer's scene, 1280x720, MSAA off=$out/peer.json" \
     >"$out/tables.md"
 echo "wrote $out/tables.md: paste it under docs/performance.md's 'Measured' section" >&2
