@@ -308,13 +308,19 @@ fn blade_point(blade: Blade, ctx: BladeCtx, index: u32, u: f32, v: f32, fold: f3
     return BladePoint(p, n);
 }
 
-// Columns of the blade mesh at `level` (twin of `mesh::LOD_COLUMNS`): the finest level
+// Columns of the blade mesh at `level` (twin of `mesh::lod_columns`): the finest level
 // keeps the middle axis that the 3D displacement folds the blade along (Eq. 23); the
 // coarser levels, a few pixels wide, are flat, with two columns and half the triangles
 // (every blade shape is linear across the width, so the middle vertex lies between the
 // edges anyway: only the fold is lost).
+//
+// Without the 3D displacement (`render.displacement: false`, `GrassSpec::fold`) the middle
+// column lies between the edges at every level, so the finest level is flat too: half its
+// triangles and two thirds of its vertices, the same surface (`mesh::LodMeshes::levels`).
+override FOLD: bool = true;
+
 fn lod_columns(level: u32) -> u32 {
-    return select(2u, 3u, level == 0u);
+    return select(2u, 3u, level == 0u && FOLD);
 }
 
 // How far a blade drawn at `level` has morphed towards level + 1: 0 above the morph band,

@@ -43,6 +43,10 @@ pub struct GrassSpec {
     /// Whether the blades morph between levels of detail (`culling.lod_morph` > 0 and
     /// the renderer's `lod_morph`): grass.wgsl's `MORPH`.
     pub morph: bool,
+    /// Whether the blades fold along their middle axis (`render.displacement`, Eq. 23):
+    /// grass.wgsl's `FOLD`. Without it the finest level's mesh is flat, two columns
+    /// (`mesh::LodMeshes::levels`).
+    pub fold: bool,
 }
 
 impl GrassSpec {
@@ -57,6 +61,7 @@ impl GrassSpec {
         sky: None,
         sun_per_row: false,
         morph: true,
+        fold: true,
     };
 
     /// The specialisation for drawing `scene`'s field, whose species, clumps and flowers
@@ -88,11 +93,12 @@ impl GrassSpec {
             sky: Some(scene.light.sky.id()),
             sun_per_row: scene.light.shadows.blade_lookup == crate::scene::BladeShadowLookup::PerRow,
             morph: scene.culling.lod_morph > 0.0,
+            fold: scene.render.displacement,
         }
     }
 
     /// The pipeline constants (`override`s of `grass.wgsl`) for this specialisation.
-    pub fn constants(&self) -> [(&'static str, f64); 8] {
+    pub fn constants(&self) -> [(&'static str, f64); 9] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("BLADE_MODEL", self.model.unwrap_or(ANY) as f64),
@@ -103,6 +109,7 @@ impl GrassSpec {
             ("DEBUG_VIEWS", flag(self.debug_views)),
             self.sky_constant(),
             ("MORPH", flag(self.morph)),
+            ("FOLD", flag(self.fold)),
         ]
     }
 

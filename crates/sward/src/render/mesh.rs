@@ -77,6 +77,16 @@ pub fn sphere_mesh(rings: u32, sectors: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
 /// the grass draw is bound by the vertices and triangles its one vertex thread handles.
 pub const LOD_COLUMNS: [u32; LOD_LEVELS] = [3, 2, 2];
 
+/// Columns of each level's blade mesh for blades that fold (`fold`: the 3D displacement of
+/// Eq. 23 on, `GrassSpec::fold`) or not: without the fold the finest level is flat as well.
+pub fn lod_columns(fold: bool) -> [u32; LOD_LEVELS] {
+    if fold {
+        LOD_COLUMNS
+    } else {
+        [2; LOD_LEVELS]
+    }
+}
+
 /// Triangle indices of one blade of `columns` (2 or 3) columns: vertex `row * columns +
 /// column`, one quad per row band and pair of neighbouring columns.
 pub fn blade_indices(segments: u32, columns: u32) -> Vec<u32> {
@@ -108,6 +118,10 @@ pub struct LodMeshes {
     /// The shadow casters' mesh after the levels: one triangle per blade, its root's two
     /// corners and its tip (3 vertices, [`CASTER_VERTICES`]), as (index count, first).
     pub caster: (u32, u32),
+    /// The finest level's flat mesh (two columns) after the casters, for blades that do
+    /// not fold, as (index count, first): [`LodMeshes::levels`] draws it in place of the
+    /// three-column one.
+    pub flat: (u32, u32),
     /// The index buffer: every level's mesh, then the casters' mesh.
     pub indices: Vec<u32>,
 }
@@ -132,24 +146,46 @@ pub fn lod_meshes(segments: u32) -> LodMeshes {
     let mut first_index = [0; LOD_LEVELS];
     for (k, &s) in segments.iter().enumerate() {
         first_index[k] = indices.len() as u32;
-        let columns = LOD_COLUMNS[k];
-        let blade = blade_indices(s, columns);
-        let vertices = (s + 1) * columns;
-        for b in 0..DRAW_BATCH {
-            indices.extend(blade.iter().map(|i| i + b * vertices));
-        }
+        indices.extend(batch_indices(s, LOD_COLUMNS[k]));
         index_count[k] = indices.len() as u32 - first_index[k];
     }
     let caster_first = indices.len() as u32;
     for b in 0..DRAW_BATCH {
         indices.extend((0..CASTER_VERTICES).map(|i| i + b * CASTER_VERTICES));
     }
+    let caster = (indices.len() as u32 - caster_first, caster_first);
+    let flat_first = indices.len() as u32;
+    indices.extend(batch_indices(segments[0], lod_columns(false)[0]));
     LodMeshes {
         segments,
         index_count,
         first_index,
-        caster: (indices.len() as u32 - caster_first, caster_first),
+        caster,
+        flat: (indices.len() as u32 - flat_first, flat_first),
         indices,
+    }
+}
+
+/// [`DRAW_BATCH`] copies of one blade's indices of `segments` and `columns`, each the one
+/// before moved by a blade's vertices.
+fn batch_indices(segments: u32, columns: u32) -> Vec<u32> {
+    let blade = blade_indices(segments, columns);
+    let vertices = (segments + 1) * columns;
+    (0..DRAW_BATCH)
+        .flat_map(|b| blade.iter().map(move |i| i + b * vertices))
+        .collect()
+}
+
+impl LodMeshes {
+    /// Each level's (index count, first index) for blades that fold or not (`fold`:
+    /// `GrassSpec::fold`, the pipelines' `FOLD`): the finest level's flat mesh in place of
+    /// its three columns when they do not.
+    pub fn levels(&self, fold: bool) -> ([u32; LOD_LEVELS], [u32; LOD_LEVELS]) {
+        let (mut count, mut first) = (self.index_count, self.first_index);
+        if !fold {
+            (count[0], first[0]) = self.flat;
+        }
+        (count, first)
     }
 }
 
@@ -180,10 +216,12 @@ mod tests {
         // 6 segments of 3 columns, then 3 and 1 of 2 columns (flat).
         assert_eq!(m.index_count, [72 * n, 18 * n, 6 * n]);
         assert_eq!(m.first_index, [0, 72 * n, 90 * n]);
-        assert_eq!(m.indices.len() as u32, 99 * n);
-        // The casters' triangles after the levels, one per blade of the batch.
+        // The casters' triangles after the levels, one per blade of the batch, then the
+        // finest level's flat mesh (6 segments of 2 columns).
         assert_eq!(m.caster, (3 * n, 96 * n));
-        let casters = &m.indices[96 * n as usize..];
+        assert_eq!(m.flat, (36 * n, 99 * n));
+        assert_eq!(m.indices.len() as u32, 135 * n);
+        let casters = &m.indices[96 * n as usize..99 * n as usize];
         assert!(casters
             .chunks(3)
             .enumerate()
@@ -203,6 +241,28 @@ mod tests {
             }
         }
         assert_eq!(lod_segments(1), [1, 1, 1]);
+    }
+
+    #[test]
+    fn blades_that_do_not_fold_draw_a_flat_finest_level() {
+        let m = lod_meshes(6);
+        let n = DRAW_BATCH as usize;
+        assert_eq!(m.levels(true), (m.index_count, m.first_index));
+        let (count, first) = m.levels(false);
+        assert_eq!(count[1..], m.index_count[1..]);
+        assert_eq!(first[1..], m.first_index[1..]);
+        assert_eq!((count[0], first[0]), m.flat);
+        // Every blade of the batch: the 14 vertices of 7 rows of 2 columns, in 12
+        // triangles, each copy the first moved by 14 vertices.
+        let flat = &m.indices[first[0] as usize..(first[0] + count[0]) as usize];
+        let one = flat.len() / n;
+        assert_eq!(one, 36);
+        assert_eq!(flat[..one], blade_indices(6, 2)[..]);
+        for (b, copy) in flat.chunks(one).enumerate() {
+            assert!(copy.iter().zip(&flat[..one]).all(|(x, y)| *x == y + 14 * b as u32));
+        }
+        assert_eq!(lod_columns(false), [2, 2, 2]);
+        assert_eq!(lod_columns(true), LOD_COLUMNS);
     }
 
     #[test]

@@ -719,6 +719,8 @@ impl Renderer {
     /// Cull uniforms for a camera and viewport; `hiz` describes the depth pyramid (zeros:
     /// no occlusion test).
     fn cull_uniforms(&self, camera: &CameraView, size: (u32, u32), hiz: [u32; 4]) -> CullParams {
+        // The meshes the grass pipelines are built for: flat at every level without the fold.
+        let (lod_index_count, lod_first_index) = self.lod.levels(self.draw.grass_spec().fold);
         let mut p = cull_params(
             &self.scene.culling,
             &CullInputs {
@@ -734,8 +736,8 @@ impl Renderer {
                 patch_size: self.buffers.patch_size,
                 patch_count: self.buffers.patch_count,
                 lod_segments: self.lod.segments,
-                lod_index_count: self.lod.index_count,
-                lod_first_index: self.lod.first_index,
+                lod_index_count,
+                lod_first_index,
                 frame: self.frame_count,
                 hiz,
                 sphere_count: self.sphere_count,
