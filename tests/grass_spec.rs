@@ -229,3 +229,30 @@ fn blades_that_do_not_fold_draw_flat_over_the_same_pixels() {
     );
     assert!(mean < 1.0, "mean difference {mean}");
 }
+
+#[test]
+fn the_renderer_can_draw_the_blades_flat_as_the_scene_does() {
+    // The window's frame budget draws the blades without the fold and without touching
+    // the scene (`Renderer::fold`): the picture is the scene's with `displacement: false`,
+    // byte for byte, and not the folded one (the meadow's near blades are at the finest
+    // level, so the two differ).
+    let scene = shipped("meadow.ron");
+    assert!(scene.render.displacement);
+    let draw = |scene: &Scene, fold: bool| {
+        common::render_frames(scene.clone(), SIZE, FRAMES, |r| r.fold = fold)
+    };
+    let (budget, r) = draw(&scene, false);
+    assert!(!r.grass_spec().fold && !r.folds());
+    let mut flat = scene.clone();
+    flat.render.displacement = false;
+    let (scene_off, _) = draw(&flat, true);
+    let (folded, r) = draw(&scene, true);
+    assert!(r.grass_spec().fold && r.folds());
+    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
+    };
+    assert_eq!(differing(&budget, &scene_off), 0);
+    let moved = differing(&budget, &folded);
+    println!("the fold moves {moved} pixels");
+    assert!(moved > 50, "{moved} pixels");
+}

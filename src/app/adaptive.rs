@@ -16,7 +16,11 @@
 //!   ([`FrameBudget::with_grass_shadow_step`]), the blades stop casting sun shadows (the
 //!   terrain, objects and balls still cast): drawing every blade within the shadow radius
 //!   once per cascade was a third of the window's frame on llvmpipe, and it costs a shade,
-//!   not a blade. Then, where allowed ([`FrameBudget::with_lod_step`]), the blades change
+//!   not a blade. Then, where allowed ([`FrameBudget::with_fold_step`]), the blades are
+//!   drawn flat, without the fold along their middle axis (the 3D displacement of Eq. 23,
+//!   where the scene has it on): the finest level then has half its triangles, and the
+//!   window's frame at its settled state took ×0.90 of its time on llvmpipe; the fold is a
+//!   shade across the near blades. Then, where allowed ([`FrameBudget::with_lod_step`]), the blades change
 //!   to their coarser meshes at [`LOD_COARSEN`] times the scene's pixel heights (fewer
 //!   segments for blades a few dozen pixels tall: on llvmpipe the window's draw fell from
 //!   about 51 to 39 ms at its settled state, and the pictures are hard to tell apart).
@@ -36,8 +40,8 @@
 //! * Under `target · `[`UNDER`]: give detail back, in the reverse order. First the levels
 //!   go up by one, then `d_max × `[`GROW`], never above the user's values (the *base*),
 //!   then the render scale × [`GROW`] up to 1, then the morph, the blades' finer meshes,
-//!   the blades' shadows, and last multisampling: the grass comes back before the
-//!   sharpness.
+//!   their fold, the blades' shadows, and last multisampling: the grass comes back before
+//!   the sharpness.
 //! * In between: nothing. The dead band (0.75–1.1 of the target) is wider than one step in
 //!   either direction (1/0.85 ≈ 1.18 and 1.08, on a cost that grows about like d_max²), so a
 //!   step does not carry the time from one edge of the band across the other, and the
@@ -119,6 +123,9 @@ pub struct FrameBudget {
     /// Whether the budget may stop the blades casting sun shadows, and whether it has.
     grass_shadow_step: bool,
     grass_shadows_off: bool,
+    /// Whether the budget may draw the blades flat (no fold), and whether it does.
+    fold_step: bool,
+    fold_off: bool,
     /// Whether the budget may draw the blades with coarser meshes, and whether it does.
     lod_step: bool,
     lod_coarse: bool,
@@ -150,6 +157,8 @@ impl FrameBudget {
             msaa_off: false,
             grass_shadow_step: false,
             grass_shadows_off: false,
+            fold_step: false,
+            fold_off: false,
             lod_step: false,
             lod_coarse: false,
             morph_step: false,
@@ -197,6 +206,19 @@ impl FrameBudget {
     /// The same budget allowed to draw the blades with their coarser meshes (at
     /// [`LOD_COARSEN`] times the scene's level-of-detail heights), after the blades'
     /// shadows and before the resolution (the window, whose scene keeps its heights).
+    /// The same budget allowed to draw the blades flat (the renderer's `fold`), after the
+    /// blades' shadows and before the coarser meshes.
+    pub fn with_fold_step(mut self, allowed: bool) -> Self {
+        self.fold_step = allowed;
+        self
+    }
+
+    /// Whether the blades fold along their middle axis now (the scene's
+    /// `render.displacement` applies), or the budget draws them flat.
+    pub fn fold(&self) -> bool {
+        !self.fold_off
+    }
+
     pub fn with_lod_step(mut self, allowed: bool) -> Self {
         self.lod_step = allowed;
         self
@@ -315,6 +337,10 @@ impl FrameBudget {
             self.grass_shadows_off = true;
             return true;
         }
+        if self.fold_step && !self.fold_off {
+            self.fold_off = true;
+            return true;
+        }
         if self.lod_step && !self.lod_coarse {
             self.lod_coarse = true;
             return true;
@@ -373,6 +399,10 @@ impl FrameBudget {
             self.lod_coarse = false;
             return true;
         }
+        if self.fold_off {
+            self.fold_off = false;
+            return true;
+        }
         if self.grass_shadows_off {
             self.grass_shadows_off = false;
             return true;
@@ -407,6 +437,9 @@ impl FrameBudget {
         }
         if self.grass_shadows_off {
             line.push_str(", blades cast no shadows");
+        }
+        if self.fold_off {
+            line.push_str(", flat blades");
         }
         if self.lod_coarse {
             line.push_str(", coarser blade meshes");

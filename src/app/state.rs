@@ -203,6 +203,7 @@ impl AppState {
         let budget = FrameBudget::new(&renderer.scene.culling, None)
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
+            .with_fold_step(true)
             .with_lod_step(true)
             .with_morph_step(true)
             .with_billboard_step(true);
@@ -532,6 +533,7 @@ impl AppState {
         self.budget = FrameBudget::new(&self.renderer.scene.culling, self.budget.target_ms)
             .with_msaa_step(true)
             .with_grass_shadow_step(true)
+            .with_fold_step(true)
             .with_lod_step(true)
             .with_morph_step(true)
             .with_billboard_step(true);

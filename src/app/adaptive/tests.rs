@@ -598,3 +598,41 @@ fn the_morph_goes_after_the_coarser_meshes_and_before_the_resolution() {
     }
     assert!(plain.lod_morph());
 }
+
+#[test]
+fn the_fold_goes_after_the_blades_shadows_and_before_the_coarser_meshes() {
+    let mut c = culling();
+    let mut b = FrameBudget::new(&c, Some(100.0))
+        .with_grass_shadow_step(true)
+        .with_fold_step(true)
+        .with_lod_step(true);
+    assert!(b.fold());
+    let mut steps = Vec::new();
+    for _ in 0..3 * ACT_EVERY {
+        if b.observe(300.0, &mut c).is_some() {
+            steps.push((b.grass_shadows_off(), b.fold(), b.lod_coarsen()));
+        }
+    }
+    assert_eq!(steps[0], (true, true, 1.0), "{steps:?}");
+    assert_eq!(steps[1], (true, false, 1.0), "{steps:?}");
+    assert_eq!(steps[2], (true, false, LOD_COARSEN), "{steps:?}");
+    assert!(b.status().contains("flat blades"), "{}", b.status());
+    // Fast again: the fold comes back after the finer meshes, before the shadows.
+    let mut order = Vec::new();
+    for _ in 0..400 {
+        if b.observe(1.0, &mut c).is_some() {
+            order.push((b.grass_shadows_off(), b.fold(), b.lod_coarsen()));
+        }
+    }
+    let n = order.len();
+    assert_eq!(order[n - 1], (false, true, 1.0), "{order:?}");
+    assert_eq!(order[n - 2], (true, true, 1.0), "{order:?}");
+    assert_eq!(order[n - 3], (true, false, 1.0), "{order:?}");
+    assert!(!b.status().contains("flat blades"), "{}", b.status());
+    // Without the step (the default) the fold is never touched.
+    let mut plain = FrameBudget::new(&c, Some(100.0)).with_lod_step(true);
+    for _ in 0..100 {
+        plain.observe(300.0, &mut c);
+    }
+    assert!(plain.fold());
+}

@@ -55,6 +55,7 @@ impl AppState {
         self.renderer.grass_shadows = !self.budget.grass_shadows_off();
         self.renderer.lod_coarsen = self.budget.lod_coarsen();
         self.renderer.lod_morph = self.budget.lod_morph();
+        self.renderer.fold = self.budget.fold();
         // The balls push the grass as a host's colliders do; a scene whose own spheres
         // leave less room keeps the newest balls that fit.
         let room = MAX_SPHERES.saturating_sub(self.renderer.scene_sphere_count());

@@ -325,19 +325,21 @@ impl DrawPass {
     /// Rebuilds the grass pipelines when `scene`'s switches (model, shape, colour view, sky
     /// model) no longer match their specialisation, and the sky pass's when the sky model
     /// changed; true when it did. Only on a change: the panel's edits, never per frame.
-    /// `morph`: whether the renderer lets the blades morph between levels (the window's
-    /// frame budget may not).
+    /// `morph`: whether the renderer lets the blades morph between levels; `fold`: whether
+    /// it lets them fold along their middle axis (the window's frame budget may not).
     pub fn sync_grass_spec(
         &mut self,
         device: &wgpu::Device,
         scene: &crate::scene::Scene,
         morph: bool,
+        fold: bool,
     ) -> bool {
         let spec = if self.general_grass {
             GrassSpec::GENERAL
         } else {
             GrassSpec {
                 morph: morph && scene.culling.lod_morph > 0.0,
+                fold: fold && scene.render.displacement,
                 ..GrassSpec::of(scene, &self.traits)
             }
         };

@@ -86,7 +86,7 @@ impl Renderer {
         self.sync_msaa(gpu);
         self.sync_taa(gpu, size);
         self.draw
-            .sync_grass_spec(&gpu.device, &self.scene, self.lod_morph);
+            .sync_grass_spec(&gpu.device, &self.scene, self.lod_morph, self.fold);
         self.post
             .sync_mapper(&gpu.device, self.scene.light.tone_mapping);
         if self.samples > 1 {

@@ -100,7 +100,7 @@ impl Renderer {
     /// grass's specialisation for the scene as it now is.
     pub fn sync_for_host(&mut self, gpu: &crate::gpu::Gpu) {
         self.draw
-            .sync_grass_spec(&gpu.device, &self.scene, self.lod_morph);
+            .sync_grass_spec(&gpu.device, &self.scene, self.lod_morph, self.fold);
     }
 
     /// Draws the blades the last `encode_before_draw` kept (every level of detail) into

@@ -216,6 +216,11 @@ pub struct Renderer {
     /// window's frame budget switches it off without touching the scene, and the grass
     /// pipelines are then built without the morph: `GrassSpec::morph`).
     pub lod_morph: bool,
+    /// Whether the blades fold along their middle axis where the scene has the 3D
+    /// displacement on (`render.displacement`, Eq. 23; the window's frame budget switches
+    /// it off without touching the scene: the blades are then flat, and the finest level
+    /// is drawn with two columns, `GrassSpec::fold`).
+    pub fold: bool,
     /// The density map, kept for the billboards' CPU count.
     density: Option<crate::field::DensityMap>,
     /// `render.msaa` as last applied, and the sample count the adapter gave for it.
@@ -467,6 +472,7 @@ impl Renderer {
             cache_ground_shadows: true,
             lod_coarsen: 1.0,
             lod_morph: true,
+            fold: true,
             density,
             requested_samples,
             samples,
@@ -837,7 +843,7 @@ impl Renderer {
                 f.shape.id() as f32,
                 f.tip_threshold,
                 f.segments.max(1) as f32,
-                self.scene.render.displacement as u32 as f32,
+                u32::from(self.folds()) as f32,
             ],
             width_correction: [
                 self.scene.render.width_min_px,
@@ -931,6 +937,12 @@ impl Renderer {
                 + self.draw.gpu_bytes()
                 + self.light.gpu_bytes(),
         )
+    }
+
+    /// Whether the blades fold now: the scene's `render.displacement`, unless the renderer's
+    /// [`Renderer::fold`] is off.
+    pub fn folds(&self) -> bool {
+        self.fold && self.scene.render.displacement
     }
 
     /// Specialises the grass pipelines for the scene (the default) or keeps them general,
