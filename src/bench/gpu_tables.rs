@@ -21,17 +21,22 @@ fn count(v: Option<f64>) -> String {
     )
 }
 
-/// One report's table (`label` names the run: scene, size, settings), in Markdown.
-pub fn report_table(label: &str, r: &Value) -> String {
-    let mut out = format!(
-        "#### {label}\n\n{}, {}x{}, {} frames after {} warm-up ({})\n\n",
+/// A table's heading: `title`, then the report's adapter, size, frames and date.
+fn heading(title: &str, r: &Value) -> String {
+    format!(
+        "#### {title}\n\n{}, {}x{}, {} frames after {} warm-up ({})\n\n",
         r["adapter"].as_str().unwrap_or("unknown adapter"),
         r["size"].get(0).and_then(Value::as_f64).unwrap_or(0.0),
         r["size"].get(1).and_then(Value::as_f64).unwrap_or(0.0),
         num(r, &["frames"]).unwrap_or(0.0),
         num(r, &["warmup"]).unwrap_or(0.0),
         r["date"].as_str().unwrap_or(""),
-    );
+    )
+}
+
+/// One report's table (`label` names the run: scene, size, settings), in Markdown.
+pub fn report_table(label: &str, r: &Value) -> String {
+    let mut out = heading(label, r);
     if let Some(configs) = r["configurations"].as_array() {
         out += "| configuration | GPU ms | wall ms | FPS | blades drawn | vertex inv. | fragment inv. | compute inv. | lit fragments / grass pixel |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for c in configs {
@@ -137,14 +142,9 @@ pub fn paper_table(scene: &str, r: &Value) -> Option<String> {
     };
     let configs = r["configurations"].as_array();
     let config = |i: usize| configs.and_then(|c| c.get(i));
-    let mut out = format!(
-        "#### {scene}: the paper (GTX 780M, 1024x768, 8x MSAA) beside sward\n\n{}, {}x{}, {} frames after {} warm-up ({})\n\n",
-        r["adapter"].as_str().unwrap_or("unknown adapter"),
-        r["size"].get(0).and_then(Value::as_f64).unwrap_or(0.0),
-        r["size"].get(1).and_then(Value::as_f64).unwrap_or(0.0),
-        num(r, &["frames"]).unwrap_or(0.0),
-        num(r, &["warmup"]).unwrap_or(0.0),
-        r["date"].as_str().unwrap_or(""),
+    let mut out = heading(
+        &format!("{scene}: the paper (GTX 780M, 1024x768, 8x MSAA) beside sward"),
+        r,
     );
     out += "| measurement | all features: paper | sward | collisions off: paper | sward | culling off: paper | sward |\n|---|---:|---:|---:|---:|---:|---:|\n";
     type Row<'a> = (
