@@ -13,6 +13,11 @@
 # (default: auto, the hardware one). FRAMES / WARMUP override the frame counts; SWEEP the
 # sweep's blade counts (comma-separated). On a machine without cargo, build here and point
 # SWARD_BIN and GPU_TABLES at the built `sward` and `examples/gpu_tables`: nothing is built then.
+#
+# Vulkan needs the loader (libvulkan.so.1) and, for NVIDIA's ICD, libglvnd (libGLdispatch):
+# without libglvnd the loader finds the ICD but not its vkCreateInstance and sward says
+# "no GPU adapter found". On a headless NVIDIA machine, point VK_DRIVER_FILES at the
+# driver's nvidia_icd.json (docs/performance.md, "Measured on a GPU", says what was needed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-gpu-figures}"
