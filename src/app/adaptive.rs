@@ -20,8 +20,8 @@
 //!   drawn flat, without the fold along their middle axis (the 3D displacement of Eq. 23,
 //!   where the scene has it on): the finest level then has half its triangles, and the
 //!   window's frame at its settled state took ×0.90 of its time on llvmpipe; the fold is a
-//!   shade across the near blades. Then, where allowed ([`FrameBudget::with_lod_step`]), the blades change
-//!   to their coarser meshes at [`LOD_COARSEN`] times the scene's pixel heights (fewer
+//!   shade across the near blades. Then, where allowed ([`FrameBudget::with_lod_step`]),
+//!   the blades change to their coarser meshes at [`LOD_COARSEN`] times the scene's pixel heights (fewer
 //!   segments for blades a few dozen pixels tall: on llvmpipe the window's draw fell from
 //!   about 51 to 39 ms at its settled state, and the pictures are hard to tell apart).
 //!   Then, where allowed ([`FrameBudget::with_morph_step`]), the blades change level at
@@ -203,9 +203,6 @@ impl FrameBudget {
         self.grass_shadows_off
     }
 
-    /// The same budget allowed to draw the blades with their coarser meshes (at
-    /// [`LOD_COARSEN`] times the scene's level-of-detail heights), after the blades'
-    /// shadows and before the resolution (the window, whose scene keeps its heights).
     /// The same budget allowed to draw the blades flat (the renderer's `fold`), after the
     /// blades' shadows and before the coarser meshes.
     pub fn with_fold_step(mut self, allowed: bool) -> Self {
@@ -219,6 +216,9 @@ impl FrameBudget {
         !self.fold_off
     }
 
+    /// The same budget allowed to draw the blades with their coarser meshes (at
+    /// [`LOD_COARSEN`] times the scene's level-of-detail heights), after the blades' fold
+    /// and before the resolution (the window, whose scene keeps its heights).
     pub fn with_lod_step(mut self, allowed: bool) -> Self {
         self.lod_step = allowed;
         self

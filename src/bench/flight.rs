@@ -228,6 +228,7 @@ pub fn run_flight(o: &BenchOptions) -> Result<FlightReport> {
 }
 
 /// What the timed flight measured.
+#[derive(Default)]
 struct TimedFlight {
     gpu_ms: Vec<f64>,
     wall_ms: Vec<f64>,
@@ -242,9 +243,21 @@ struct TimedFlight {
 
 /// What the compared flight measured: the frame-to-frame differences, and the sums of the
 /// handover band's and the other ground's (`band_differences`).
+#[derive(Default)]
 struct ComparedFlight {
     differences: Vec<f64>,
     handover: [(u64, u64); 2],
+}
+
+/// Frame `i` of a flight after `warmup` frames: its index among the measured frames (0
+/// through the warm-up) and its camera, the same in the timed and the compared flight.
+fn frame_camera(session: &Session, i: u32, warmup: u32) -> (u32, CameraView) {
+    let flying = i.saturating_sub(warmup);
+    let t = flying as f32 * BENCH_DT;
+    (
+        flying,
+        flight_camera(&session.scene.camera, &session.terrain, t),
+    )
 }
 
 /// A fresh session and renderer of `scene` for one flight.
@@ -277,25 +290,10 @@ fn timed_flight(
         "bench: flight over {} blades, {} warm-up + {} frames at {FLIGHT_SPEED} m/s, timed",
         renderer.buffers.count, o.warmup, o.frames
     );
-    let mut t = TimedFlight {
-        gpu_ms: Vec::new(),
-        wall_ms: Vec::new(),
-        drawn: Vec::new(),
-        resets: 0,
-        last_billboards: 0,
-        tiles_generated: 0,
-        tiles_resident: 0,
-        tile_ms: 0.0,
-        gpu_bytes: 0,
-    };
+    let mut t = TimedFlight::default();
     let mut tiles_at_start = 0u64;
     for i in 0..o.warmup + o.frames {
-        let flying = i.saturating_sub(o.warmup);
-        let camera = flight_camera(
-            &session.scene.camera,
-            &session.terrain,
-            flying as f32 * BENCH_DT,
-        );
+        let (_, camera) = frame_camera(&session, i, o.warmup);
         if o.trace.is_some() && i == o.warmup {
             // The warm-up is left out of the trace as out of the statistics.
             renderer.record_trace();
@@ -348,22 +346,14 @@ fn compared_flight(
     eprintln!("bench: the flight again, each frame read back and compared with the last");
     let size = (target.width, target.height);
     let mut previous: Option<image::RgbaImage> = None;
-    let mut seen = ComparedFlight {
-        differences: Vec::new(),
-        handover: [(0, 0); 2],
-    };
+    let mut seen = ComparedFlight::default();
     let band = {
         let d = session.scene.culling.max_distance;
         let d = if d.is_finite() { d.max(0.0) } else { 0.0 };
         (HANDOVER_BAND.0 * d, HANDOVER_BAND.1 * d)
     };
     for i in 0..o.warmup + o.frames {
-        let flying = i.saturating_sub(o.warmup);
-        let camera = flight_camera(
-            &session.scene.camera,
-            &session.terrain,
-            flying as f32 * BENCH_DT,
-        );
+        let (flying, camera) = frame_camera(&session, i, o.warmup);
         world_frame(gpu, &mut renderer, BENCH_DT, camera, target)?;
         if i < o.warmup {
             continue;

@@ -337,10 +337,12 @@ impl DrawPass {
         let spec = if self.general_grass {
             GrassSpec::GENERAL
         } else {
+            // The renderer's switches only ever take a path out of the scene's.
+            let spec = GrassSpec::of(scene, &self.traits);
             GrassSpec {
-                morph: morph && scene.culling.lod_morph > 0.0,
-                fold: fold && scene.render.displacement,
-                ..GrassSpec::of(scene, &self.traits)
+                morph: morph && spec.morph,
+                fold: fold && spec.fold,
+                ..spec
             }
         };
         if spec == self.pipelines.grass.spec {
