@@ -680,6 +680,38 @@ fn far_field_compares_the_levels_band_by_band() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--far-field compares the far levels"));
 }
 
+/// `--far-field` follows `levels` against `blades` along the run: the worst band after 4
+/// frames and at the run's end, where it is the main comparison's; and the frame after 4
+/// frames of the longer run is the frame a run of 4 ends on (the renders are deterministic),
+/// so its worst band is that run's.
+#[test]
+fn far_field_follows_the_bands_along_the_run() {
+    let run = |frames: &str| {
+        bench_json(&[
+            "--frames",
+            frames,
+            "--warmup",
+            "0",
+            "--size",
+            "64x40",
+            "--far-field",
+        ])
+    };
+    let long = run("6");
+    let series = long["series"].as_array().expect("series");
+    let frames: Vec<u64> = series.iter().map(|p| u(p, &["frames"])).collect();
+    assert_eq!(frames, [4, 6]);
+    let main = &long["comparisons"][0];
+    assert_eq!(series[1]["worst"], main["worst"]);
+    assert_eq!(series[1]["within"], main["within"]);
+    let short = run("4");
+    assert_eq!(
+        series[0]["worst"], short["comparisons"][0]["worst"],
+        "{long}\n{short}"
+    );
+    assert_eq!(series[0]["within"], short["comparisons"][0]["within"]);
+}
+
 /// `--antialiasing` compares no anti-aliasing, 4x MSAA and TAA on the same frames: each
 /// with its samples, times, work and flicker; MSAA differs from itself by nothing; and it
 /// goes with no other mode and needs pairs of frames.

@@ -10,13 +10,16 @@
 //!   (the reference of `levels` where `levels` shows the far ground).
 //!
 //! `--frames` frames are rendered per configuration after `--warmup`; the last one is
-//! compared. Reported: every band of each comparison and its worst band.
+//! compared. Reported: every band of each comparison and its worst band, and the worst
+//! band of `levels` against `blades` along the run ([`checkpoints`]: after 4, 8, 16, …
+//! frames): the far levels follow gains measured frame by frame while the wind bends the
+//! field from rest, so one frame count is not a settled state.
 
 use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
 use sward::commands::world_frame;
-use sward::compare::{bands, compare_bands, worst_band, Band, BandDiff};
+use sward::compare::{bands, compare_bands, diff_bands, worst_band, Band, BandDiff};
 use sward::error::Result;
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
@@ -53,6 +56,25 @@ pub struct BandComparison {
     pub within: usize,
 }
 
+/// The worst band of `levels` against `blades` after `frames` frames (warm-up included).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SeriesPoint {
+    pub frames: u32,
+    pub worst: Option<BandDiff>,
+    /// Bands within the issue's 5 levels and 30 %.
+    pub within: usize,
+}
+
+/// The frame counts the series compares at, for a run of `total` frames: 4, 8, 16, …
+/// below `total`, and `total`.
+pub fn checkpoints(total: u32) -> Vec<u32> {
+    let mut at: Vec<u32> = std::iter::successors(Some(4u32), |k| k.checked_mul(2))
+        .take_while(|&k| k < total)
+        .collect();
+    at.push(total);
+    at
+}
+
 /// Everything `sward bench --far-field` measured.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FarFieldReport {
@@ -65,6 +87,8 @@ pub struct FarFieldReport {
     /// The reference's blade radius (m).
     pub blade_reach: f32,
     pub comparisons: Vec<BandComparison>,
+    /// `levels` against `blades` along the run, at [`checkpoints`].
+    pub series: Vec<SeriesPoint>,
 }
 
 /// The configurations, by name.
@@ -94,16 +118,28 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
     let target = Target::new(&gpu, o.size.0, o.size.1)?;
     let reach = blade_reach(&scene);
     let configs = configurations(&scene);
+    let total = o.warmup + o.frames;
+    let at = checkpoints(total);
     let mut images = Vec::new();
-    for (name, scene) in configs {
+    // The bands of `levels` and `blades` at each checkpoint (their images would hold a
+    // frame each).
+    let mut along: [Vec<Vec<Band>>; 2] = Default::default();
+    for (k, (name, scene)) in configs.into_iter().enumerate() {
         eprintln!("bench: {name} ({} warm-up + {} frames)", o.warmup, o.frames);
         let session = Session::new(scene.clone(), None, Some(&gpu))?;
         let mut renderer = super::measure::fresh_renderer(&gpu, &session, scene)?;
         let camera = CameraView::from_scene(&session.scene.camera);
-        for _ in 0..o.warmup + o.frames {
+        for frame in 1..=total {
             world_frame(&gpu, &mut renderer, BENCH_DT, camera, &target)?;
+            if k < 2 && frame < total && at.contains(&frame) {
+                along[k].push(bands(&target.read_image(&gpu)?));
+            }
         }
-        images.push((name, target.read_image(&gpu)?));
+        let image = target.read_image(&gpu)?;
+        if k < 2 {
+            along[k].push(bands(&image));
+        }
+        images.push((name, image));
     }
     let compare = |a: usize, b: usize| -> BandComparison {
         let (image, reference) = (&images[a], &images[b]);
@@ -117,6 +153,18 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
             diffs,
         }
     };
+    let series = at
+        .iter()
+        .zip(along[0].iter().zip(&along[1]))
+        .map(|(&frames, (image, reference))| {
+            let diffs = diff_bands(image, reference, 0..o.size.1);
+            SeriesPoint {
+                frames,
+                worst: worst_band(&diffs),
+                within: diffs.iter().filter(|d| d.within_tolerance()).count(),
+            }
+        })
+        .collect();
     Ok(FarFieldReport {
         adapter: gpu.describe(),
         date,
@@ -126,6 +174,7 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
         size: o.size,
         blade_reach: reach,
         comparisons: vec![compare(0, 1), compare(0, 2)],
+        series,
     })
 }
 
@@ -167,5 +216,45 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
             );
         }
     }
+    if let Some(c) = r.comparisons.first() {
+        out += &format!(
+            "\n{} against {} along the run (the worst band after each count of frames)\n\
+             | frames | worst band | luminance | contrast | bands within 5 levels and 30 % |\n\
+             |---|---|---|---|---|\n",
+            c.image, c.reference
+        );
+        for p in &r.series {
+            match p.worst {
+                Some(w) => {
+                    out += &format!(
+                        "| {} | rows {}-{} | {:+.1} | {:+.0} % | {} of {} |\n",
+                        p.frames,
+                        w.top,
+                        w.top + sward::compare::BAND_ROWS - 1,
+                        w.luminance,
+                        100.0 * w.contrast,
+                        p.within,
+                        c.diffs.len()
+                    )
+                }
+                None => out += &format!("| {} | – | – | – | – |\n", p.frames),
+            }
+        }
+    }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::checkpoints;
+
+    #[test]
+    fn the_series_doubles_from_four_frames_and_ends_at_the_run() {
+        assert_eq!(checkpoints(1), [1]);
+        assert_eq!(checkpoints(4), [4]);
+        assert_eq!(checkpoints(5), [4, 5]);
+        assert_eq!(checkpoints(30), [4, 8, 16, 30]);
+        assert_eq!(checkpoints(64), [4, 8, 16, 32, 64]);
+        assert_eq!(*checkpoints(u32::MAX).last().unwrap(), u32::MAX);
+    }
 }

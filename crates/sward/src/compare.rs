@@ -138,23 +138,27 @@ pub fn compare_bands(
     if img.dimensions() != reference.dimensions() {
         return None;
     }
-    Some(
-        bands(img)
-            .into_iter()
-            .zip(bands(reference))
-            .filter(|(a, _)| rows.contains(&a.top))
-            .map(|(a, b)| BandDiff {
-                top: a.top,
-                luminance: a.luminance - b.luminance,
-                // Two flat bands (the sky) have the same contrast.
-                contrast: if a.contrast < 1e-6 && b.contrast < 1e-6 {
-                    0.0
-                } else {
-                    a.contrast / b.contrast.max(1e-6) - 1.0
-                },
-            })
-            .collect(),
-    )
+    Some(diff_bands(&bands(img), &bands(reference), rows))
+}
+
+/// The bands `img` (of an image, [`bands`]) against `reference` (of an image of the same
+/// size) whose top row lies in `rows`: what [`compare_bands`] gives for the two images,
+/// from their bands alone (a run can keep the bands of many frames, not their images).
+pub fn diff_bands(img: &[Band], reference: &[Band], rows: std::ops::Range<u32>) -> Vec<BandDiff> {
+    img.iter()
+        .zip(reference)
+        .filter(|(a, _)| rows.contains(&a.top))
+        .map(|(a, b)| BandDiff {
+            top: a.top,
+            luminance: a.luminance - b.luminance,
+            // Two flat bands (the sky) have the same contrast.
+            contrast: if a.contrast < 1e-6 && b.contrast < 1e-6 {
+                0.0
+            } else {
+                a.contrast / b.contrast.max(1e-6) - 1.0
+            },
+        })
+        .collect()
 }
 
 /// The band that differs most: by luminance over its tolerance, or by contrast over its.
