@@ -26,6 +26,11 @@ fn shipped(name: &str) -> Scene {
     s
 }
 
+/// How many pixels of `a` differ from `b`'s.
+fn differing_pixels(a: &image::RgbaImage, b: &image::RgbaImage) -> usize {
+    a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
+}
+
 /// The last of `FRAMES` frames, and the specialisation it was drawn with.
 fn render(scene: &Scene, specialise: bool) -> (image::RgbaImage, GrassSpec) {
     let (image, r) = common::render_frames(scene.clone(), SIZE, FRAMES, |r| {
@@ -42,11 +47,7 @@ fn same_picture(name: &str, scene: Scene) -> GrassSpec {
     let (special, spec) = render(&scene, true);
     assert_eq!(general_spec, GrassSpec::GENERAL, "{name}");
     assert_ne!(spec, GrassSpec::GENERAL, "{name}: nothing was specialised");
-    let differing = general
-        .pixels()
-        .zip(special.pixels())
-        .filter(|(a, b)| a != b)
-        .count();
+    let differing = differing_pixels(&general, &special);
     if let Ok(dir) = std::env::var("GRASS_SPEC_PNG_DIR") {
         let path = Path::new(&dir).join(format!("{name}.png"));
         sward::output::save_png(&path, &special).expect("png");
@@ -182,11 +183,8 @@ fn the_renderer_can_leave_the_morph_out_as_the_scene_does() {
     let (scene_off, _) = draw(&none, true);
     let (morphing, r) = draw(&scene, true);
     assert!(r.grass_spec().morph);
-    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
-        a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
-    };
-    assert_eq!(differing(&budget, &scene_off), 0);
-    let moved = differing(&budget, &morphing);
+    assert_eq!(differing_pixels(&budget, &scene_off), 0);
+    let moved = differing_pixels(&budget, &morphing);
     println!("the morph moves {moved} pixels");
     assert!(moved > 50, "{moved} pixels");
 }
@@ -248,11 +246,8 @@ fn the_renderer_can_draw_the_blades_flat_as_the_scene_does() {
     let (scene_off, _) = draw(&flat, true);
     let (folded, r) = draw(&scene, true);
     assert!(r.grass_spec().fold && r.folds());
-    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
-        a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
-    };
-    assert_eq!(differing(&budget, &scene_off), 0);
-    let moved = differing(&budget, &folded);
+    assert_eq!(differing_pixels(&budget, &scene_off), 0);
+    let moved = differing_pixels(&budget, &folded);
     println!("the fold moves {moved} pixels");
     assert!(moved > 50, "{moved} pixels");
 }

@@ -26,6 +26,19 @@ impl Machine {
     }
 }
 
+/// `state` of the budget after each of `frames` frames of `ms` that made it act.
+fn acts<T>(
+    b: &mut FrameBudget,
+    c: &mut Culling,
+    ms: f32,
+    frames: u32,
+    state: impl Fn(&FrameBudget) -> T,
+) -> Vec<T> {
+    (0..frames)
+        .filter_map(|_| b.observe(ms, c).map(|_| state(b)))
+        .collect()
+}
+
 fn run(budget: &mut FrameBudget, culling: &mut Culling, m: &mut Machine, frames: u32) {
     for _ in 0..frames {
         let ms = m.frame_ms(culling);
@@ -89,12 +102,7 @@ fn multisampling_goes_first_and_comes_back_last() {
     }
     assert!(b.scale() < 1.0);
     // Fast again: the resolution comes back before the multisampling.
-    let mut order = Vec::new();
-    for _ in 0..400 {
-        if b.observe(1.0, &mut c).is_some() {
-            order.push((b.scale(), b.msaa_off()));
-        }
-    }
+    let order = acts(&mut b, &mut c, 1.0, 400, |b| (b.scale(), b.msaa_off()));
     assert_eq!(order.last(), Some(&(1.0, false)), "{order:?}");
     assert!(
         order[..order.len() - 1].iter().all(|&(_, off)| off),
@@ -114,12 +122,9 @@ fn grass_shadows_go_after_multisampling_and_before_the_resolution() {
     let mut b = FrameBudget::new(&c, Some(100.0))
         .with_msaa_step(true)
         .with_grass_shadow_step(true);
-    let mut steps = Vec::new();
-    for _ in 0..3 * ACT_EVERY {
-        if b.observe(300.0, &mut c).is_some() {
-            steps.push((b.msaa_off(), b.grass_shadows_off(), b.scale()));
-        }
-    }
+    let steps = acts(&mut b, &mut c, 300.0, 3 * ACT_EVERY, |b| {
+        (b.msaa_off(), b.grass_shadows_off(), b.scale())
+    });
     assert_eq!(steps[0], (true, false, 1.0), "{steps:?}");
     assert_eq!(steps[1], (true, true, 1.0), "{steps:?}");
     assert!(steps[2].2 < 1.0, "{steps:?}");
@@ -129,12 +134,9 @@ fn grass_shadows_go_after_multisampling_and_before_the_resolution() {
         b.status()
     );
     // Fast again: the shadows come back after the resolution, before multisampling.
-    let mut order = Vec::new();
-    for _ in 0..400 {
-        if b.observe(1.0, &mut c).is_some() {
-            order.push((b.scale(), b.grass_shadows_off(), b.msaa_off()));
-        }
-    }
+    let order = acts(&mut b, &mut c, 1.0, 400, |b| {
+        (b.scale(), b.grass_shadows_off(), b.msaa_off())
+    });
     let n = order.len();
     assert_eq!(order[n - 1], (1.0, false, false), "{order:?}");
     assert_eq!(order[n - 2], (1.0, false, true), "{order:?}");
@@ -155,12 +157,9 @@ fn coarser_meshes_go_after_the_shadows_and_before_the_resolution() {
         .with_grass_shadow_step(true)
         .with_lod_step(true);
     assert_eq!(b.lod_coarsen(), 1.0);
-    let mut steps = Vec::new();
-    for _ in 0..4 * ACT_EVERY {
-        if b.observe(300.0, &mut c).is_some() {
-            steps.push((b.grass_shadows_off(), b.lod_coarsen(), b.scale()));
-        }
-    }
+    let steps = acts(&mut b, &mut c, 300.0, 4 * ACT_EVERY, |b| {
+        (b.grass_shadows_off(), b.lod_coarsen(), b.scale())
+    });
     assert_eq!(steps[1], (true, 1.0, 1.0), "{steps:?}");
     assert_eq!(steps[2], (true, LOD_COARSEN, 1.0), "{steps:?}");
     assert!(steps[3].2 < 1.0, "{steps:?}");
@@ -172,12 +171,9 @@ fn coarser_meshes_go_after_the_shadows_and_before_the_resolution() {
     // The scene's own heights are left alone: the renderer applies the factor.
     assert_eq!(c.lod_near_px, culling().lod_near_px);
     // Fast again: the finer meshes come back after the resolution, before the shadows.
-    let mut order = Vec::new();
-    for _ in 0..400 {
-        if b.observe(1.0, &mut c).is_some() {
-            order.push((b.scale(), b.lod_coarsen(), b.grass_shadows_off()));
-        }
-    }
+    let order = acts(&mut b, &mut c, 1.0, 400, |b| {
+        (b.scale(), b.lod_coarsen(), b.grass_shadows_off())
+    });
     let n = order.len();
     assert_eq!(order[n - 3], (1.0, 1.0, true), "{order:?}");
     assert_eq!(order[n - 4], (1.0, LOD_COARSEN, true), "{order:?}");
@@ -564,12 +560,9 @@ fn the_morph_goes_after_the_coarser_meshes_and_before_the_resolution() {
         .with_lod_step(true)
         .with_morph_step(true);
     assert!(b.lod_morph());
-    let mut steps = Vec::new();
-    for _ in 0..3 * ACT_EVERY {
-        if b.observe(300.0, &mut c).is_some() {
-            steps.push((b.lod_coarsen(), b.lod_morph(), b.scale()));
-        }
-    }
+    let steps = acts(&mut b, &mut c, 300.0, 3 * ACT_EVERY, |b| {
+        (b.lod_coarsen(), b.lod_morph(), b.scale())
+    });
     assert_eq!(steps[0], (LOD_COARSEN, true, 1.0), "{steps:?}");
     assert_eq!(steps[1], (LOD_COARSEN, false, 1.0), "{steps:?}");
     assert!(steps[2].2 < 1.0, "{steps:?}");
@@ -581,12 +574,9 @@ fn the_morph_goes_after_the_coarser_meshes_and_before_the_resolution() {
     // The scene's band is left alone: the renderer applies it.
     assert_eq!(c.lod_morph, culling().lod_morph);
     // Fast again: the morph comes back after the resolution, before the finer meshes.
-    let mut order = Vec::new();
-    for _ in 0..400 {
-        if b.observe(1.0, &mut c).is_some() {
-            order.push((b.scale(), b.lod_morph(), b.lod_coarsen()));
-        }
-    }
+    let order = acts(&mut b, &mut c, 1.0, 400, |b| {
+        (b.scale(), b.lod_morph(), b.lod_coarsen())
+    });
     let n = order.len();
     assert_eq!(order[n - 1], (1.0, true, 1.0), "{order:?}");
     assert_eq!(order[n - 2], (1.0, true, LOD_COARSEN), "{order:?}");
@@ -607,23 +597,17 @@ fn the_fold_goes_after_the_blades_shadows_and_before_the_coarser_meshes() {
         .with_fold_step(true)
         .with_lod_step(true);
     assert!(b.fold());
-    let mut steps = Vec::new();
-    for _ in 0..3 * ACT_EVERY {
-        if b.observe(300.0, &mut c).is_some() {
-            steps.push((b.grass_shadows_off(), b.fold(), b.lod_coarsen()));
-        }
-    }
+    let steps = acts(&mut b, &mut c, 300.0, 3 * ACT_EVERY, |b| {
+        (b.grass_shadows_off(), b.fold(), b.lod_coarsen())
+    });
     assert_eq!(steps[0], (true, true, 1.0), "{steps:?}");
     assert_eq!(steps[1], (true, false, 1.0), "{steps:?}");
     assert_eq!(steps[2], (true, false, LOD_COARSEN), "{steps:?}");
     assert!(b.status().contains("flat blades"), "{}", b.status());
     // Fast again: the fold comes back after the finer meshes, before the shadows.
-    let mut order = Vec::new();
-    for _ in 0..400 {
-        if b.observe(1.0, &mut c).is_some() {
-            order.push((b.grass_shadows_off(), b.fold(), b.lod_coarsen()));
-        }
-    }
+    let order = acts(&mut b, &mut c, 1.0, 400, |b| {
+        (b.grass_shadows_off(), b.fold(), b.lod_coarsen())
+    });
     let n = order.len();
     assert_eq!(order[n - 1], (false, true, 1.0), "{order:?}");
     assert_eq!(order[n - 2], (true, true, 1.0), "{order:?}");
