@@ -128,9 +128,12 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = frame.view_proj;
     let p11 = length(vec3<f32>(m[0][1], m[1][1], m[2][1]));
     let footprint = 2.0 * clip.w / max(p11 * frame.viewport_time.y, 1e-6);
-    // Calibrated on the blades the cards stand for (`far_gain`).
+    // Calibrated on the blades the cards stand for (`far_gain`), at the card's distance
+    // (`distance_gain`).
+    let to_card = length(centre - frame.camera_pos.xyz);
     let patchy = grass_texture(grass_octaves(c.pos.xz), footprint)
-        * far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]));
+        * far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]))
+        * distance_gain(to_card, frame.thinning_reach.x, waves[2]);
     // The contrast the blades have where the cards take over from them (a pixel spans a
     // fraction of a blade's height there), handed over to the far ground's (1: the atlas's
     // own) as a pixel grows to span half a card: further out a pixel of blades would show

@@ -37,7 +37,8 @@ struct GainParams {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Bindings 1 and 2: the terrain's parameters and grid (terrain_height.wgsl).
-// The far state: words 0-1 the gusts' bend at the blades' edge, 4-7 the gain, 8-10 the
+// The far state: words 0-1 the gusts' bend at the blades' edge, 2 the far field's distance
+// gain, 4-7 the gain, 8-10 the
 // blades' ratio to the model, 11 the contrast gain.
 @group(0) @binding(3) var<storage, read_write> far_state: array<u32, 12>;
 @group(0) @binding(4) var<uniform> params: GainParams;
@@ -56,6 +57,9 @@ var<workgroup> far_shown: array<vec4<f32>, 128>;
 var<workgroup> far_model: array<vec4<f32>, 128>;
 var<workgroup> near_shown: array<vec4<f32>, 128>;
 var<workgroup> near_model: array<vec4<f32>, 128>;
+// Per invocation, for the far field's distance gain (`distance_gain`): the luminance shown
+// and the model's (xy) and the pixels (z).
+var<workgroup> far_field: array<vec4<f32>, 128>;
 // Per invocation: the luminance's sums and sums of squares, far ring (xy) and near ring
 // (zw) (`variation`).
 var<workgroup> shown_d: array<vec4<f32>, 128>;
@@ -83,6 +87,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
     var shown_n = zero;
     var model_n = zero;
     var disp = zero;
+    var field = zero;
     for (var k = i; k < cells; k += GAIN_THREADS) {
         let cell = vec2<u32>(k % params.grid.x, k / params.grid.x);
         // A pixel of the grid's cell, a different one each frame: the blades, cards and
@@ -122,6 +127,8 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         shown_n += select(zero, shown, near);
         model_n += select(zero, vec4<f32>(t.model, 0.0), near);
         model_n.w += select(0.0, 1.0, in_near);
+        let in_field = grass && dist >= FAR_BIN.x * params.ring.x && dist < FAR_BIN.y * params.ring.x;
+        field += select(zero, vec4<f32>(d, dot(t.model, LUMA), 1.0, 0.0), in_field);
         disp += select(zero, vec4<f32>(d2, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
     }
     far_shown[i] = shown_f;
@@ -129,6 +136,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
     near_shown[i] = shown_n;
     near_model[i] = model_n;
     shown_d[i] = disp;
+    far_field[i] = field;
     workgroupBarrier();
     for (var s = GAIN_THREADS / 2u; s > 0u; s = s / 2u) {
         if i < s {
@@ -137,6 +145,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
             near_shown[i] += near_shown[i + s];
             near_model[i] += near_model[i + s];
             shown_d[i] += shown_d[i + s];
+            far_field[i] += far_field[i + s];
         }
         workgroupBarrier();
     }
@@ -148,6 +157,11 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         if params.near.z > 0.5 {
             k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, near_shown[0].w, k, n, params.ring.w);
         }
+        // The far field's distance gain, against the ring's need in this frame (its pixels
+        // were lit with the light gain alone: the ramp starts past it).
+        let ring_shown = dot(far_shown[0].rgb, LUMA);
+        let ring_need = select(0.0, dot(far_model[0].rgb, LUMA) / ring_shown, far_shown[0].w >= GAIN_MIN_SAMPLES && ring_shown > 1e-6);
+        far_state[2] = bitcast<u32>(next_distance_gain(far_field[0].xyz, ring_need, bitcast<f32>(far_state[2]), n, params.ring.w));
         store_gain(4u, next);
         store_gain(8u, vec4<f32>(blades_ratio(near_shown[0], near_model[0]), k));
     }

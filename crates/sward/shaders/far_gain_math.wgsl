@@ -162,3 +162,49 @@ fn far_gain(words: vec4<u32>) -> vec3<f32> {
     let g = bitcast<vec4<f32>>(words);
     return select(vec3<f32>(1.0), g.rgb, g.w > 0.5);
 }
+
+// The far field's distance gain (issue 27, point 1): the light gain brings the far ring
+// (`ring`, the far levels' first metres) to the blades' aim, but the cards and the far
+// ground do not change with distance as the blades would (the cards' mip and contrast hand
+// over to the far ground's look, their levels grow, more ground shows between them), and
+// past the ring the prairie's far levels read 2-6 levels darker than the ring. So the far
+// field (FAR_BIN, multiples of the reach) is measured against the same aim and kept as a
+// multiplier of the light gain (luminance), lit from twice the reach on, going over from 1
+// (the ring, lit with the light gain alone) from 1.5 times it (FAR_RAMP).
+const FAR_BIN: vec2<f32> = vec2<f32>(2.0, 5.0);
+const FAR_RAMP: vec2<f32> = vec2<f32>(1.5, 2.0);
+// The range the multiplier is kept in: it corrects how the far levels change with
+// distance, not their light (the light gain's).
+const DISTANCE_GAIN_MIN: f32 = 0.7;
+const DISTANCE_GAIN_MAX: f32 = 1.4;
+
+// The light gain's multiplier at distance `d` (m) from the camera with the blades' reach
+// `reach`, from the far field's state word (0: not measured, 1).
+fn distance_gain(d: f32, reach: f32, far: u32) -> f32 {
+    // No reach (no blades, or every blade drawn): nothing was measured.
+    if !finite3(vec3<f32>(reach, d, 0.0)) || reach <= 0.0 {
+        return 1.0;
+    }
+    let m = bitcast<f32>(far);
+    let field = select(1.0, m, m > 0.0);
+    return mix(1.0, field, smoothstep(FAR_RAMP.x * reach, FAR_RAMP.y * reach, d));
+}
+
+// The far field's multiplier after a frame's sums: the luminance shown and the model's
+// (`sums`, xy) over its pixels (z), and `ring` the ring's model over shown luminance in the
+// same frame: the field should need what the ring needs (the blades' ratio, in both,
+// cancels), so the multiplier moves by the field's need over the ring's. `previous` is the
+// multiplier it was lit with (0 before the first measurement), `n` and `blend` as
+// `next_contrast`'s; too few pixels, or a frame that is not finite, keep it.
+fn next_distance_gain(sums: vec3<f32>, ring: f32, previous: f32, n: f32, blend: f32) -> f32 {
+    if sums.z < GAIN_MIN_SAMPLES || sums.x <= 1e-6 || sums.y <= 1e-6 || ring <= 1e-6 {
+        return previous;
+    }
+    let old = select(1.0, previous, previous > 0.0);
+    let raw = old * sums.y / sums.x / ring;
+    if !finite3(vec3<f32>(raw, ring, 0.0)) {
+        return previous;
+    }
+    let aim = clamp(raw, DISTANCE_GAIN_MIN, DISTANCE_GAIN_MAX);
+    return mix(old, aim, max(1.0 / (n + 1.0), blend));
+}

@@ -97,8 +97,10 @@ fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) 
     let to_p = out.world - frame.camera_pos.xyz;
     out.sky = sky_radiance(to_p / max(length(to_p), 1e-4));
     let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb, mean_wave(waves[0], waves[1]));
-    // Calibrated on the blades this light stands for (`far_gain`).
-    let gain = far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]));
+    // Calibrated on the blades this light stands for (`far_gain`), at its distance
+    // (`distance_gain`).
+    let gain = far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]))
+        * distance_gain(length(to_p), frame.thinning_reach.x, waves[2]);
     out.grass_ambient = grass.ambient * gain;
     out.grass_sun = grass.sun * gain;
     // A pixel spans 2 w / (P11 · height) metres across the view at view depth w (P11 the

@@ -291,6 +291,8 @@ pub fn render(o: &RenderOptions) -> Result<()> {
              {contrast:.3}",
             ratio.x, ratio.y, ratio.z
         );
+        let far = world.renderer.far_distance_gain(&gpu)?;
+        println!("far field's distance gain (times the light gain): {far:.3}");
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
             let total: f64 = sums.iter().sum::<f64>() / timed as f64 + wind_total;

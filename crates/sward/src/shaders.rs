@@ -41,6 +41,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/contrast_probe.wgsl"),
     ),
     (
+        "distance_gain_probe.wgsl",
+        include_str!("../shaders/distance_gain_probe.wgsl"),
+    ),
+    (
         "div_small_probe.wgsl",
         include_str!("../shaders/div_small_probe.wgsl"),
     ),
@@ -223,6 +227,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain_msaa.wgsl",
     "far_gain_probe.wgsl",
     "contrast_probe.wgsl",
+    "distance_gain_probe.wgsl",
     "div_small_probe.wgsl",
     "octahedral_probe.wgsl",
     "grass_texture_probe.wgsl",

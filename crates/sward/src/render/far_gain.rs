@@ -24,6 +24,13 @@
 //!   pixels vary about their mean (standard deviation of luminance over the mean) as the
 //!   near ring's blades do about theirs.
 //!
+//! - **the far field's distance gain** (word [`DISTANCE_WORD`]): the light gain brings the
+//!   ring to the aim, but the cards and the far ground do not change with distance as
+//!   blades would (the cards' mip and contrast hand over to the far ground's look, their
+//!   levels grow, the ground shows between them). The far field ([`FAR_BIN`]) is measured
+//!   against the same aim, kept as a multiplier of the light gain in luminance
+//!   ([`distance_gain`]); the ring itself is lit with the light gain alone.
+//!
 //! Each measurement enters a running mean until there are 1 / [`BLEND`] of them, then moves
 //! the gains [`BLEND`] of the way: the jittered pixels average into the field's, and a
 //! change of light settles in a few frames without flicker. Until measured both are 1. A
@@ -56,8 +63,29 @@ pub const RING: (f32, f32) = (1.0, 1.5);
 /// where the cards fade in (from `billboard::FADE_IN`, half the reach). Only its pixels
 /// standing on a blade are measured: the ground between the near blades is soil turning to
 /// the far ground's grass (lit with the gain, which it would feed back), and a camera looking
-/// down sees more of it there than a grazing view of the far field does.
-pub const NEAR_RING: (f32, f32) = (0.25, 0.5);
+/// down sees more of it there than a grazing view of the far field does. Its outer part,
+/// not its first metres: once the fluid wind has bent the prairie the blades' ratio to the
+/// model rises steeply within a third of the reach (1.56 at 5-9 m, 1.37 at 9-14 m, 1.29 at
+/// 14-20 m and 1.23-1.26 at 28-50 m after 240 frames), and the far levels should show what
+/// the blades would far out.
+pub const NEAR_RING: (f32, f32) = (0.35, 0.5);
+
+/// The far field's bin, as multiples of the blades' reach (twin of `FAR_BIN`): measured
+/// against the aim the ring is brought to, kept as a multiplier of the light gain
+/// ([`distance_gain`], [`next_distance_gain`]).
+pub const FAR_BIN: (f32, f32) = (2.0, 5.0);
+
+/// Where the multiplier goes over from 1 (the ring, lit with the light gain alone) to the
+/// far field's (multiples of the reach; twin of `FAR_RAMP`).
+pub const FAR_RAMP: (f32, f32) = (1.5, 2.0);
+
+/// The range the far field's multiplier is kept in (twin of `DISTANCE_GAIN_MIN`,
+/// `DISTANCE_GAIN_MAX`).
+pub const DISTANCE_GAIN_RANGE: (f32, f32) = (0.7, 1.4);
+
+/// Word of the far state holding the far field's distance gain (0 before the first
+/// measurement).
+pub const DISTANCE_WORD: usize = 2;
 
 /// The range kept of the blades' ratio to the model (twin of `BLADES_MIN`, `BLADES_MAX`).
 pub const BLADES_RANGE: (f32, f32) = (0.5, 2.0);
@@ -192,6 +220,67 @@ pub fn next_gain(
     (old.lerp(aim, step(n, blend)), (n + 1.0).min(cap))
 }
 
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The light gain's multiplier at distance `d` (m) from the camera, for blades reaching
+/// `reach`, from the far field's multiplier (0: not measured, 1) (twin of `distance_gain`):
+/// 1 up to 1.5 times the reach (the ring), the far field's from twice it, smoothly between.
+pub fn distance_gain(d: f32, reach: f32, far: f32) -> f32 {
+    if !reach.is_finite() || !d.is_finite() || reach <= 0.0 {
+        return 1.0;
+    }
+    let field = if far > 0.0 { far } else { 1.0 };
+    1.0 + (field - 1.0) * smoothstep(FAR_RAMP.0 * reach, FAR_RAMP.1 * reach, d)
+}
+
+/// The far field's distance gain after a frame's sums (twin of `next_distance_gain`):
+/// `shown` and `model` its luminance sums over `pixels`, `ring_need` the ring's model over shown
+/// luminance in the same frame, `previous` the multiplier it was lit with (0 before the
+/// first), `n` and `blend` as [`next_contrast`]'s. The field should need what the ring
+/// needs (the blades' ratio cancels), so the multiplier moves by its need over the ring's.
+pub fn next_distance_gain(
+    (shown, model, pixels): (f32, f32, f32),
+    ring_need: f32,
+    previous: f32,
+    n: f32,
+    blend: f32,
+) -> f32 {
+    if pixels < MIN_SAMPLES || shown <= 1e-6 || model <= 1e-6 || ring_need <= 1e-6 {
+        return previous;
+    }
+    let old = if previous > 0.0 { previous } else { 1.0 };
+    let raw = old * model / shown / ring_need;
+    if !raw.is_finite() || !ring_need.is_finite() {
+        return previous;
+    }
+    let aim = raw.clamp(DISTANCE_GAIN_RANGE.0, DISTANCE_GAIN_RANGE.1);
+    old + (aim - old) * step(n, blend)
+}
+
+/// Runs the WGSL distance gain on the GPU (`distance_gain_probe.wgsl`): per point,
+/// (distance, reach, multiplier, unused) and the field's (shown, model, pixels, ring's need),
+/// (previous, n, blend); returns ([`distance_gain`], [`next_distance_gain`])'s GPU values.
+pub fn distance_probe(gpu: &Gpu, points: &[([f32; 4], [f32; 4], [f32; 3])]) -> Result<Vec<(f32, f32)>> {
+    let at: Vec<[f32; 4]> = points.iter().map(|p| p.0).collect();
+    let sums: Vec<[f32; 4]> = points.iter().map(|p| p.1).collect();
+    let prev: Vec<[f32; 4]> = points.iter().map(|p| [p.2[0], p.2[1], p.2[2], 0.0]).collect();
+    let out = crate::gpu::run_vec4_probe(
+        gpu,
+        "sward.distance_gain_probe",
+        "distance_gain_probe.wgsl",
+        &[
+            bytemuck::cast_slice(&at),
+            bytemuck::cast_slice(&sums),
+            bytemuck::cast_slice(&prev),
+        ],
+        points.len(),
+    )?;
+    Ok(out.iter().map(|v| (v[0], v[1])).collect())
+}
+
 /// The cards' contrast gain after a frame's sums (twin of `next_contrast`): `previous` the
 /// gain they were lit with (0 before the first measurement), `n` the measurements the
 /// light gain averaged before this frame's.
@@ -250,6 +339,15 @@ impl super::Renderer {
         let words: &[f32] = bytemuck::cast_slice(&bytes);
         let g = &words[GAIN_WORD..GAIN_WORD + 4];
         Ok((g[3] > 0.5).then(|| Vec3::new(g[0], g[1], g[2])))
+    }
+
+    /// The far field's distance gain, 1 before measured (blocking read-back, for
+    /// statistics and tests).
+    pub fn far_distance_gain(&self, gpu: &Gpu) -> Result<f32> {
+        let bytes = crate::gpu::read_buffer(gpu, self.draw.waves_buffer(), STATE_BYTES)?;
+        let words: &[f32] = bytemuck::cast_slice(&bytes);
+        let m = words[DISTANCE_WORD];
+        Ok(if m > 0.0 { m } else { 1.0 })
     }
 
     /// The blades' ratio to the far light model in the near ring (rgb) and the cards'
