@@ -755,11 +755,11 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                 Some(g) => format!("far levels' light gain: {:.2} {:.2} {:.2}", g.x, g.y, g.z),
                 None => "far levels' light gain: not measured yet".to_string(),
             });
-            let (ratio, contrast) = app.far_calibration;
+            let far = app.far_calibration;
             ui.label(format!(
                 "blades against the far light model: {:.2} {:.2} {:.2}; cards' contrast gain: \
-                 {contrast:.2}",
-                ratio.x, ratio.y, ratio.z
+                 {:.2}; far field's distance gain: {:.2}",
+                far.ratio.x, far.ratio.y, far.ratio.z, far.contrast, far.distance
             ));
             match app.stats.pass_ms {
                 Some(ms) => {

@@ -11,6 +11,7 @@
 // linear interpolation between the coarser rows around it), so at the threshold the finer
 // mesh has the coarser one's shape and the switch moves nothing.
 //!include common.wgsl
+//!include thinning.wgsl
 //!include light.wgsl
 //!include blade_shade.wgsl
 //!include wind.wgsl
@@ -179,6 +180,9 @@ struct BladeCtx {
     cwd_wind: vec3<f32>,
     // How many times as wide the thinning draws the blade (`thinning_widen`).
     widen: f32,
+    // Where the drawn blade starts (its v, `thinned_root`): the mesh's rows span v from
+    // here to the tip.
+    root_v: f32,
     // The width direction in clip space (`frame.view_proj` times (side, 0)). The projection
     // is linear, so a point's two edges, its centre ± the half width along `side`, land at
     // the centre's clip position ± the half width times this: Eq. 24's width in pixels takes
@@ -190,7 +194,8 @@ fn blade_ctx(blade: Blade) -> BladeCtx {
     let axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
     let widen = thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
     let clip_side = frame.view_proj * vec4<f32>(axes[0], 0.0);
-    var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0), widen, clip_side);
+    let root_v = thinned_root(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0), widen, root_v, clip_side);
     if blade_model() == MODEL_CWD {
         ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);
     }
@@ -239,25 +244,19 @@ fn blade_shape(blade: Blade) -> u32 {
     return select(u32(frame.shape.x), u32(s.attrs.w), s.color.w > 0.5);
 }
 
-// How much wider a blade is drawn so that the blades Eq. 20 keeps cover what it dropped:
-// at a distance where the cull keeps `keep` blades in n (cull.wgsl), each kept blade is n /
-// keep times as wide (issue 27: thinning keeps the coverage, as in Ghost of Tsushima).
-// Within the first level, and without thinning, 1.
-// At most this much wider: past it (from half the reach, where keep falls below 4 in 8) the
-// blades read as broad leaves (at 3, the prairie's last levels at 960x540 were a band of
-// bright blobs), and the billboards fading in there (from half the reach) fill the gaps:
-// since `far_gain` calibrates them on the blades they look like the blades they replace.
-const MAX_WIDEN: f32 = 2.0;
+// The blade's distance from the culling camera across its up axis, as Eq. 20's cull
+// measures it, and the thinning's terms (`thinning.wgsl`).
+fn thinning_distance(v0: vec3<f32>, up: vec3<f32>) -> f32 {
+    let rel = v0 - frame.thinning.xyz;
+    return length(rel - up * dot(rel, up));
+}
 
 fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
-    let n = frame.thinning.w;
-    if n < 0.5 {
-        return 1.0;
-    }
-    let rel = v0 - frame.thinning.xyz;
-    let d_proj = length(rel - up * dot(rel, up));
-    let keep = floor(n * (1.0 - d_proj / max(frame.thinning_reach.x, 1e-6)));
-    return min(n / max(keep, 1.0), MAX_WIDEN);
+    return thinning_widen_at(thinning_distance(v0, up), frame.thinning_reach.x, frame.thinning.w);
+}
+
+fn thinned_root(v0: vec3<f32>, up: vec3<f32>) -> f32 {
+    return thinned_root_at(thinning_distance(v0, up), frame.thinning_reach.x, frame.thinning.w);
 }
 
 // The flat blade's normal from Eq. 21's tangent `t` and the width direction `side` (the
@@ -481,6 +480,10 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         card.x = -1.0;
     }
     let ctx = blade_ctx(blade);
+    // A thinned blade is drawn from `ctx.root_v` up (`thinned_root`); a flower keeps its
+    // stem whole under its head.
+    let root_v = select(ctx.root_v, 0.0, flower);
+    v = root_v + (1.0 - root_v) * v;
     var point = blade_point(blade, ctx, index, u, v, 0.0);
     if head && row >= rows - 1u {
         let a = (u - 0.5) * 2.0;
@@ -502,10 +505,12 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         let num = row * coarse;
         let below = div_small(num, rows);
         let rem = num - below * rows;
-        var coarse_point = blade_point(blade, ctx, index, u, f32(below) / f32(coarse), fold);
+        let v_below = root_v + (1.0 - root_v) * f32(below) / f32(coarse);
+        var coarse_point = blade_point(blade, ctx, index, u, v_below, fold);
         if rem != 0u {
             let f = f32(rem) / f32(rows);
-            let b = blade_point(blade, ctx, index, u, f32(below + 1u) / f32(coarse), fold);
+            let v_above = root_v + (1.0 - root_v) * f32(below + 1u) / f32(coarse);
+            let b = blade_point(blade, ctx, index, u, v_above, fold);
             coarse_point = BladePoint(mix(coarse_point.p, b.p, f), normalize(mix(coarse_point.n, b.n, f)));
         }
         if rem != 0u || (fold > 0.5 && cols == 3u && col == 1u) {

@@ -94,7 +94,7 @@ fn vis_lit_at(index: u32, uv: vec2<f32>, world: vec3<f32>, sky: vec3<f32>, sun_l
 // wind; the rest is left neutral.
 fn light_ctx(blade: Blade) -> BladeCtx {
     let axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
-    var ctx = BladeCtx(axes[0], axes[1], 0u, vec3<f32>(0.0), 1.0, vec4<f32>(0.0));
+    var ctx = BladeCtx(axes[0], axes[1], 0u, vec3<f32>(0.0), 1.0, 0.0, vec4<f32>(0.0));
     if blade_model() == MODEL_CWD {
         ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);
     }

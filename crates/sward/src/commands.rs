@@ -285,14 +285,17 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             ),
             None => println!("far levels' light gain: not measured (none in view)"),
         }
-        let (ratio, contrast) = world.renderer.far_calibration(&gpu)?;
+        let far = world.renderer.far_calibration(&gpu)?;
+        let (ratio, contrast) = (far.ratio, far.contrast);
         println!(
             "blades against the far light model: {:.3} {:.3} {:.3}; cards' contrast gain: \
              {contrast:.3}",
             ratio.x, ratio.y, ratio.z
         );
-        let far = world.renderer.far_distance_gain(&gpu)?;
-        println!("far field's distance gain (times the light gain): {far:.3}");
+        println!(
+            "far field's distance gain (times the light gain): {:.3}",
+            far.distance
+        );
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
             let total: f64 = sums.iter().sum::<f64>() / timed as f64 + wind_total;

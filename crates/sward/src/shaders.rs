@@ -40,6 +40,11 @@ const FILES: &[(&str, &str)] = &[
         "contrast_probe.wgsl",
         include_str!("../shaders/contrast_probe.wgsl"),
     ),
+    ("thinning.wgsl", include_str!("../shaders/thinning.wgsl")),
+    (
+        "thinning_probe.wgsl",
+        include_str!("../shaders/thinning_probe.wgsl"),
+    ),
     (
         "distance_gain_probe.wgsl",
         include_str!("../shaders/distance_gain_probe.wgsl"),
@@ -228,6 +233,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain_probe.wgsl",
     "contrast_probe.wgsl",
     "distance_gain_probe.wgsl",
+    "thinning_probe.wgsl",
     "div_small_probe.wgsl",
     "octahedral_probe.wgsl",
     "grass_texture_probe.wgsl",

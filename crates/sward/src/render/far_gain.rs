@@ -341,26 +341,45 @@ impl super::Renderer {
         Ok((g[3] > 0.5).then(|| Vec3::new(g[0], g[1], g[2])))
     }
 
-    /// The far field's distance gain, 1 before measured (blocking read-back, for
-    /// statistics and tests).
-    pub fn far_distance_gain(&self, gpu: &Gpu) -> Result<f32> {
-        let bytes = crate::gpu::read_buffer(gpu, self.draw.waves_buffer(), STATE_BYTES)?;
-        let words: &[f32] = bytemuck::cast_slice(&bytes);
-        let m = words[DISTANCE_WORD];
-        Ok(if m > 0.0 { m } else { 1.0 })
-    }
-
-    /// The blades' ratio to the far light model in the near ring (rgb) and the cards'
-    /// contrast gain, as the last frame measured them (1 and 1 before the first;
-    /// blocking read-back, for statistics and tests).
-    pub fn far_calibration(&self, gpu: &Gpu) -> Result<(Vec3, f32)> {
+    /// The far levels' calibration as the last frame measured it (each 1 before
+    /// measured; blocking read-back, for statistics and tests).
+    pub fn far_calibration(&self, gpu: &Gpu) -> Result<FarCalibration> {
         let bytes = crate::gpu::read_buffer(gpu, self.draw.waves_buffer(), STATE_BYTES)?;
         let words: &[f32] = bytemuck::cast_slice(&bytes);
         let g = &words[CALIBRATION_WORD..CALIBRATION_WORD + 4];
-        if g[3] <= 0.0 {
-            return Ok((Vec3::ONE, 1.0));
+        let (ratio, contrast) = if g[3] <= 0.0 {
+            (Vec3::ONE, 1.0)
+        } else {
+            (Vec3::new(g[0], g[1], g[2]), g[3])
+        };
+        let m = words[DISTANCE_WORD];
+        let distance = if m > 0.0 { m } else { 1.0 };
+        Ok(FarCalibration {
+            ratio,
+            contrast,
+            distance,
+        })
+    }
+}
+
+/// What the far levels are calibrated with besides the light gain (`Renderer::far_calibration`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FarCalibration {
+    /// The blades' ratio to the far light model in the near ring (rgb).
+    pub ratio: Vec3,
+    /// The cards' contrast gain.
+    pub contrast: f32,
+    /// The far field's distance gain (times the light gain, [`distance_gain`]).
+    pub distance: f32,
+}
+
+impl Default for FarCalibration {
+    fn default() -> Self {
+        Self {
+            ratio: Vec3::ONE,
+            contrast: 1.0,
+            distance: 1.0,
         }
-        Ok((Vec3::new(g[0], g[1], g[2]), g[3]))
     }
 }
 

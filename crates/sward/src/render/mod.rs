@@ -33,6 +33,7 @@ pub mod skinning;
 pub mod taa;
 pub mod target;
 pub mod terrain;
+pub mod thinning;
 pub mod tiles;
 pub mod timing;
 pub mod upscale;

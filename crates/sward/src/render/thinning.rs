@@ -1,0 +1,47 @@
+//! Eq. 20's thinning as the blades are drawn (issue 27, point 1: thinning keeps the
+//! coverage): the CPU twins of `shaders/thinning.wgsl`. The cull keeps `floor(n (1 − d /
+//! d_max))` blades in `n` at distance `d`; the kept blades are drawn wider ([`widen`], as
+//! Ghost of Tsushima's) so that they cover what was dropped, at most [`MAX_WIDEN`] times,
+//! and past the distance where that no longer covers it (half the reach) each is drawn
+//! from part way up ([`root`]): a lone blade among the cards fading in shows its shaded
+//! lower part, which the full field's neighbours hide from a distant eye, and the cards
+//! stand for the canopy below.
+
+use crate::error::Result;
+use crate::gpu::Gpu;
+
+/// The most a kept blade is widened (twin of `MAX_WIDEN`).
+pub const MAX_WIDEN: f32 = 2.0;
+
+/// How many times as wide a kept blade at distance `d` is drawn, for the reach `reach` and
+/// `n` distance levels (0: no thinning) (twin of `thinning_widen_at`).
+pub fn widen(d: f32, reach: f32, n: f32) -> f32 {
+    if n < 0.5 {
+        return 1.0;
+    }
+    let keep = (n * (1.0 - d / reach.max(1e-6))).floor();
+    (n / keep.max(1.0)).min(MAX_WIDEN)
+}
+
+/// Where a kept blade at distance `d` starts to be drawn, as its v (0: the root; twin of
+/// `thinned_root_at`): `1 − MAX_WIDEN (1 − d / reach)`, within 0 and 1.
+pub fn root(d: f32, reach: f32, n: f32) -> f32 {
+    if n < 0.5 {
+        return 0.0;
+    }
+    (1.0 - MAX_WIDEN * (1.0 - d / reach.max(1e-6))).clamp(0.0, 1.0)
+}
+
+/// Runs the WGSL twins on the GPU (`thinning_probe.wgsl`) at each (distance, reach,
+/// levels) of `points`: ([`widen`], [`root`]) as the GPU computes them.
+pub fn probe(gpu: &Gpu, points: &[(f32, f32, f32)]) -> Result<Vec<(f32, f32)>> {
+    let flat: Vec<[f32; 4]> = points.iter().map(|&(d, r, n)| [d, r, n, 0.0]).collect();
+    let out = crate::gpu::run_vec4_probe(
+        gpu,
+        "sward.thinning_probe",
+        "thinning_probe.wgsl",
+        &[bytemuck::cast_slice(&flat)],
+        points.len(),
+    )?;
+    Ok(out.iter().map(|v| (v[0], v[1])).collect())
+}

@@ -1,0 +1,78 @@
+//! Eq. 20's thinning as the blades are drawn (issue 27, point 1; `render::thinning`): the
+//! WGSL widening and root against their CPU twins, and what they keep: the kept blades'
+//! coverage (kept share times width) never above the full field's, whole up to half the
+//! reach, and the part drawn of each blade shrinking towards the tip, without a step,
+//! only where the widening no longer covers what the cull dropped.
+//!
+//! Measured on lavapipe: the GPU values equal to the twin's within 1e-6.
+
+mod common;
+
+use sward::render::thinning::{self, root, widen, MAX_WIDEN};
+
+const REACH: f32 = 28.0;
+const LEVELS: f32 = 8.0;
+
+#[test]
+fn the_gpu_thinning_matches_its_twin() {
+    let gpu = common::gpu();
+    let mut points = Vec::new();
+    for i in 0..=200 {
+        let d = REACH * 1.2 * i as f32 / 200.0;
+        points.push((d, REACH, LEVELS));
+        points.push((d, REACH, 0.0));
+        points.push((d, 11.0, 3.0));
+    }
+    points.push((5.0, 0.0, LEVELS));
+    let gpu_values = thinning::probe(&gpu, &points).expect("probe");
+    for (&(d, r, n), &(w, v)) in points.iter().zip(&gpu_values) {
+        assert!(
+            (w - widen(d, r, n)).abs() <= 1e-6,
+            "widen at {d} m of {r} ({n}): {w}"
+        );
+        assert!(
+            (v - root(d, r, n)).abs() <= 1e-6,
+            "root at {d} m of {r} ({n}): {v}"
+        );
+    }
+}
+
+#[test]
+fn the_kept_blades_cover_what_the_cull_dropped_up_to_half_the_reach() {
+    let mut last_root = 0.0;
+    for i in 0..=1000 {
+        let d = REACH * i as f32 / 1000.0;
+        let keep = (LEVELS * (1.0 - d / REACH)).floor();
+        let w = widen(d, REACH, LEVELS);
+        let r = root(d, REACH, LEVELS);
+        assert!((1.0..=MAX_WIDEN).contains(&w), "widen {w} at {d} m");
+        if keep >= 1.0 {
+            let coverage = keep / LEVELS * w;
+            assert!(
+                coverage <= 1.0 + 1e-6,
+                "more than the full field at {d} m: {coverage}"
+            );
+            if d <= 0.5 * REACH {
+                assert!(
+                    (coverage - 1.0).abs() < 1e-6,
+                    "coverage lost at {d} m: {coverage}"
+                );
+                assert_eq!(r, 0.0, "a blade cut within half the reach ({d} m)");
+            }
+        }
+        // The root rises with the distance, smoothly (no step as a blade crosses a level),
+        // and reaches the tip at the reach.
+        assert!(
+            r >= last_root && r - last_root < 0.01,
+            "root {last_root} -> {r} at {d} m"
+        );
+        last_root = r;
+    }
+    assert_eq!(root(REACH, REACH, LEVELS), 1.0);
+    assert!((root(0.75 * REACH, REACH, LEVELS) - 0.5).abs() < 1e-6);
+    // Without thinning every blade is whole and as wide as it is.
+    for d in [0.0, 10.0, 27.0, 40.0] {
+        assert_eq!(widen(d, REACH, 0.0), 1.0);
+        assert_eq!(root(d, REACH, 0.0), 0.0);
+    }
+}
