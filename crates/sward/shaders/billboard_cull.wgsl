@@ -28,8 +28,8 @@
 @group(0) @binding(10) var<storage, read_write> cards: array<DrawnCard>;
 @group(0) @binding(11) var<storage, read_write> args: CardDrawArgs;
 // The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
-// `wave_blades`), in words 4-7 the far levels' measured light gain and in word 11 the cards'
-// contrast gain (far_gain_math.wgsl).
+// `wave_blades`), in word 2 the far field's distance gain, in words 4-7 the far levels'
+// measured light gain and in word 11 the cards' contrast gain (far_gain_math.wgsl).
 @group(0) @binding(12) var<storage, read> waves: array<u32, 12>;
 // The trail map (`trails.wgsl`): cards over a trail lie down as its blades did.
 @group(0) @binding(13) var<storage, read> trails: array<u32>;

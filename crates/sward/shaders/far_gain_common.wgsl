@@ -38,8 +38,7 @@ struct GainParams {
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Bindings 1 and 2: the terrain's parameters and grid (terrain_height.wgsl).
 // The far state: words 0-1 the gusts' bend at the blades' edge, 2 the far field's distance
-// gain, 4-7 the gain, 8-10 the
-// blades' ratio to the model, 11 the contrast gain.
+// gain, 4-7 the gain, 8-10 the blades' ratio to the model, 11 the contrast gain.
 @group(0) @binding(3) var<storage, read_write> far_state: array<u32, 12>;
 @group(0) @binding(4) var<uniform> params: GainParams;
 @group(0) @binding(5) var scene_color: texture_2d<f32>;

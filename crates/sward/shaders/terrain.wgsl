@@ -16,7 +16,8 @@
 @group(0) @binding(3) var density_map: texture_2d<f32>;
 @group(0) @binding(4) var density_sampler: sampler;
 // The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
-// `wave_blades`), and in words 4-7 the far levels' measured light gain (far_gain_math.wgsl).
+// `wave_blades`), in word 2 the far field's distance gain and in words 4-7 the far levels'
+// measured light gain (far_gain_math.wgsl).
 @group(0) @binding(5) var<storage, read> waves: array<u32, 8>;
 // The trail map (`trails.wgsl`): a path pressed into the grass shows on the far ground.
 @group(0) @binding(6) var<storage, read> trails: array<u32>;
