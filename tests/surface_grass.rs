@@ -18,11 +18,15 @@ use sward::scene::{Field, MeshObject, Range, Scene};
 use sward::session::Session;
 use sward::sim::layout::Blade;
 
-/// A 1 m cube as OBJ, each face its own four corners (flat normals), in a scratch folder.
+/// A 1 m cube as OBJ, each face its own four corners (flat normals), in a scratch folder:
+/// a file of its own per call, since the tests run in parallel and one rewriting a shared
+/// file while another loads it left the loader an empty one ("no triangles").
 fn cube_obj() -> PathBuf {
+    static CALLS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
     let dir = std::env::temp_dir().join(format!("sward-surface-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch");
-    let path = dir.join("cube.obj");
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let path = dir.join(format!("cube-{call}.obj"));
     let mut text = String::new();
     let quads: [[[f32; 3]; 4]; 6] = [
         [[0., 0., 0.], [0., 0., 1.], [0., 1., 1.], [0., 1., 0.]],
