@@ -11,7 +11,7 @@
 //!   the far ground took the blades' light);
 //! - every textured band's contrast within the 30 % (`CONTRAST_BOUND`);
 //! - the thinned near field within the 5 levels and 30 % (1.9 levels and 7 %
-//!   measured: the kept blades widen, `thinning_widen`, and keep the shape the full
+//!   measured: the kept blades widen, `thinning_widen_at`, and keep the shape the full
 //!   field's thinner blades have).
 //!
 //! With the prairie's 4x MSAA the blades are lit deferred (`render::deferred`), as they are

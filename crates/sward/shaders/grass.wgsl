@@ -178,9 +178,9 @@ struct BladeCtx {
     shape: u32,
     // CWD-Sim's wind at the blade (zero for the other models).
     cwd_wind: vec3<f32>,
-    // How many times as wide the thinning draws the blade (`thinning_widen`).
+    // How many times as wide the thinning draws the blade (`thinning_widen_at`).
     widen: f32,
-    // Where the drawn blade starts (its v, `thinned_root`): the mesh's rows span v from
+    // Where the drawn blade starts (its v, `thinned_root_at`): the mesh's rows span v from
     // here to the tip.
     root_v: f32,
     // The width direction in clip space (`frame.view_proj` times (side, 0)). The projection
@@ -192,9 +192,12 @@ struct BladeCtx {
 
 fn blade_ctx(blade: Blade) -> BladeCtx {
     let axes = blade_frame(blade.up_stiffness.xyz, blade.v0_dir.w);
-    let widen = thinning_widen(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    // Eq. 20's thinning at the blade's distance (`thinning.wgsl`): its widening and where
+    // the drawn blade starts.
+    let d = thinning_distance(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    let widen = thinning_widen_at(d, frame.thinning_reach.x, frame.thinning.w);
     let clip_side = frame.view_proj * vec4<f32>(axes[0], 0.0);
-    let root_v = thinned_root(blade.v0_dir.xyz, blade.up_stiffness.xyz);
+    let root_v = thinned_root_at(d, frame.thinning_reach.x, frame.thinning.w);
     var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0), widen, root_v, clip_side);
     if blade_model() == MODEL_CWD {
         ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);
@@ -245,18 +248,10 @@ fn blade_shape(blade: Blade) -> u32 {
 }
 
 // The blade's distance from the culling camera across its up axis, as Eq. 20's cull
-// measures it, and the thinning's terms (`thinning.wgsl`).
+// measures it.
 fn thinning_distance(v0: vec3<f32>, up: vec3<f32>) -> f32 {
     let rel = v0 - frame.thinning.xyz;
     return length(rel - up * dot(rel, up));
-}
-
-fn thinning_widen(v0: vec3<f32>, up: vec3<f32>) -> f32 {
-    return thinning_widen_at(thinning_distance(v0, up), frame.thinning_reach.x, frame.thinning.w);
-}
-
-fn thinned_root(v0: vec3<f32>, up: vec3<f32>) -> f32 {
-    return thinned_root_at(thinning_distance(v0, up), frame.thinning_reach.x, frame.thinning.w);
 }
 
 // The flat blade's normal from Eq. 21's tangent `t` and the width direction `side` (the
@@ -480,7 +475,7 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         card.x = -1.0;
     }
     let ctx = blade_ctx(blade);
-    // A thinned blade is drawn from `ctx.root_v` up (`thinned_root`); a flower keeps its
+    // A thinned blade is drawn from `ctx.root_v` up (`thinned_root_at`); a flower keeps its
     // stem whole under its head.
     let root_v = select(ctx.root_v, 0.0, flower);
     v = root_v + (1.0 - root_v) * v;

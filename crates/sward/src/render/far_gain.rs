@@ -48,6 +48,7 @@ use glam::Vec3;
 use crate::error::Result;
 use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
+use super::light::sky::smoothstep;
 
 /// Columns and rows of the frame's pixels the measurement looks at (2,048 samples: 16 per
 /// invocation of its one workgroup), one pixel of each cell, a different one each frame.
@@ -218,11 +219,6 @@ pub fn next_gain(
     let n = if measured { previous.1 } else { 0.0 };
     let cap = 1.0 / blend.max(1e-3);
     (old.lerp(aim, step(n, blend)), (n + 1.0).min(cap))
-}
-
-fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
-    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
 }
 
 /// The light gain's multiplier at distance `d` (m) from the camera, for blades reaching

@@ -8,6 +8,7 @@ use glam::{Vec2, Vec3};
 
 use crate::error::Result;
 use crate::gpu::Gpu;
+use super::light::sky::smoothstep;
 
 /// How much each octave (periods 2.9, 0.6 and 0.14 m) moves the light, at most
 /// (`GRASS_TEXTURE`).
@@ -49,11 +50,6 @@ pub fn value_noise(p: Vec2) -> f32 {
 /// The three octaves at world (x, z) (`grass_octaves`).
 pub fn grass_octaves(q: Vec2) -> Vec3 {
     Vec3::from(FREQUENCIES.map(|k| value_noise(q * k)))
-}
-
-fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
-    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
 }
 
 /// The texture from the octaves at a footprint of `footprint` metres per pixel

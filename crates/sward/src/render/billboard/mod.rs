@@ -41,6 +41,7 @@ use crate::field::{hash32, DensityMap, HeightField};
 use crate::scene::types::{Field, Render};
 use crate::sim::layout::SimParams;
 use crate::sim::reference::{wind_at, WindGrid};
+use crate::render::light::sky::smoothstep;
 
 /// Base cells across the billboard radius: the base cell is the radius over this (at least
 /// `MIN_CELL`, at most [`CELL_RADIUS_CAP`] over this); the levels double the cells out
@@ -252,11 +253,6 @@ pub struct Card {
 
 fn rotl17(x: u32) -> u32 {
     x.rotate_left(17)
-}
-
-fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
-    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
 }
 
 /// Card `i` of the grids: level `i / side²`, cell `i % side²` of that level's index space
