@@ -197,7 +197,7 @@ fn blade_ctx(blade: Blade) -> BladeCtx {
     let d = thinning_distance(blade.v0_dir.xyz, blade.up_stiffness.xyz);
     let widen = thinning_widen_at(d, frame.thinning_reach.x, frame.thinning.w);
     let clip_side = frame.view_proj * vec4<f32>(axes[0], 0.0);
-    let root_v = thinned_root_at(d, frame.thinning_reach.x, frame.thinning.w);
+    let root_v = thinned_root_at(d, frame.thinning_reach.x, frame.thinning.w, frame.thinning_reach.y);
     var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0), widen, root_v, clip_side);
     if blade_model() == MODEL_CWD {
         ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);

@@ -1,5 +1,5 @@
 // Probe: the thinning's widening and root (`thinning_widen_at`, `thinned_root_at`,
-// thinning.wgsl) at a list of (distance, reach, distance levels), for the test against
+// thinning.wgsl) at a list of (distance, reach, distance levels, cards), for the test against
 // their CPU twins (`render::thinning`).
 //!include thinning.wgsl
 
@@ -13,5 +13,5 @@ fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = probe_in[i];
-    probe_out[i] = vec4<f32>(thinning_widen_at(p.x, p.y, p.z), thinned_root_at(p.x, p.y, p.z), 0.0, 0.0);
+    probe_out[i] = vec4<f32>(thinning_widen_at(p.x, p.y, p.z), thinned_root_at(p.x, p.y, p.z, p.w), 0.0, 0.0);
 }

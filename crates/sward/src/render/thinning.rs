@@ -5,7 +5,8 @@
 //! and past the distance where that no longer covers it (half the reach) each is drawn
 //! from part way up ([`root`]): a lone blade among the cards fading in shows its shaded
 //! lower part, which the full field's neighbours hide from a distant eye, and the cards
-//! stand for the canopy below.
+//! stand for the canopy below (only where cards are drawn: without them each blade is
+//! drawn whole).
 
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -24,18 +25,22 @@ pub fn widen(d: f32, reach: f32, n: f32) -> f32 {
 }
 
 /// Where a kept blade at distance `d` starts to be drawn, as its v (0: the root; twin of
-/// `thinned_root_at`): `1 − MAX_WIDEN (1 − d / reach)`, within 0 and 1.
-pub fn root(d: f32, reach: f32, n: f32) -> f32 {
-    if n < 0.5 {
+/// `thinned_root_at`): `1 − MAX_WIDEN (1 − d / reach)`, within 0 and 1, where `cards`
+/// stand among the thinned blades for the canopy below; 0 without them.
+pub fn root(d: f32, reach: f32, n: f32, cards: bool) -> f32 {
+    if n < 0.5 || !cards {
         return 0.0;
     }
     (1.0 - MAX_WIDEN * (1.0 - d / reach.max(1e-6))).clamp(0.0, 1.0)
 }
 
 /// Runs the WGSL twins on the GPU (`thinning_probe.wgsl`) at each (distance, reach,
-/// levels) of `points`: ([`widen`], [`root`]) as the GPU computes them.
-pub fn probe(gpu: &Gpu, points: &[(f32, f32, f32)]) -> Result<Vec<(f32, f32)>> {
-    let flat: Vec<[f32; 4]> = points.iter().map(|&(d, r, n)| [d, r, n, 0.0]).collect();
+/// levels, cards) of `points`: ([`widen`], [`root`]) as the GPU computes them.
+pub fn probe(gpu: &Gpu, points: &[(f32, f32, f32, bool)]) -> Result<Vec<(f32, f32)>> {
+    let flat: Vec<[f32; 4]> = points
+        .iter()
+        .map(|&(d, r, n, cards)| [d, r, n, if cards { 1.0 } else { 0.0 }])
+        .collect();
     let out = crate::gpu::run_vec4_probe(
         gpu,
         "sward.thinning_probe",
