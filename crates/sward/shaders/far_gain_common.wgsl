@@ -105,6 +105,13 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let grass = z < 1.0 && abs(above) <= params.ring.z;
         let far = grass && dist >= params.ring.x && dist < params.ring.y;
         let in_near = grass && dist >= params.near.x && dist < params.near.y;
+        let in_field = grass && dist >= FAR_BIN.x * params.ring.x && dist < FAR_BIN.y * params.ring.x;
+        // The light model only where a sum takes it: most of the grid is sky, objects or
+        // ground outside the rings (the model's 16 light evaluations and the shadow lookup
+        // are the pass's cost).
+        if !(far || in_near || in_field) {
+            continue;
+        }
         let n = normalize(vec3<f32>(-h.y, 1.0, -h.z));
         let l = far_grass_light(vec3<f32>(world.x, h.x, world.z), n, terrain.grass_albedo.rgb, wave);
         let should = l.ambient + sun_visibility(world) * l.sun;
@@ -126,7 +133,6 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         shown_n += select(zero, shown, near);
         model_n += select(zero, vec4<f32>(t.model, 0.0), near);
         model_n.w += select(0.0, 1.0, in_near);
-        let in_field = grass && dist >= FAR_BIN.x * params.ring.x && dist < FAR_BIN.y * params.ring.x;
         field += select(zero, vec4<f32>(d, dot(t.model, LUMA), 1.0, 0.0), in_field);
         disp += select(zero, vec4<f32>(d2, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
     }
