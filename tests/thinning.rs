@@ -13,6 +13,8 @@ use sward::render::thinning::{self, root, widen, MAX_WIDEN};
 
 const REACH: f32 = 28.0;
 const LEVELS: f32 = 8.0;
+/// The prairie's billboard radius: the cards stand among every thinned blade.
+const CARDS: f32 = 300.0;
 
 #[test]
 fn the_gpu_thinning_matches_its_twin() {
@@ -20,13 +22,13 @@ fn the_gpu_thinning_matches_its_twin() {
     let mut points = Vec::new();
     for i in 0..=200 {
         let d = REACH * 1.2 * i as f32 / 200.0;
-        for cards in [true, false] {
+        for cards in [CARDS, 24.0, 0.0] {
             points.push((d, REACH, LEVELS, cards));
             points.push((d, REACH, 0.0, cards));
             points.push((d, 11.0, 3.0, cards));
         }
     }
-    points.push((5.0, 0.0, LEVELS, true));
+    points.push((5.0, 0.0, LEVELS, CARDS));
     let gpu_values = thinning::probe(&gpu, &points).expect("probe");
     for (&(d, r, n, cards), &(w, v)) in points.iter().zip(&gpu_values) {
         assert!(
@@ -35,7 +37,7 @@ fn the_gpu_thinning_matches_its_twin() {
         );
         assert!(
             (v - root(d, r, n, cards)).abs() <= 1e-6,
-            "root at {d} m of {r} ({n}, cards {cards}): {v}"
+            "root at {d} m of {r} ({n}, cards to {cards} m): {v}"
         );
     }
 }
@@ -47,7 +49,7 @@ fn the_kept_blades_cover_what_the_cull_dropped_up_to_half_the_reach() {
         let d = REACH * i as f32 / 1000.0;
         let keep = (LEVELS * (1.0 - d / REACH)).floor();
         let w = widen(d, REACH, LEVELS);
-        let r = root(d, REACH, LEVELS, true);
+        let r = root(d, REACH, LEVELS, CARDS);
         assert!((1.0..=MAX_WIDEN).contains(&w), "widen {w} at {d} m");
         if keep >= 1.0 {
             let coverage = keep / LEVELS * w;
@@ -71,14 +73,31 @@ fn the_kept_blades_cover_what_the_cull_dropped_up_to_half_the_reach() {
         );
         last_root = r;
     }
-    assert_eq!(root(REACH, REACH, LEVELS, true), 1.0);
-    assert!((root(0.75 * REACH, REACH, LEVELS, true) - 0.5).abs() < 1e-6);
+    assert_eq!(root(REACH, REACH, LEVELS, CARDS), 1.0);
+    assert!((root(0.75 * REACH, REACH, LEVELS, CARDS) - 0.5).abs() < 1e-6);
     // Without thinning every blade is whole and as wide as it is.
     for d in [0.0, 10.0, 27.0, 40.0] {
         assert_eq!(widen(d, REACH, 0.0), 1.0);
-        assert_eq!(root(d, REACH, 0.0, true), 0.0);
+        assert_eq!(root(d, REACH, 0.0, CARDS), 0.0);
         // Without cards nothing stands for the canopy below: every blade is whole.
-        assert_eq!(root(d, REACH, LEVELS, false), 0.0);
+        assert_eq!(root(d, REACH, LEVELS, 0.0), 0.0);
+    }
+    // Cards drawn to 24 m (the window's budget shortens them): past it every blade is
+    // whole, within 0.85 of it cut as with cards everywhere, and the cut goes over
+    // without a step as the cards fade out.
+    let short = 24.0;
+    let mut last = 0.0;
+    for i in 0..=1000 {
+        let d = REACH * i as f32 / 1000.0;
+        let r = root(d, REACH, LEVELS, short);
+        if d >= short {
+            assert_eq!(r, 0.0, "cut past the cards at {d} m");
+        }
+        if d <= 0.85 * short {
+            assert_eq!(r, root(d, REACH, LEVELS, CARDS), "at {d} m");
+        }
+        assert!((r - last).abs() < 0.01, "root {last} -> {r} at {d} m");
+        last = r;
     }
 }
 

@@ -203,8 +203,8 @@ struct Frame {
     // CWD-Sim Eq. 14: m_min, m_max, c1, c2 (debug.y = 1).
     self_shadow: vec4<f32>,
     // Eq. 20's thinning as the cull applies it: xyz the culling camera, w the distance
-    // levels n (0: no thinning); thinning_reach.x its d_max, y 1 where cards stand among
-    // the thinned blades (`thinned_root_at`), else 0.
+    // levels n (0: no thinning); thinning_reach.x its d_max, y the radius the cards are
+    // drawn to (m; 0 without cards: `thinned_root_at`).
     thinning: vec4<f32>,
     thinning_reach: vec4<f32>,
 }

@@ -1,7 +1,7 @@
 // Eq. 20's thinning as the blades are drawn (issue 27, point 1: thinning keeps the
 // coverage), as pure functions of a blade's distance `d` from the culling camera (across
 // its up axis), the reach `reach` (d_max), the distance levels `n` (0: no thinning) and,
-// for the root, whether cards stand among the thinned blades (`cards`, 1 or 0).
+// for the root, the radius the cards are drawn to (`cards`, m; 0 without cards).
 // The twins are `render::thinning::widen` and `render::thinning::root`.
 
 // At most this much wider: past it (from half the reach, where keep falls below 4 in 8) the
@@ -28,14 +28,15 @@ fn thinning_widen_at(d: f32, reach: f32, n: f32) -> f32 {
 // levels darker than the full field there, and the band where they stand among the first
 // cards 6-12 levels darker. So the blade is drawn from the share of its height the lost
 // coverage stands for, `1 - MAX_WIDEN (1 - d / reach)` (0 at half the reach, all of it at
-// the reach), and the cards stand for the canopy below. Without cards there (none drawn,
-// or none reaching the reach) nothing would stand for it: each blade is drawn whole, as
-// the widening alone leaves it (cut without cards, the field's outer half showed the
-// bare ground under floating tips: +7 to +12 levels and 60-80 % flatter than the full
-// field in the prairie's rows 112-135 at 480x270).
+// the reach), and the cards stand for the canopy below. Where no card stands (none drawn,
+// or past the radius they are drawn to, fading out from 0.85 of it as the cards do)
+// nothing would stand for it, and the blade is drawn whole, as the widening alone leaves
+// it (cut without cards, the prairie's thinned field showed the bare ground under
+// floating tips: band 64 +5.7 levels and −27 % against the full field at 240x136).
 fn thinned_root_at(d: f32, reach: f32, n: f32, cards: f32) -> f32 {
-    if n < 0.5 || cards < 0.5 {
+    if n < 0.5 || cards <= 0.0 {
         return 0.0;
     }
-    return clamp(1.0 - MAX_WIDEN * (1.0 - d / max(reach, 1e-6)), 0.0, 1.0);
+    let cut = clamp(1.0 - MAX_WIDEN * (1.0 - d / max(reach, 1e-6)), 0.0, 1.0);
+    return cut * (1.0 - smoothstep(0.85 * cards, cards, d));
 }

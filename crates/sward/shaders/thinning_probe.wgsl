@@ -1,5 +1,5 @@
 // Probe: the thinning's widening and root (`thinning_widen_at`, `thinned_root_at`,
-// thinning.wgsl) at a list of (distance, reach, distance levels, cards), for the test against
+// thinning.wgsl) at a list of (distance, reach, distance levels, the cards' radius), for the test against
 // their CPU twins (`render::thinning`).
 //!include thinning.wgsl
 

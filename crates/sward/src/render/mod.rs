@@ -869,25 +869,20 @@ impl Renderer {
                 };
                 [c.camera_pos[0], c.camera_pos[1], c.camera_pos[2], levels]
             },
-            thinning_reach: [
-                self.last_cull.max_distance,
-                if self.cards_among_thinned_blades() {
-                    1.0
-                } else {
-                    0.0
-                },
-                0.0,
-                0.0,
-            ],
+            thinning_reach: [self.last_cull.max_distance, self.cards_radius(), 0.0, 0.0],
         }
     }
 
-    /// Whether billboards are drawn out to the blades' reach at least, so that they stand
-    /// for the canopy under the thinned blades (`render::thinning::root`): without them
+    /// The radius the billboards are drawn to (m; 0 without them): they stand for the
+    /// canopy under the thinned blades within it (`render::thinning::root`), and past it
     /// each thinned blade is drawn whole.
-    fn cards_among_thinned_blades(&self) -> bool {
+    fn cards_radius(&self) -> f32 {
         let radius = self.scene.render.billboard_distance * self.billboard_share.clamp(0.0, 1.0);
-        self.billboards.is_some() && radius >= self.last_cull.max_distance
+        if self.billboards.is_some() && radius.is_finite() {
+            radius.max(0.0)
+        } else {
+            0.0
+        }
     }
 
     /// The last TAA frame's inputs and outputs, read back (blocking; the twin's test).

@@ -5,11 +5,13 @@
 //! and past the distance where that no longer covers it (half the reach) each is drawn
 //! from part way up ([`root`]): a lone blade among the cards fading in shows its shaded
 //! lower part, which the full field's neighbours hide from a distant eye, and the cards
-//! stand for the canopy below (only where cards are drawn: without them each blade is
-//! drawn whole).
+//! stand for the canopy below (only where cards are drawn: past their radius, or without
+//! them, each blade is drawn whole).
 
 use crate::error::Result;
 use crate::gpu::Gpu;
+
+use super::light::sky::smoothstep;
 
 /// The most a kept blade is widened (twin of `MAX_WIDEN`).
 pub const MAX_WIDEN: f32 = 2.0;
@@ -25,22 +27,22 @@ pub fn widen(d: f32, reach: f32, n: f32) -> f32 {
 }
 
 /// Where a kept blade at distance `d` starts to be drawn, as its v (0: the root; twin of
-/// `thinned_root_at`): `1 − MAX_WIDEN (1 − d / reach)`, within 0 and 1, where `cards`
-/// stand among the thinned blades for the canopy below; 0 without them.
-pub fn root(d: f32, reach: f32, n: f32, cards: bool) -> f32 {
-    if n < 0.5 || !cards {
+/// `thinned_root_at`): `1 − MAX_WIDEN (1 − d / reach)`, within 0 and 1, where the cards
+/// (drawn to the radius `cards`, m; 0 without them) stand among the thinned blades for the
+/// canopy below; going over to 0 (the whole blade) as the cards fade out, from 0.85 of
+/// their radius to it.
+pub fn root(d: f32, reach: f32, n: f32, cards: f32) -> f32 {
+    if n < 0.5 || cards <= 0.0 || cards.is_nan() {
         return 0.0;
     }
-    (1.0 - MAX_WIDEN * (1.0 - d / reach.max(1e-6))).clamp(0.0, 1.0)
+    let cut = (1.0 - MAX_WIDEN * (1.0 - d / reach.max(1e-6))).clamp(0.0, 1.0);
+    cut * (1.0 - smoothstep(0.85 * cards, cards, d))
 }
 
 /// Runs the WGSL twins on the GPU (`thinning_probe.wgsl`) at each (distance, reach,
-/// levels, cards) of `points`: ([`widen`], [`root`]) as the GPU computes them.
-pub fn probe(gpu: &Gpu, points: &[(f32, f32, f32, bool)]) -> Result<Vec<(f32, f32)>> {
-    let flat: Vec<[f32; 4]> = points
-        .iter()
-        .map(|&(d, r, n, cards)| [d, r, n, if cards { 1.0 } else { 0.0 }])
-        .collect();
+/// levels, the cards' radius) of `points`: ([`widen`], [`root`]) as the GPU computes them.
+pub fn probe(gpu: &Gpu, points: &[(f32, f32, f32, f32)]) -> Result<Vec<(f32, f32)>> {
+    let flat: Vec<[f32; 4]> = points.iter().map(|&(d, r, n, c)| [d, r, n, c]).collect();
     let out = crate::gpu::run_vec4_probe(
         gpu,
         "sward.thinning_probe",

@@ -407,9 +407,9 @@ pub struct FrameUniforms {
     /// the coverage of those it drops: xyz the culling camera, w the distance levels n (0:
     /// no thinning).
     pub thinning: [f32; 4],
-    /// x: the thinning's d_max (m); y: 1 where the billboards stand among the thinned
-    /// blades (out to the reach at least), so that those are drawn from part way up
-    /// (`render::thinning::root`), else 0; zw unused.
+    /// x: the thinning's d_max (m); y: the radius the billboards are drawn to (m; 0
+    /// without them): the thinned blades they stand among are drawn from part way up
+    /// (`render::thinning::root`); zw unused.
     pub thinning_reach: [f32; 4],
 }
 
