@@ -74,13 +74,7 @@ fn prairie(sets: &[&str]) -> image::RgbaImage {
 }
 
 fn prairie_after(sets: &[&str], frames: usize) -> image::RgbaImage {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let scene = sward::scene::load_scene_with_sets(&path, &sets).expect("prairie");
-    let gpu = common::gpu();
-    let session = sward::session::Session::new(scene, None, Some(&gpu)).expect("field");
-    let (_, target) = common::draw_frames(&gpu, &session, SIZE, frames, false, |_| {});
-    target.read_image(&gpu).expect("image")
+    common::prairie_frame(sets, SIZE, frames)
 }
 
 /// With TAA the far levels are calibrated on the blades as the history shows them (the
@@ -161,9 +155,7 @@ fn the_far_ground_has_texture_that_averages_to_the_grass_colour() {
         "camera.eye=(-14.0, 20.0, 16.0)",
         "camera.target=(40.0, -19.0, -40.0)",
     ];
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let scene = sward::scene::load_scene_with_sets(&path, &sets).expect("prairie");
+    let scene = common::prairie_scene(&sets);
     let gpu = common::gpu();
     let session = sward::session::Session::new(scene, None, Some(&gpu)).expect("field");
     let render = |size: (u32, u32)| {

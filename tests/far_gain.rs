@@ -389,8 +389,7 @@ fn the_far_gain_brings_the_far_levels_to_the_blades() {
 
 #[test]
 fn the_prairies_far_calibration_settles() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
-    let scene = sward::scene::load_scene(&path).expect("prairie");
+    let scene = common::prairie_scene(&[]);
     let gpu = common::gpu();
     let session = sward::session::Session::new(scene, None, Some(&gpu)).expect("field");
     let mut r = common::world(&gpu, &session);

@@ -9,6 +9,7 @@
 
 mod common;
 
+use sward::render::billboard::FADE_OUT;
 use sward::render::thinning::{self, root, widen, MAX_WIDEN};
 
 const REACH: f32 = 28.0;
@@ -93,7 +94,7 @@ fn the_kept_blades_cover_what_the_cull_dropped_up_to_half_the_reach() {
         if d >= short {
             assert_eq!(r, 0.0, "cut past the cards at {d} m");
         }
-        if d <= 0.85 * short {
+        if d <= FADE_OUT * short {
             assert_eq!(r, root(d, REACH, LEVELS, CARDS), "at {d} m");
         }
         assert!((r - last).abs() < 0.01, "root {last} -> {r} at {d} m");
@@ -103,10 +104,7 @@ fn the_kept_blades_cover_what_the_cull_dropped_up_to_half_the_reach() {
 
 /// The prairie at 240 × 136 after 4 frames with `sets`.
 fn prairie(sets: &[&str]) -> image::RgbaImage {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let scene = sward::scene::load_scene_with_sets(&path, &sets).expect("prairie");
-    common::render_frames(scene, (240, 136), 4, |_| {}).0
+    common::prairie_frame(sets, (240, 136), 4)
 }
 
 /// Without billboards nothing stands for the canopy under the thinned blades, so they are

@@ -58,6 +58,18 @@ pub fn render_frames(
     (target.read_image(&gpu).expect("image"), r)
 }
 
+/// The prairie (`assets/scenes/prairie.ron`) with `sets` applied (as `--set` takes them).
+pub fn prairie_scene(sets: &[&str]) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/prairie.ron");
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    sward::scene::load_scene_with_sets(&path, &sets).expect("prairie")
+}
+
+/// The prairie with `sets`, its last frame of `frames` at `size` (`render_frames`).
+pub fn prairie_frame(sets: &[&str], size: (u32, u32), frames: usize) -> image::RgbaImage {
+    render_frames(prairie_scene(sets), size, frames, |_| {}).0
+}
+
 /// `frames` frames of `session`'s scene (steps of 1/30 s) from its camera, at `size`, by a
 /// renderer `setup` has configured first; with `count_last`, the last frame's work is
 /// counted (pipeline statistics: lavapipe has them, so the count must start). The renderer

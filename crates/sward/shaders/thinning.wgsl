@@ -38,5 +38,6 @@ fn thinned_root_at(d: f32, reach: f32, n: f32, cards: f32) -> f32 {
         return 0.0;
     }
     let cut = clamp(1.0 - MAX_WIDEN * (1.0 - d / max(reach, 1e-6)), 0.0, 1.0);
+    // 0.85: `billboard::FADE_OUT`, where the cards fade out.
     return cut * (1.0 - smoothstep(0.85 * cards, cards, d));
 }

@@ -873,16 +873,13 @@ impl Renderer {
         }
     }
 
-    /// The radius the billboards are drawn to (m; 0 without them): they stand for the
-    /// canopy under the thinned blades within it (`render::thinning::root`), and past it
-    /// each thinned blade is drawn whole.
+    /// The radius the billboards are drawn to (m; 0 without them, as `BillboardPass`
+    /// draws them): they stand for the canopy under the thinned blades within it
+    /// (`render::thinning::root`), and past it each thinned blade is drawn whole.
     fn cards_radius(&self) -> f32 {
-        let radius = self.scene.render.billboard_distance * self.billboard_share.clamp(0.0, 1.0);
-        if self.billboards.is_some() && radius.is_finite() {
-            radius.max(0.0)
-        } else {
-            0.0
-        }
+        self.billboards.as_ref().map_or(0.0, |b| {
+            b.drawn_radius(self.billboard_share, self.last_cull.max_distance)
+        })
     }
 
     /// The last TAA frame's inputs and outputs, read back (blocking; the twin's test).

@@ -11,6 +11,7 @@
 use crate::error::Result;
 use crate::gpu::Gpu;
 
+use super::billboard::FADE_OUT;
 use super::light::sky::smoothstep;
 
 /// The most a kept blade is widened (twin of `MAX_WIDEN`).
@@ -36,7 +37,7 @@ pub fn root(d: f32, reach: f32, n: f32, cards: f32) -> f32 {
         return 0.0;
     }
     let cut = (1.0 - MAX_WIDEN * (1.0 - d / reach.max(1e-6))).clamp(0.0, 1.0);
-    cut * (1.0 - smoothstep(0.85 * cards, cards, d))
+    cut * (1.0 - smoothstep(FADE_OUT * cards, cards, d))
 }
 
 /// Runs the WGSL twins on the GPU (`thinning_probe.wgsl`) at each (distance, reach,

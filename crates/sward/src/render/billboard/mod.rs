@@ -63,6 +63,21 @@ pub const CARD_TURN: f32 = 0.35;
 /// Eq. 20's levels from half the reach keep fewer than half the blades, which widen at
 /// most twice (`grass.wgsl`), and the cards fill what they leave.
 pub const FADE_IN: (f32, f32) = (0.5, 0.75);
+/// Where the cards fade out, as a share of the radius they are drawn to (to all of it):
+/// the thinned blades' root cut goes over to the whole blade there too
+/// (`render::thinning::root`).
+pub const FADE_OUT: f32 = 0.85;
+
+/// Where the cards fade in (m, [`FADE_IN`]) for the blades' reach `max_distance` (from the
+/// camera on without a finite reach).
+pub fn fade_in(max_distance: f32) -> (f32, f32) {
+    let blades = if max_distance.is_finite() {
+        max_distance.max(0.0)
+    } else {
+        0.0
+    };
+    (FADE_IN.0 * blades, FADE_IN.1 * blades)
+}
 /// Card width per cell side, and card height per tallest blade.
 const CARD_WIDTH: f32 = 2.0;
 const CARD_HEIGHT: f32 = 0.9;
@@ -168,15 +183,10 @@ impl BillboardLayout {
         // Far enough from the limits that the levels' cells (2^11 times larger) stay in i32.
         let cx = (eye.x / cell).floor().clamp(-1e8, 1e8) as i32;
         let cz = (eye.z / cell).floor().clamp(-1e8, 1e8) as i32;
-        let blades = if max_distance.is_finite() {
-            max_distance.max(0.0)
-        } else {
-            0.0
-        };
-        let fade_in = (FADE_IN.0 * blades, FADE_IN.1 * blades);
+        let fade_in = fade_in(max_distance);
         BillboardParams {
             cells: [cx, cz, level_side(), self.cell_q],
-            fade: [fade_in.0, fade_in.1, 0.85 * self.radius, self.radius],
+            fade: [fade_in.0, fade_in.1, FADE_OUT * self.radius, self.radius],
             eye_card: [eye.x, eye.z, self.card.0, self.card.1],
             info: [self.key, atlas::VARIANTS, u32::from(density), spheres],
             shape: [SWAY_GAIN, BEND_REACH, terrain_size, 0.0],

@@ -423,6 +423,13 @@ impl BillboardPass {
         }
     }
 
+    /// The radius the cards are drawn to (m) for the share `share` of the billboard radius
+    /// (the frame budget may draw only the nearer part of the ring; the grid stays), never
+    /// short of where they have faded in for the blades' reach `max_distance`.
+    pub fn drawn_radius(&self, share: f32, max_distance: f32) -> f32 {
+        (self.layout.radius * share.clamp(0.0, 1.0)).max(super::fade_in(max_distance).1)
+    }
+
     /// Writes this frame's uniforms for the share `share` of the billboard radius; returns
     /// them (the stats count the cards with them).
     pub fn prepare(
@@ -442,10 +449,8 @@ impl BillboardPass {
             spheres,
             terrain_size,
         );
-        // The frame budget may draw only the nearer part of the ring (the grid stays).
-        let radius = self.layout.radius * share.clamp(0.0, 1.0);
-        let radius = radius.max(p.fade[1]);
-        p.fade[2] = 0.85 * radius;
+        let radius = self.drawn_radius(share, culling.max_distance);
+        p.fade[2] = super::FADE_OUT * radius;
         p.fade[3] = radius;
         p.levels[3] = super::visit_flags(camera.target - camera.eye);
         p.albedo = [
