@@ -5,6 +5,7 @@
 // the blades' fade and the billboard radius, faded in where the blades thin out (Eq. 20)
 // and out towards the billboard radius. The twin of `billboard::place_card`.
 // Expects `bb: BillboardParams` and the terrain's height function (terrain_height.wgsl).
+//!include canopy.wgsl
 
 struct BillboardParams {
     // x, z of the camera's cell; grid cells per side; cell side in quanta (1/1024 m).
@@ -16,7 +17,7 @@ struct BillboardParams {
     // x: field seed key, y: atlas variants, z: 1 = density map bound, w: sphere count.
     info: vec4<u32>,
     // x: sway gain (m of top offset per m/s² of wind), y: bend radius factor, z: terrain
-    // size (m, the density map's square), w: unused.
+    // size (m, the density map's square), w: the camera's height (m, world y).
     shape: vec4<f32>,
     // The atlas's mean albedo (rgb: the far ground's grass colour), unused.
     albedo: vec4<f32>,
@@ -55,11 +56,6 @@ struct DrawnCard {
     light_sun: array<vec4<f32>, 4>,
 }
 
-// The mip bias of a card's texels near the blades (`billboard.wgsl`'s `fs_main` says why).
-const CARD_SHARPEN: f32 = -3.0;
-// A pixel's height over the card's at which the cards start to hand their contrast and
-// sharpness over to the far ground's, and at which they have (`billboard_cull.wgsl`).
-const CONTRAST_FOOTPRINT: vec2<f32> = vec2<f32>(0.3, 1.0);
 
 const BB_QUANTUM: f32 = 1.0 / 1024.0;
 const BB_UNIT: f32 = 1.0 / 16777216.0;
@@ -102,7 +98,11 @@ fn card_at(i: u32) -> Card {
     if d >= bb.fade.x && d <= bb.fade.w && !inside {
         fade = smoothstep(bb.fade.x, bb.fade.y, d) * (1.0 - smoothstep(bb.fade.z, bb.fade.w, d));
     }
-    c.fade = fade;
     c.pos = vec3<f32>(x, terrain_height(vec2<f32>(x, z)).x, z);
+    // Seen from above, the far ground's canopy stands for the grass instead (canopy.wgsl).
+    if fade > 0.0 {
+        fade *= 1.0 - canopy_weight(c.pos, vec3<f32>(bb.eye_card.x, bb.shape.w, bb.eye_card.y));
+    }
+    c.fade = fade;
     return c;
 }

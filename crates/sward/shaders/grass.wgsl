@@ -12,6 +12,7 @@
 // mesh has the coarser one's shape and the switch moves nothing.
 //!include common.wgsl
 //!include thinning.wgsl
+//!include canopy.wgsl
 //!include light.wgsl
 //!include blade_shade.wgsl
 //!include wind.wgsl
@@ -197,7 +198,14 @@ fn blade_ctx(blade: Blade) -> BladeCtx {
     let d = thinning_distance(blade.v0_dir.xyz, blade.up_stiffness.xyz);
     let widen = thinning_widen_at(d, frame.thinning_reach.x, frame.thinning.w);
     let clip_side = frame.view_proj * vec4<f32>(axes[0], 0.0);
-    let root_v = thinned_root_at(d, frame.thinning_reach.x, frame.thinning.w, frame.thinning_reach.y);
+    // Seen from above the cards fade out (`canopy_weight`), and nothing stands for the
+    // canopy below a cut blade but the far ground's canopy between the blades: the cut goes
+    // with the cards (cut, from 19 m up the thinned blades' tips read twice the model).
+    // (In 1/4096ths of the blade: a pipeline specialised on the scene, `grass_spec`, rounds
+    // the product otherwise, and must draw the very pixels the general one does.)
+    let cut = thinned_root_at(d, frame.thinning_reach.x, frame.thinning.w, frame.thinning_reach.y)
+        * (1.0 - canopy_weight(blade.v0_dir.xyz, frame.camera_pos.xyz));
+    let root_v = round(cut * 4096.0) / 4096.0;
     var ctx = BladeCtx(axes[0], axes[1], blade_shape(blade), vec3<f32>(0.0), widen, root_v, clip_side);
     if blade_model() == MODEL_CWD {
         ctx.cwd_wind = cwd_wind(blade.v0_dir.xyz, blade.v1_height.w);

@@ -11,16 +11,21 @@
 //!include far_grass.wgsl
 //!include terrain_height.wgsl
 //!include far_gain_math.wgsl
+//!include canopy.wgsl
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(3) var density_map: texture_2d<f32>;
 @group(0) @binding(4) var density_sampler: sampler;
 // The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
-// `wave_blades`), in word 2 the far field's distance gain and in words 4-7 the far levels'
-// measured light gain (far_gain_math.wgsl).
-@group(0) @binding(5) var<storage, read> waves: array<u32, 8>;
+// `wave_blades`), in word 2 the far field's distance gain, in words 4-7 the far levels'
+// measured light gain and in word 11 their contrast gain (far_gain_math.wgsl).
+@group(0) @binding(5) var<storage, read> waves: array<u32, 12>;
 // The trail map (`trails.wgsl`): a path pressed into the grass shows on the far ground.
 @group(0) @binding(6) var<storage, read> trails: array<u32>;
+// The canopy seen from above (`render::far_canopy`, canopy.wgsl): brightness factors over
+// CANOPY_SCALE, one layer per cell of ground.
+@group(0) @binding(7) var canopy_tex: texture_2d_array<f32>;
+@group(0) @binding(8) var canopy_sampler: sampler;
 
 // Whether the field has a trail map at all (a streamed field with `physics.trails`): without
 // one the lookup is compiled out, as a software rasteriser would run it for every ground
@@ -157,6 +162,10 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let sun = frame.sun_dir.xyz;
     let q = in.world.xz;
+    // The ground's change across the pixel, for the canopy's mip (taken here, in uniform
+    // control flow).
+    let dqx = dpdx(q);
+    let dqy = dpdy(q);
     let octaves = grass_octaves(q);
     let patchy = dot(octaves, vec3<f32>(0.6, 0.3, 0.1));
     let soil = vec3<f32>(0.13, 0.11, 0.06);
@@ -168,6 +177,21 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // The grass seen from afar: the blades' own light averaged over the blades a distant
     // eye sees (`far_grass_light`, per vertex), the sun's part shadowed here.
     var grass = (in.grass_ambient + lit * in.grass_sun) * grass_texture(octaves, in.footprint);
+    // Seen from above, the canopy's tops and gaps (canopy.wgsl), where the cards fade out:
+    // sharpened and with the cards' contrast gain near the blades, handed over to the
+    // texture's own as a pixel grows to span the blades' height (as the cards').
+    let top = canopy_weight(in.world, frame.camera_pos.xyz);
+    if top > 0.0 {
+        // The pixel's size across the view (the footprint without its stretch along a
+        // grazing view, as the cards take theirs: a pixel spans that much of the blades'
+        // height).
+        let to_eye = frame.camera_pos.xyz - in.world;
+        let across = in.footprint * max(dot(n, to_eye) / max(length(to_eye), 1e-4), 0.05);
+        let handover = smoothstep(CONTRAST_FOOTPRINT.x, CONTRAST_FOOTPRINT.y, across / max(terrain.grass_albedo.w, 1e-3));
+        let f = canopy_factor(canopy_tex, canopy_sampler, q, dqx, dqy, CARD_SHARPEN * (1.0 - handover));
+        let k = mix(contrast_gain(waves[11]), 1.0, handover);
+        grass *= mix(1.0, contrast_luma(f, 1.0, k), top);
+    }
     // Soil shows between the near blades; with distance the blades cover it, and past
     // the culling distance only their colour is left. Outside the square, where no blades
     // grow yet, the ground is grass-coloured at any distance (over a 2 m band at the edge):

@@ -19,7 +19,8 @@ struct TerrainParams {
     // x: soil-to-grass blend start m, y: blend end m, z: 1 = density map bound, w: the
     // camera's far plane m.
     blend: vec4<f32>,
-    // rgb: the grass's mean albedo (see `clipmap::FAR_GRASS_ALBEDO`), w: unused.
+    // rgb: the grass's mean albedo (see `clipmap::FAR_GRASS_ALBEDO`), w: the tallest blade
+    // (m; the canopy's sharpness, terrain.wgsl).
     grass_albedo: vec4<f32>,
     // Per level: xy the level's centre (world x, z), z its cell size m, w: unused.
     levels: array<vec4<f32>, 16>,

@@ -11,6 +11,11 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/blade_shade.wgsl"),
     ),
     ("far_grass.wgsl", include_str!("../shaders/far_grass.wgsl")),
+    ("canopy.wgsl", include_str!("../shaders/canopy.wgsl")),
+    (
+        "canopy_probe.wgsl",
+        include_str!("../shaders/canopy_probe.wgsl"),
+    ),
     (
         "grass_texture.wgsl",
         include_str!("../shaders/grass_texture.wgsl"),
@@ -237,6 +242,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "div_small_probe.wgsl",
     "octahedral_probe.wgsl",
     "grass_texture_probe.wgsl",
+    "canopy_probe.wgsl",
     "trail_probe.wgsl",
     "sky.wgsl",
     "spheres.wgsl",

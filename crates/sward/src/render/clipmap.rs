@@ -73,7 +73,7 @@ pub struct TerrainUniforms {
     pub grid: [u32; 4],
     /// x: soil-to-grass blend start m, y: end m, z: 1 = density map bound, w: far plane m.
     pub blend: [f32; 4],
-    /// rgb: the grass's mean albedo.
+    /// rgb: the grass's mean albedo; w: the tallest blade (m).
     pub grass_albedo: [f32; 4],
     /// Per level: centre x, z, cell size.
     pub levels: [[f32; 4]; MAX_LEVELS],

@@ -206,7 +206,13 @@ impl DrawPass {
             ],
         });
 
-        let terrain_pass = TerrainPass::new(gpu, terrain, density, &frame, &buffers.trails);
+        let terrain_pass = TerrainPass::new(
+            gpu,
+            (terrain, &scene.field),
+            density,
+            &frame,
+            &buffers.trails,
+        );
         let pipelines = Pipelines::new(
             device,
             format,

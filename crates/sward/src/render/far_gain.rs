@@ -78,6 +78,48 @@ pub const RING: (f32, f32) = (1.0, 1.5);
 /// the blades would far out.
 pub const NEAR_RING: (f32, f32) = (0.35, 0.5);
 
+/// The near ring looking down on the blades, as multiples of their reach: their outer
+/// part. Seen from above the cards fade out (`far_canopy::weight`), so nothing stands among
+/// the blades there, and the far levels start where the view's elevation is the blades'
+/// outer edge's: the blades' ratio to the model rises with the elevation (the prairie from
+/// 19 m up after 16 frames: 1.53 at 20-23 m, where the eye looks down at 60°, 1.30-1.44 at
+/// 38-48 m, 25-30°), and a ring at the blades' near edge calibrated the far field on the
+/// steepest view of them (+28 levels from 19 m up, its few pixels at the frame's edge).
+pub const NEAR_RING_ABOVE: (f32, f32) = (0.85, 0.98);
+
+/// The far ring (m from the camera) for the blades' reach `reach` with the camera
+/// `height` metres above the ground under it: [`RING`] of the reach, or of the height when
+/// that is larger. From 49 m up with a 28 m reach the ring of 28-42 m holds no ground, the
+/// far levels were never measured (their gain 1, the light model's), and the prairie read
+/// 12-19 levels darker than a frame whose 50 m reach put its ring on the ground.
+pub fn far_ring(reach: f32, height: f32) -> (f32, f32) {
+    let h = if height.is_finite() { height.max(0.0) } else { 0.0 };
+    (
+        (RING.0 * reach).max(RING.0 * h),
+        (RING.1 * reach).max(RING.1 * h),
+    )
+}
+
+/// The near ring (m from the camera) for the blades' reach `reach` with the camera
+/// `height` metres above the ground under it: [`NEAR_RING`] of the reach for a grazing view
+/// of the blades' edge, going over to [`NEAR_RING_ABOVE`] as the view of it looks down (as
+/// the cards hand over to the canopy, `far_canopy::weight`).
+pub fn near_ring(reach: f32, height: f32) -> (f32, f32) {
+    let h = if height.is_finite() { height.max(0.0) } else { 0.0 };
+    let down = if reach > 0.0 {
+        crate::render::light::sky::smoothstep(
+            crate::render::far_canopy::ELEVATION.0,
+            crate::render::far_canopy::ELEVATION.1,
+            h / reach,
+        )
+    } else {
+        0.0
+    };
+    let inner = NEAR_RING.0 + (NEAR_RING_ABOVE.0 - NEAR_RING.0) * down;
+    let outer = NEAR_RING.1 + (NEAR_RING_ABOVE.1 - NEAR_RING.1) * down;
+    (inner * reach, outer * reach)
+}
+
 /// The far field's bin, as multiples of the blades' reach (twin of `FAR_BIN`): measured
 /// against the aim the ring is brought to, kept as a multiplier of the light gain
 /// ([`distance_gain`], [`next_distance_gain`]).
@@ -459,16 +501,19 @@ impl FarGainPass {
         }
     }
 
-    /// Writes the rings (metres, from the blades' reach `reach`), the tallest blade, the
-    /// frame's number (which pixel of each grid cell is measured) and whether cards are
-    /// drawn (the contrast gain is measured only then).
-    pub fn prepare(&self, reach: f32, tallest: f32, frame: u32, cards: bool) {
+    /// Writes the rings (metres, from the blades' reach `reach` and the camera's `height`
+    /// over the ground, [`far_ring`], [`near_ring`]), the tallest blade, the frame's number (which pixel of
+    /// each grid cell is measured) and whether cards are drawn (the contrast gain is
+    /// measured only then).
+    pub fn prepare(&self, (reach, height): (f32, f32), tallest: f32, frame: u32, cards: bool) {
+        let near = near_ring(reach, height);
+        let far = far_ring(reach, height);
         let p = GainParams {
-            ring: [RING.0 * reach, RING.1 * reach, tallest, BLEND],
+            ring: [far.0, far.1, tallest, BLEND],
             grid: [GRID.0, GRID.1, frame, 0],
             near: [
-                NEAR_RING.0 * reach,
-                NEAR_RING.1 * reach,
+                near.0,
+                near.1,
                 if cards { 1.0 } else { 0.0 },
                 0.0,
             ],

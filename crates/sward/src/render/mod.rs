@@ -13,6 +13,7 @@ mod coverage;
 pub mod cull;
 pub mod deferred;
 pub mod draw;
+pub mod far_canopy;
 pub mod far_gain;
 pub mod far_light;
 pub mod far_texture;

@@ -268,7 +268,10 @@ impl Renderer {
         };
         let tallest = super::light::blade_heights(&self.scene.field).1;
         let cards = self.billboards.is_some();
-        self.far_gain.prepare(self.last_cull.max_distance, tallest, self.frame_count, cards);
+        let eye = self.last_cull.camera_pos;
+        let height = eye[1] - self.terrain.height(eye[0], eye[2]);
+        let reach = (self.last_cull.max_distance, height);
+        self.far_gain.prepare(reach, tallest, self.frame_count, cards);
         let inputs = super::far_gain::GainInputs {
             frame: self.draw.frame_buffer(),
             terrain: self.draw.terrain_buffers(),

@@ -1,6 +1,7 @@
 //! The terrain's GPU resources: the clipmap's index buffer ([`super::clipmap`]), the
 //! height-function uniforms, the height grid of a `Png` terrain, the density map as a
-//! texture for the far ground colour, and their bind group; plus [`probe_heights`], the
+//! texture for the far ground colour, the canopy seen from above
+//! ([`super::far_canopy`]), and their bind group; plus [`probe_heights`], the
 //! compute kernel that evaluates the WGSL height function at given points so that tests
 //! can hold it against the CPU's [`HeightField`].
 
@@ -21,11 +22,13 @@ use crate::sim::update::uniform_entry;
 /// Buffers, texture and bind group of the terrain draw.
 pub struct TerrainPass {
     /// The terrain's bind group layout: frame uniforms (0), terrain parameters (1), height
-    /// grid (2), density texture (3) and its sampler (4), shading waves (5).
+    /// grid (2), density texture (3) and its sampler (4), the far state (5), the trail map
+    /// (6), the canopy seen from above (7) and its sampler (8).
     pub layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     grid: wgpu::Buffer,
     density: wgpu::Texture,
+    canopy: wgpu::Texture,
     group: wgpu::BindGroup,
     /// The far state: the gusts' bend at the edge of the blades' reach (two words: the sum
     /// in 1/1024ths and the blades counted), for the far grass's shading waves, and the far
@@ -47,6 +50,8 @@ pub struct TerrainPass {
     shadow_key: Cell<u64>,
     /// The ground's steepest slope, bounded (`HeightField::max_slope`).
     max_slope: f32,
+    /// The field's tallest blade (m): how sharp the canopy's texels are shown.
+    tallest: f32,
 }
 
 /// The height grid a `Png` terrain binds (a single 0 for analytic terrains).
@@ -118,11 +123,12 @@ pub(crate) fn density_texture(gpu: &Gpu, density: Option<&DensityMap>) -> wgpu::
 }
 
 impl TerrainPass {
-    /// Uploads the terrain; `frame` is the draw pass's frame-uniform buffer and `trails` the
-    /// trail map (the far ground shows the trails pressed into it).
+    /// Uploads the terrain and renders the canopy of `field` seen from above; `frame` is the
+    /// draw pass's frame-uniform buffer and `trails` the trail map (the far ground shows the
+    /// trails pressed into it).
     pub fn new(
         gpu: &Gpu,
-        terrain: &HeightField,
+        (terrain, field): (&HeightField, &crate::scene::Field),
         density: Option<&DensityMap>,
         frame: &wgpu::Buffer,
         trails: &wgpu::Buffer,
@@ -151,8 +157,24 @@ impl TerrainPass {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
-                read_storage(5, wgpu::ShaderStages::VERTEX),
+                read_storage(5, vf),
                 read_storage(6, wgpu::ShaderStages::FRAGMENT),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 8,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
             ],
         });
         // The far state: the gusts' bend at the edge of the blades' reach, copied from the
@@ -180,6 +202,22 @@ impl TerrainPass {
             label: Some("sward.terrain.density_sampler"),
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let canopy = super::far_canopy::texture(gpu, field);
+        let canopy_view = canopy.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("sward.terrain.canopy_view"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        // Each cell shows a whole layer, which wraps: repeat, so the filter wraps too.
+        let canopy_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sward.terrain.canopy_sampler"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -214,6 +252,14 @@ impl TerrainPass {
                     binding: 6,
                     resource: trails.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::TextureView(&canopy_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: wgpu::BindingResource::Sampler(&canopy_sampler),
+                },
             ],
         });
         let (indices, ranges) = clipmap::ring_indices();
@@ -234,6 +280,7 @@ impl TerrainPass {
             params,
             grid,
             density: density_tex,
+            canopy,
             group,
             waves,
             indices,
@@ -245,6 +292,7 @@ impl TerrainPass {
             drawn: Cell::new(([0; MAX_LEVELS], 0)),
             shadow_key: Cell::new(0),
             max_slope: terrain.max_slope(),
+            tallest: super::light::blade_heights(field).1,
         }
     }
 
@@ -275,6 +323,7 @@ impl TerrainPass {
             + self.grid.size()
             + self.indices.size()
             + u64::from(s.width) * u64::from(s.height)
+            + super::far_canopy::texture_bytes(self.canopy.size())
     }
 
     /// Places the levels around the camera projected with `aspect` and cropped by `crop`
@@ -301,7 +350,7 @@ impl TerrainPass {
         );
         u.view_proj_relative = (crop * camera.view_proj_relative(aspect)).to_cols_array_2d();
         u.grid[3] = u32::from(self.grass_everywhere);
-        u.grass_albedo = self.grass_albedo.extend(0.0).into();
+        u.grass_albedo = self.grass_albedo.extend(self.tallest).into();
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         self.shadow_key.set(shadow_key(&u, camera.eye));
         let levels = u.info[3].min(MAX_LEVELS as u32);

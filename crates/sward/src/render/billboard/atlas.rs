@@ -62,7 +62,7 @@ pub fn layer_size(card: (f32, f32)) -> (u32, u32) {
 
 /// The grass shader's albedo for a blade's random tint at height `v` (0 root, 1 tip),
 /// with its height shading: the same mix as `grass.wgsl` `fs_main`.
-fn albedo(tint: [f32; 2], v: f32) -> [f32; 3] {
+pub(crate) fn albedo(tint: [f32; 2], v: f32) -> [f32; 3] {
     let fresh = [0.10, 0.34, 0.05];
     let dry = [0.32, 0.40, 0.09];
     let deep = [0.05, 0.22, 0.04];

@@ -26,6 +26,10 @@
 //! footprint (`billboard.wgsl`): a pixel shows a few of the strip's blades, as a pixel of
 //! the blades shows one, not their average, and the measured contrast gain (`far_gain`)
 //! brings their spread to the blades'.
+//!
+//! Seen from above, upright cards read as rows of strokes: they fade out by the view's
+//! elevation over each card (from 5.7° to 23.6°, [`crate::render::far_canopy::weight`]),
+//! where the far ground's canopy seen from above takes over.
 
 pub mod atlas;
 mod pass;
@@ -99,7 +103,7 @@ pub struct BillboardParams {
     pub eye_card: [f32; 4],
     /// Seed key, atlas variants, 1 = density map, sphere count.
     pub info: [u32; 4],
-    /// Sway gain, bend reach, terrain size, unused.
+    /// Sway gain, bend reach, terrain size, the camera's height (world y, m).
     pub shape: [f32; 4],
     /// The atlas's mean albedo (rgb), unused: the cull lights the cards per unit of it.
     pub albedo: [f32; 4],
@@ -189,7 +193,7 @@ impl BillboardLayout {
             fade: [fade_in.0, fade_in.1, FADE_OUT * self.radius, self.radius],
             eye_card: [eye.x, eye.z, self.card.0, self.card.1],
             info: [self.key, atlas::VARIANTS, u32::from(density), spheres],
-            shape: [SWAY_GAIN, BEND_REACH, terrain_size, 0.0],
+            shape: [SWAY_GAIN, BEND_REACH, terrain_size, eye.y],
             albedo: [0.0; 4],
             levels: [self.levels, LEVEL_HALF as u32, level_side() as u32, 0],
         }
@@ -303,8 +307,16 @@ pub fn place_card(p: &BillboardParams, terrain: &HeightField, i: u32) -> Card {
     } else {
         0.0
     };
+    let pos = Vec3::new(x, terrain.height(x, z), z);
+    // Seen from above, the far ground's canopy stands for the grass instead.
+    let eye = Vec3::new(p.eye_card[0], p.shape[3], p.eye_card[1]);
+    let fade = if fade > 0.0 {
+        fade * (1.0 - crate::render::far_canopy::weight(pos, eye))
+    } else {
+        fade
+    };
     Card {
-        pos: Vec3::new(x, terrain.height(x, z), z),
+        pos,
         fade,
         level,
         variant: h2 % p.info[1].max(1),
