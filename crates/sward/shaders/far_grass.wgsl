@@ -19,6 +19,11 @@
 // cancel on average. (A quadrature tilted up by 0.3 left the prairie's cards 12 levels
 // darker than its blades at 28-50 m: the translucency is that sensitive to it.)
 
+// How much brighter the blades read against this model per unit of the sine of the view's
+// elevation over them (`far_light::ELEVATION_LIFT` has the measurements): the far levels
+// are calibrated on blades seen nearer and steeper than themselves.
+const FAR_ELEVATION_LIFT: f32 = 0.35;
+
 // The light of the grass around `p` (on the ground of normal `ground_n`) of mean albedo
 // `albedo` (the far albedo: blade colours shaded along the blade at its mean, 0.625): the
 // sky's part, and the sun's part for each of the four facings (the billboards' atlas
@@ -112,9 +117,10 @@ fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>, wave:
             }
         }
     }
-    out.ambient *= 0.0625;
+    let lift = 1.0 + FAR_ELEVATION_LIFT * sin_e;
+    out.ambient *= 0.0625 * lift;
     for (var j = 0u; j < 4u; j++) {
-        out.sun[j] *= 0.25;
+        out.sun[j] *= 0.25 * lift;
     }
     return out;
 }

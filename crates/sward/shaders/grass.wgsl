@@ -13,6 +13,7 @@
 //!include common.wgsl
 //!include thinning.wgsl
 //!include canopy.wgsl
+//!include lod_chord.wgsl
 //!include light.wgsl
 //!include blade_shade.wgsl
 //!include wind.wgsl
@@ -125,6 +126,9 @@ struct VertexOut {
     // blade carry the shadow's shape, and the lookup (four filtered comparisons) runs once
     // per vertex instead of once per fragment of the overdrawn grass. 1 in `vs_main`.
     @location(12) sun_lit: f32,
+    // The blade's chord (`lod_v`): x the quadratic's `a` its mesh needs (0.5 where the rows
+    // follow the curve), y the v the drawn blade starts at.
+    @location(13) @interpolate(flat) chord: vec2<f32>,
 }
 
 const SHAPE_QUAD: u32 = 0u;
@@ -335,6 +339,17 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
     return clamp(1.0 - (h_px - threshold) / (threshold * cull.lod.w), 0.0, 1.0);
 }
 
+// The quadratic's `a` (`chord_shape`) of the blade's chord from `root_v` to its tip: where
+// the centre line's middle projects onto the chord.
+fn blade_chord_shape(blade: Blade, ctx: BladeCtx, index: u32, root_v: f32) -> f32 {
+    let p0 = centre_line(blade, ctx, index, root_v).p;
+    let p1 = centre_line(blade, ctx, index, 1.0).p;
+    let pm = centre_line(blade, ctx, index, root_v + 0.5 * (1.0 - root_v)).p;
+    let d = p1 - p0;
+    let dd = dot(d, d);
+    return chord_shape(select(0.5, dot(pm - p0, d) / dd, dd > 1e-12));
+}
+
 // The depth-only passes (shadow casters, the coverage measurement): no light bound.
 @vertex
 fn vs_main(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: u32) -> VertexOut {
@@ -527,6 +542,13 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     out.world = point.p;
     out.normal = point.n;
     out.uv = vec2<f32>(u, v);
+    // The coarsest level is the chord, where v runs linearly (`lod_v`); the level before it
+    // goes over to the chord as it morphs. The finer rows lie on the curve.
+    out.chord = vec2<f32>(0.5, root_v);
+    let chord_share = select(select(0.0, morph, level == 1u), 1.0, level >= 2u);
+    if !shadow_pass && !flower && chord_share > 0.0 {
+        out.chord.x = mix(0.5, blade_chord_shape(blade, ctx, index, root_v), chord_share);
+    }
     out.card = card;
     out.side = ctx.side;
     b.root = v0;
@@ -598,7 +620,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if dot(flat_n, to_eye) < 0.0 {
         flat_n = -flat_n;
     }
-    let v = in.uv.y;
+    let v = lod_v(in.uv.y, in.chord);
     if DEBUG_VIEWS && in.tint.w > 0.5 {
         // A debug colour is a display colour: alpha 0 keeps tone mapping off it.
         return vec4<f32>(debug_color(in.tint, flat_n, sun, v), 0.0);
@@ -622,6 +644,6 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         // A far flower: its head's colour at the top of the stem.
         albedo = blade_albedo(in.petals.rgb, v, in.tip.w);
     }
-    let color = shade_blade(in.world, flat_n, in.side, in.uv, albedo, lit, in.shade);
+    let color = shade_blade(in.world, flat_n, in.side, vec2<f32>(in.uv.x, v), albedo, lit, in.shade);
     return output_color(fog_towards(color, in.world, in.sky));
 }

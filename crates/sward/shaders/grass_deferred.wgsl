@@ -43,7 +43,8 @@ const SKY_LUT_SIDE: u32 = 64u;
 
 @fragment
 fn fs_vis(in: VisOut) -> @location(0) vec4<u32> {
-    let uv = clamp(in.uv, vec2<f32>(0.0), vec2<f32>(1.0));
+    var uv = clamp(in.uv, vec2<f32>(0.0), vec2<f32>(1.0));
+    uv.y = lod_v(uv.y, in.chord);
     return vec4<u32>(in.blade, pack2x16unorm(uv), bitcast<u32>(in.clip.z), 1u);
 }
 

@@ -65,7 +65,9 @@ fn fs_vis_ms(in: VisOut, @builtin(sample_mask) covered: u32) -> VisMsOut {
     // deterministic from run to run.
     let d = sample_position(countTrailingZeros(covered)) - 0.5;
     let at = in.uv + dpdx(in.uv) * d.x + dpdy(in.uv) * d.y;
-    let uv = vec2<u32>(round(clamp(at, vec2<f32>(0.0), vec2<f32>(1.0)) * 65535.0));
+    var on = clamp(at, vec2<f32>(0.0), vec2<f32>(1.0));
+    on.y = lod_v(on.y, in.chord);
+    let uv = vec2<u32>(round(on * 65535.0));
     let id = in.blade + 1u;
     return VisMsOut(vec4<u32>(id & 0xffffu, id >> 16u, uv.x, uv.y), vec4<f32>(0.0, 0.0, 0.0, GRASS_ALPHA));
 }

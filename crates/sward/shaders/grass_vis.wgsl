@@ -42,6 +42,8 @@ struct VisOut {
     // (`fs_vis_ms`).
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) blade: u32,
+    // The blade's chord (`lod_v`): the coarse levels' v is mapped onto the curve's.
+    @location(2) @interpolate(flat) chord: vec2<f32>,
 }
 
 @vertex
@@ -51,6 +53,7 @@ fn vs_vis(@builtin(vertex_index) batch_vid: u32, @builtin(instance_index) inst: 
     out.clip = b.out.clip;
     out.uv = b.out.uv;
     out.blade = b.index;
+    out.chord = b.out.chord;
     return out;
 }
 

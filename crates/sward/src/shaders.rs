@@ -50,6 +50,11 @@ const FILES: &[(&str, &str)] = &[
         "thinning_probe.wgsl",
         include_str!("../shaders/thinning_probe.wgsl"),
     ),
+    ("lod_chord.wgsl", include_str!("../shaders/lod_chord.wgsl")),
+    (
+        "lod_chord_probe.wgsl",
+        include_str!("../shaders/lod_chord_probe.wgsl"),
+    ),
     (
         "distance_gain_probe.wgsl",
         include_str!("../shaders/distance_gain_probe.wgsl"),
@@ -239,6 +244,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "contrast_probe.wgsl",
     "distance_gain_probe.wgsl",
     "thinning_probe.wgsl",
+    "lod_chord_probe.wgsl",
     "div_small_probe.wgsl",
     "octahedral_probe.wgsl",
     "grass_texture_probe.wgsl",

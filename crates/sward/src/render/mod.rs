@@ -35,6 +35,7 @@ pub mod taa;
 pub mod target;
 pub mod terrain;
 pub mod thinning;
+pub mod lod_chord;
 pub mod tiles;
 pub mod timing;
 pub mod upscale;

@@ -1,0 +1,16 @@
+// Probe: the coarse levels' v (`chord_shape`, `chord_v`, `lod_v`, lod_chord.wgsl) at a
+// list of (s, a, c, root), for the test against their CPU twins (`render::lod_chord`).
+//!include lod_chord.wgsl
+
+@group(0) @binding(0) var<storage, read> probe_in: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> probe_out: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&probe_out) {
+        return;
+    }
+    let p = probe_in[i];
+    probe_out[i] = vec4<f32>(chord_v(p.x, p.y), chord_shape(p.z), lod_v(p.x, vec2<f32>(p.y, p.w)), 0.0);
+}
