@@ -108,16 +108,7 @@ fn from_above_the_far_canopy_reads_as_the_blades() {
         16,
     );
     let diffs = compare_bands(&levels, &blades, 0..size.1).expect("same size");
-    for (d, b) in diffs.iter().zip(bands(&blades)) {
-        println!(
-            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
-            d.top,
-            b.luminance,
-            d.luminance,
-            b.contrast,
-            100.0 * d.contrast
-        );
-    }
+    common::print_bands(&diffs, &blades);
     println!("worst band: {:?}", worst_band(&diffs));
     let within = diffs
         .iter()

@@ -40,6 +40,7 @@
 
 mod common;
 
+use common::print_bands;
 use sward::compare::{bands, compare_bands, worst_band};
 
 const SIZE: (u32, u32) = (240, 136);
@@ -54,20 +55,6 @@ const CONTRAST_BOUND: f64 = 0.3;
 const TEXTURED: f64 = 10.0;
 /// Frames of the TAA comparison.
 const TAA_FRAMES: usize = 16;
-
-/// Prints every band: the reference's luminance and contrast, and the difference.
-fn print_bands(diffs: &[sward::compare::BandDiff], reference: &image::RgbaImage) {
-    for (d, b) in diffs.iter().zip(bands(reference)) {
-        println!(
-            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
-            d.top,
-            b.luminance,
-            d.luminance,
-            b.contrast,
-            100.0 * d.contrast
-        );
-    }
-}
 
 fn prairie(sets: &[&str]) -> image::RgbaImage {
     prairie_after(sets, FRAMES)

@@ -65,6 +65,21 @@ pub fn prairie_scene(sets: &[&str]) -> Scene {
     sward::scene::load_scene_with_sets(&path, &sets).expect("prairie")
 }
 
+/// Prints every band of a comparison (`compare::compare_bands`): the reference's luminance
+/// and contrast, and the difference.
+pub fn print_bands(diffs: &[sward::compare::BandDiff], reference: &image::RgbaImage) {
+    for (d, b) in diffs.iter().zip(sward::compare::bands(reference)) {
+        println!(
+            "band {:3}: luminance {:6.1} ({:+6.1}), contrast {:5.1} ({:+4.0} %)",
+            d.top,
+            b.luminance,
+            d.luminance,
+            b.contrast,
+            100.0 * d.contrast
+        );
+    }
+}
+
 /// The prairie with `sets`, its last frame of `frames` at `size` (`render_frames`).
 pub fn prairie_frame(sets: &[&str], size: (u32, u32), frames: usize) -> image::RgbaImage {
     render_frames(prairie_scene(sets), size, frames, |_| {}).0
