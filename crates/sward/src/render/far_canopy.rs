@@ -65,7 +65,12 @@ pub fn weight(p: Vec3, eye: Vec3) -> f32 {
     if len.is_nan() || len <= 1e-6 {
         return 1.0;
     }
-    smoothstep(ELEVATION.0, ELEVATION.1, to_eye.y / len)
+    weight_at(to_eye.y / len)
+}
+
+/// [`weight`] for a view whose elevation has sine `sin_e`.
+pub fn weight_at(sin_e: f32) -> f32 {
+    smoothstep(ELEVATION.0, ELEVATION.1, sin_e)
 }
 
 /// The layer ground point `q` (x, z) shows and how it is turned (twin of

@@ -107,11 +107,7 @@ pub fn far_ring(reach: f32, height: f32) -> (f32, f32) {
 pub fn near_ring(reach: f32, height: f32) -> (f32, f32) {
     let h = if height.is_finite() { height.max(0.0) } else { 0.0 };
     let down = if reach > 0.0 {
-        crate::render::light::sky::smoothstep(
-            crate::render::far_canopy::ELEVATION.0,
-            crate::render::far_canopy::ELEVATION.1,
-            h / reach,
-        )
+        crate::render::far_canopy::weight_at(h / reach)
     } else {
         0.0
     };
