@@ -45,6 +45,14 @@ const FILES: &[(&str, &str)] = &[
         "contrast_probe.wgsl",
         include_str!("../shaders/contrast_probe.wgsl"),
     ),
+    (
+        "card_profile.wgsl",
+        include_str!("../shaders/card_profile.wgsl"),
+    ),
+    (
+        "card_profile_probe.wgsl",
+        include_str!("../shaders/card_profile_probe.wgsl"),
+    ),
     ("thinning.wgsl", include_str!("../shaders/thinning.wgsl")),
     (
         "thinning_probe.wgsl",
@@ -242,6 +250,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain_msaa.wgsl",
     "far_gain_probe.wgsl",
     "contrast_probe.wgsl",
+    "card_profile_probe.wgsl",
     "distance_gain_probe.wgsl",
     "thinning_probe.wgsl",
     "lod_chord_probe.wgsl",

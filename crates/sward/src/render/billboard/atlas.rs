@@ -13,7 +13,7 @@
 //! strip as the blades' shading lights a blade turned that way (`far_grass.wgsl`): the
 //! cards keep the contrast between sunlit and translucent blades.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 use crate::field::hash32;
 use crate::scene::types::Field;
@@ -285,6 +285,95 @@ pub fn mip_chain(layer: &Layer) -> Vec<Vec<[f32; 4]>> {
     levels
 }
 
+/// Row bands of a layer's height profile (twin of `PROFILE_ROWS`, `card_profile.wgsl`).
+pub const PROFILE_ROWS: usize = 8;
+
+/// One row band of a layer's height profile (`ProfileRow` in `card_profile.wgsl`): the
+/// coverage-weighted mean colour of its texels (rgb, w unused) and the same with each
+/// texel weighted by each facing's weight too (the colour that facing's sun lights).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ProfileRow {
+    /// The band's mean colour (linear rgb; w unused).
+    pub colour: [f32; 4],
+    /// The band's mean colour times each facing's weight (linear rgb; w unused).
+    pub facing: [[f32; 4]; FACINGS],
+}
+
+/// A layer's height profile: the mean its cards' texels are moved from by the contrast
+/// gain, [`PROFILE_ROWS`] bands of rows from the top (`card_profile.wgsl` says why). A
+/// band no blade reaches takes the nearest covered band's, so that no mean is black.
+pub fn profile(layer: &Layer) -> [ProfileRow; PROFILE_ROWS] {
+    let (w, h) = (layer.width as usize, layer.height as usize);
+    let mut rows = [ProfileRow::default(); PROFILE_ROWS];
+    let mut weights = [0.0f32; PROFILE_ROWS];
+    for y in 0..h {
+        let band = y * PROFILE_ROWS / h.max(1);
+        for x in 0..w {
+            let (t, f) = (layer.rgba[y * w + x], layer.facing[y * w + x]);
+            weights[band] += t[3];
+            for k in 0..3 {
+                rows[band].colour[k] += t[3] * t[k];
+                for (j, weight) in f.iter().enumerate() {
+                    rows[band].facing[j][k] += t[3] * weight * t[k];
+                }
+            }
+        }
+    }
+    let covered: Vec<usize> = (0..PROFILE_ROWS).filter(|&b| weights[b] > 1e-6).collect();
+    let mut out = rows;
+    for (b, row) in out.iter_mut().enumerate() {
+        let Some(&from) = covered.iter().min_by_key(|&&c| c.abs_diff(b)) else {
+            break;
+        };
+        let scale = 1.0 / weights[from];
+        row.colour = rows[from].colour.map(|v| v * scale);
+        row.facing = rows[from].facing.map(|c| c.map(|v| v * scale));
+    }
+    out
+}
+
+/// A row band's mean luminance lit by `light` (the sky's part) and the sun's part of
+/// each facing (twin of `profile_luma`).
+pub fn profile_luma(row: &ProfileRow, light: Vec3, sun: [Vec3; FACINGS]) -> f32 {
+    let rgb = |c: [f32; 4]| Vec3::new(c[0], c[1], c[2]);
+    let c = sun
+        .iter()
+        .zip(&row.facing)
+        .fold(rgb(row.colour) * light, |c, (s, f)| c + rgb(*f) * *s);
+    c.dot(crate::render::far_gain::LUMA)
+}
+
+/// A profile's mean at height `y` of the strip (0 the top row, 1 the bottom) from its
+/// bands' means: linear between the bands' centres, the end bands' own past them (twin of
+/// `profile_at`).
+pub fn profile_at(means: &[f32; PROFILE_ROWS], y: f32) -> f32 {
+    let last = (PROFILE_ROWS - 1) as f32;
+    let s = (y * PROFILE_ROWS as f32 - 0.5).clamp(0.0, last);
+    let i = (s as usize).min(PROFILE_ROWS - 2);
+    means[i] + (means[i + 1] - means[i]) * (s - i as f32)
+}
+
+/// The luminance the texel (x, y) of level `level` of a layer's mip `chain` (level 0
+/// `width` × `height`) is shown with under contrast gain `k`, under white light and no
+/// sun (the move in `billboard.wgsl`'s `fs_main`): moved from its layer's profile
+/// (`means`, [`profile_luma`] of each band) at the texel's centre by
+/// `far_gain::contrast_luma`.
+pub fn shown_luma(
+    means: &[f32; PROFILE_ROWS],
+    chain: &[Vec<[f32; 4]>],
+    (width, height): (u32, u32),
+    level: usize,
+    (x, y): (u32, u32),
+    k: f32,
+) -> f32 {
+    let (w, h) = ((width >> level).max(1), (height >> level).max(1));
+    let t = chain[level][(y * w + x) as usize];
+    let l = crate::render::far_gain::LUMA.dot(Vec3::new(t[0], t[1], t[2]));
+    let m = profile_at(means, (y as f32 + 0.5) / h as f32);
+    crate::render::far_gain::contrast_luma(l, m, k)
+}
+
 /// Linear to sRGB-encoded 8 bits (the atlas is an sRGB texture).
 fn srgb8(v: f32) -> u8 {
     let v = v.clamp(0.0, 1.0);
@@ -354,6 +443,68 @@ mod tests {
 
     /// The far level includes the flowers: a field with flowers puts its kinds' petal
     /// colours into the tufts, a field without none.
+    /// A layer's height profile: each band the coverage-weighted mean of its rows (the
+    /// facings' parts adding up to it), and the bands no blade reaches the nearest
+    /// covered band's, never black.
+    #[test]
+    fn the_height_profile_is_each_bands_mean() {
+        let (width, height) = (4u32, 32u32);
+        let mut rgba = vec![[0.0f32; 4]; (width * height) as usize];
+        let mut facing = vec![[0.0f32; FACINGS]; rgba.len()];
+        // Nothing in the top 12 rows; below, a colour rising with the row, half the
+        // texels half covered and lit by facing 1, the others by facing 3.
+        for y in 12..height {
+            for x in 0..width {
+                let i = (y * width + x) as usize;
+                let v = y as f32 / height as f32;
+                rgba[i] = [v, 0.5 * v + x as f32 * 0.01, 0.1, if x % 2 == 0 { 1.0 } else { 0.5 }];
+                facing[i][if x % 2 == 0 { 1 } else { 3 }] = 1.0;
+            }
+        }
+        let layer = Layer {
+            width,
+            height,
+            rgba,
+            facing,
+        };
+        let profile = profile(&layer);
+        let band_rows = (height as usize) / PROFILE_ROWS;
+        for (b, row) in profile.iter().enumerate() {
+            // The band it stands for: its own, or the first covered one (rows 12-15).
+            let from = b.max(3);
+            let (mut sum, mut w) = ([0.0f32; 3], 0.0f32);
+            for y in from * band_rows..(from + 1) * band_rows {
+                for x in 0..width as usize {
+                    let t = layer.rgba[y * width as usize + x];
+                    for k in 0..3 {
+                        sum[k] += t[3] * t[k];
+                    }
+                    w += t[3];
+                }
+            }
+            for k in 0..3 {
+                let want = sum[k] / w;
+                assert!((row.colour[k] - want).abs() < 1e-6, "band {b}: {row:?}");
+                let parts: f32 = row.facing.iter().map(|f| f[k]).sum();
+                assert!((parts - want).abs() < 1e-6, "band {b}: {row:?}");
+                assert_eq!(row.facing[0][k], 0.0);
+            }
+            assert!(row.colour[0] > 0.0, "band {b} is black");
+        }
+        // Lit: the sky's light on the colour, each facing's sun on its part.
+        let lit = profile_luma(&profile[5], Vec3::ONE, [Vec3::ZERO, Vec3::splat(2.0), Vec3::ZERO, Vec3::ZERO]);
+        let c = profile[5].colour;
+        let f = profile[5].facing[1];
+        let want = crate::render::far_gain::LUMA.dot(Vec3::new(c[0] + 2.0 * f[0], c[1] + 2.0 * f[1], c[2] + 2.0 * f[2]));
+        assert!((lit - want).abs() < 1e-6);
+        // Between the bands' centres the mean is linear, past the end ones flat.
+        let means: [f32; PROFILE_ROWS] = std::array::from_fn(|i| i as f32);
+        assert_eq!(profile_at(&means, 0.0), 0.0);
+        assert_eq!(profile_at(&means, 1.0), 7.0);
+        assert!((profile_at(&means, 0.5) - 3.5).abs() < 1e-6);
+        assert!((profile_at(&means, 3.5 / 8.0) - 3.0).abs() < 1e-6);
+    }
+
     #[test]
     fn flowers_reach_the_atlas() {
         let purple = |field: &Field| {

@@ -51,6 +51,8 @@ pub struct BillboardPass {
     /// The grids the cards are placed on (radius, base cell, levels, card size).
     pub layout: BillboardLayout,
     params: wgpu::Buffer,
+    /// Each atlas layer's height profile (`atlas::profile`, binding 7 of the draw).
+    profile: wgpu::Buffer,
     /// The kept cards, and the draw's indirect arguments (six vertices per card).
     cards: wgpu::Buffer,
     args: wgpu::Buffer,
@@ -113,6 +115,17 @@ impl BillboardPass {
             crate::render::clipmap::far_albedo(field).into(),
         );
         let mean_albedo = atlas::mean_color(&layers);
+        // Each layer's height profile, the mean its texels are moved from by the contrast
+        // gain (`card_profile.wgsl`).
+        let profile_rows: Vec<atlas::ProfileRow> = layers.iter().flat_map(atlas::profile).collect();
+        let profile = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("sward.billboard.profile"),
+                contents: bytemuck::cast_slice(&profile_rows),
+                usage: wgpu::BufferUsages::STORAGE,
+            },
+        );
         let atlas_tex = upload_atlas(
             gpu,
             "sward.billboard.atlas",
@@ -193,6 +206,8 @@ impl BillboardPass {
         let v = wgpu::ShaderStages::VERTEX;
         let mut cards_entry = compute_storage_entry(10, true);
         cards_entry.visibility = v;
+        let mut profile_entry = compute_storage_entry(7, true);
+        profile_entry.visibility = v;
         // The terrain's height function (bindings 1, 2): the ground's normal under a card.
         let mut grid_entry = compute_storage_entry(2, true);
         grid_entry.visibility = v;
@@ -219,6 +234,7 @@ impl BillboardPass {
                     wgpu::TextureViewDimension::D2Array,
                     wgpu::ShaderStages::FRAGMENT,
                 ),
+                profile_entry,
                 cards_entry,
             ],
         });
@@ -268,6 +284,7 @@ impl BillboardPass {
                     binding: 6,
                     resource: wgpu::BindingResource::TextureView(&facing_view),
                 },
+                buf(7, &profile),
                 buf(10, &cards),
             ],
         });
@@ -284,6 +301,7 @@ impl BillboardPass {
         Self {
             layout,
             params,
+            profile,
             cards,
             args,
             cull_layout,
@@ -538,6 +556,7 @@ impl BillboardPass {
         let (w, h) = atlas::layer_size(self.layout.card);
         2 * (w * h * 4 * atlas::VARIANTS) as u64 * 4 / 3
             + std::mem::size_of::<BillboardParams>() as u64
+            + self.profile.size()
             + self.cards.size()
             + self.args.size()
     }

@@ -176,3 +176,49 @@ pub fn probe_cards(
         })
         .collect())
 }
+
+/// One case of the height profile's probe (`card_profile_probe.wgsl`): the bands' means
+/// and a height for `profile_at`, a row band and its light for `profile_luma`.
+#[derive(Clone, Copy, Debug)]
+pub struct ProfileCase {
+    /// The bands' means, from the top.
+    pub means: [f32; super::atlas::PROFILE_ROWS],
+    /// The height looked up (0 the strip's top row, 1 its bottom).
+    pub y: f32,
+    /// A row band to light.
+    pub row: super::atlas::ProfileRow,
+    /// The sky's light on it (rgb).
+    pub light: glam::Vec3,
+    /// The sun's light for each facing (rgb).
+    pub sun: [glam::Vec3; super::atlas::FACINGS],
+}
+
+/// Runs the WGSL height profile (`profile_at`, `profile_luma`) on the GPU for each case:
+/// (profile_at, profile_luma) per case, for the test against the twins in `atlas`.
+pub fn probe_profile(gpu: &Gpu, cases: &[ProfileCase]) -> Result<Vec<(f32, f32)>> {
+    let v = |p: glam::Vec3| [p.x, p.y, p.z, 0.0];
+    let flat: Vec<[f32; 4]> = cases
+        .iter()
+        .flat_map(|c| {
+            let m = c.means;
+            let mut out = vec![
+                [m[0], m[1], m[2], m[3]],
+                [m[4], m[5], m[6], m[7]],
+                [c.y, 0.0, 0.0, 0.0],
+                c.row.colour,
+            ];
+            out.extend(c.row.facing);
+            out.push(v(c.light));
+            out.extend(c.sun.map(v));
+            out
+        })
+        .collect();
+    let out = crate::gpu::run_vec4_probe(
+        gpu,
+        "sward.card_profile_probe",
+        "card_profile_probe.wgsl",
+        &[bytemuck::cast_slice(&flat)],
+        cases.len(),
+    )?;
+    Ok(out.iter().map(|o| (o[0], o[1])).collect())
+}
