@@ -9,7 +9,7 @@ mod common;
 
 use glam::{Vec2, Vec3};
 use sward::compare::{bands, compare_bands, worst_band};
-use sward::render::far_canopy::{self, cell_uv, cell_variant, weight, LAYERS};
+use sward::render::far_canopy::{self, cell_uv, cell_variant, ground_weight, weight, LAYERS};
 use sward::render::far_gain::{far_ring, near_ring, NEAR_RING, NEAR_RING_ABOVE, RING};
 
 #[test]
@@ -29,16 +29,30 @@ fn the_gpu_canopy_matches_its_twin() {
         }
     }
     points.push((Vec3::ZERO, Vec3::ZERO));
-    let got = far_canopy::probe(&gpu, &points).expect("probe");
+    let got = far_canopy::probe(&gpu, &points, false).expect("probe");
+    let ground = far_canopy::probe(&gpu, &points, true).expect("probe");
     let mut layers = [0usize; LAYERS as usize];
-    let mut between = 0;
-    for (&(p, eye), &(w, layer, turn, uv)) in points.iter().zip(&got) {
+    let (mut between, mut ground_between) = (0, 0);
+    for ((&(p, eye), &(w, layer, turn, uv)), g) in points.iter().zip(&got).zip(&ground) {
         let q = Vec2::new(p.x, p.z);
         let want = weight(p, eye);
         assert!(
             (w - want).abs() <= 1e-5,
             "weight at {p} from {eye}: {w} against {want}"
         );
+        // The far ground's weight: its twin, and never below the cards' fade (where the
+        // cards fade, the ground between them shows the canopy).
+        let want_ground = ground_weight(p, eye);
+        assert!(
+            (g.0 - want_ground).abs() <= 1e-5,
+            "ground weight at {p} from {eye}: {} against {want_ground}",
+            g.0
+        );
+        assert!(
+            want_ground >= want,
+            "ground {want_ground} under cards {want}"
+        );
+        ground_between += usize::from(g.0 > 0.0 && g.0 < 1.0);
         assert_eq!((layer, turn), cell_variant(q), "cell of {q}");
         assert!(
             (uv - cell_uv(q)).abs().max_element() <= 1e-4,
@@ -50,6 +64,10 @@ fn the_gpu_canopy_matches_its_twin() {
     }
     assert!(layers.iter().all(|&n| n > 100), "layers {layers:?}");
     assert!(between > 50, "{between} points in the handover");
+    assert!(
+        ground_between > 50,
+        "{ground_between} points in the ground's handover"
+    );
 }
 
 #[test]

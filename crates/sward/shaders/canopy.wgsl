@@ -13,6 +13,10 @@
 // the prairie's grazing views (the far ring 3-5° below the eye) keep their cards; from
 // 19 m up the ring is 30-45° below.
 const CANOPY_ELEVATION: vec2<f32> = vec2<f32>(0.1, 0.4);
+// The same for the far ground under the cards (1.7° and 9.8°; `far_canopy::GROUND_ELEVATION`
+// says why): lower, so that where the cards fade or their rows open gaps between them the
+// ground shows the canopy's texture, not a smooth colour.
+const CANOPY_GROUND_ELEVATION: vec2<f32> = vec2<f32>(0.03, 0.17);
 // The side of a canopy cell (m): one layer of the texture, turned by a hash of the cell.
 const CANOPY_SIDE: f32 = 2.0;
 // Layers of the canopy texture.
@@ -28,15 +32,27 @@ const CARD_SHARPEN: f32 = -3.0;
 // (`billboard_cull.wgsl`).
 const CONTRAST_FOOTPRINT: vec2<f32> = vec2<f32>(0.3, 1.0);
 
-// How much of the grass at `p` the canopy seen from above stands for, seen from `eye`: 0
-// for a grazing view (the cards), 1 looking down (twin: `far_canopy::weight`).
-fn canopy_weight(p: vec3<f32>, eye: vec3<f32>) -> f32 {
+// A handover by the view's elevation over `p` seen from `eye`: 0 below the sine
+// `range.x`, 1 above `range.y` (and with the eye on the point).
+fn elevation_weight(p: vec3<f32>, eye: vec3<f32>, range: vec2<f32>) -> f32 {
     let to_eye = eye - p;
     let len = length(to_eye);
     if !(len > 1e-6) {
         return 1.0;
     }
-    return smoothstep(CANOPY_ELEVATION.x, CANOPY_ELEVATION.y, to_eye.y / len);
+    return smoothstep(range.x, range.y, to_eye.y / len);
+}
+
+// How much of the grass at `p` the canopy seen from above stands for, seen from `eye`: 0
+// for a grazing view (the cards), 1 looking down (twin: `far_canopy::weight`).
+fn canopy_weight(p: vec3<f32>, eye: vec3<f32>) -> f32 {
+    return elevation_weight(p, eye, CANOPY_ELEVATION);
+}
+
+// How much of the far ground at `p` shows the canopy seen from above, seen from `eye`
+// (twin: `far_canopy::ground_weight`): at least `canopy_weight`, from a lower elevation.
+fn canopy_ground_weight(p: vec3<f32>, eye: vec3<f32>) -> f32 {
+    return elevation_weight(p, eye, CANOPY_GROUND_ELEVATION);
 }
 
 // The cell of ground point `q` (x, z): which layer it shows (x) and how it is turned (y:

@@ -1,7 +1,8 @@
 // Probe: the canopy's handover and cells (canopy.wgsl) at a list of points, for the test
 // that compares them with their CPU twins (`render::far_canopy`). In: per point a ground
-// point (xyz) and an eye (xyz). Out: the weight, the cell's layer and turn, and the point's
-// place in its cell (x, z over CANOPY_SIDE) turned as the cell turns it.
+// point (xyz) and an eye (xyz; w 1: the far ground's weight, else the cards'). Out: the
+// weight, the cell's layer and turn, and the point's place in its cell (x, z over
+// CANOPY_SIDE) turned as the cell turns it.
 //!include common.wgsl
 //!include canopy.wgsl
 
@@ -18,5 +19,7 @@ fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = probe_points[i].xyz;
     let cell = canopy_variant(p.xz);
     let uv = canopy_turn(fract(p.xz / CANOPY_SIDE), cell.y, 1.0);
-    probe_out[i] = vec4<f32>(canopy_weight(p, probe_eyes[i].xyz), f32(cell.x * 8u + cell.y), uv);
+    let eye = probe_eyes[i];
+    let w = select(canopy_weight(p, eye.xyz), canopy_ground_weight(p, eye.xyz), eye.w > 0.5);
+    probe_out[i] = vec4<f32>(w, f32(cell.x * 8u + cell.y), uv);
 }

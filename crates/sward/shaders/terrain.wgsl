@@ -188,13 +188,15 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         outside = 0.0;
     }
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
-    // Seen from above, the canopy's tops and gaps (canopy.wgsl), where the cards fade out:
+    // Seen from above, the canopy's tops and gaps (canopy.wgsl), from a lower elevation
+    // than the cards fade out at (`canopy_ground_weight`), so the ground between their
+    // rows shows it:
     // sharpened and with the cards' contrast gain near the blades, handed over to the
     // texture's own as a pixel grows to span the blades' height (as the cards'). Only
     // where the far grass shows, as the trails below: the soil under the near blades has
     // none of it (the same pixels; the prairie's frame at 1280x720 on llvmpipe did not
     // change measurably, 703/663 against 686/693 ms, alternating).
-    let top = canopy_weight(in.world, frame.camera_pos.xyz);
+    let top = canopy_ground_weight(in.world, frame.camera_pos.xyz);
     if top > 0.0 && cover > 0.0 {
         // The pixel's size across the view (the footprint without its stretch along a
         // grazing view, as the cards take theirs: a pixel spans that much of the blades'
