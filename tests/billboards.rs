@@ -493,7 +493,7 @@ fn the_cards_are_drawn_nearer_first_whichever_way_the_camera_looks() {
 fn the_cards_contrast_keeps_the_mean_of_what_shows_of_them() {
     let scene = common::prairie_scene(&[]);
     let layout = BillboardLayout::from_scene(&scene.render, &scene.field).unwrap();
-    let luma = |t: [f32; 4]| 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+    let luma = |t: [f32; 4]| far_gain::LUMA.dot(Vec3::new(t[0], t[1], t[2]));
     let mut worst: (f32, String) = (0.0, String::new());
     let mut card_mean_worst = 0.0f32;
     let mut parts = 0;

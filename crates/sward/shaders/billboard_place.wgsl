@@ -56,7 +56,6 @@ struct DrawnCard {
     light_sun: array<vec4<f32>, 4>,
 }
 
-
 const BB_QUANTUM: f32 = 1.0 / 1024.0;
 const BB_UNIT: f32 = 1.0 / 16777216.0;
 

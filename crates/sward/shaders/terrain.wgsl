@@ -189,9 +189,9 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let cover = max(smoothstep(terrain.blend.x, terrain.blend.y, dist), outside) * grass_density(q);
     // Seen from above, the canopy's tops and gaps (canopy.wgsl), from a lower elevation
-    // than the cards fade out at (`canopy_ground_weight`), so the ground between their
-    // rows shows it:
-    // sharpened and with the cards' contrast gain near the blades, handed over to the
+    // than the cards fade out at (`canopy_ground_weight`), so that the ground between
+    // their rows shows them; sharpened and with the cards' contrast gain near the blades,
+    // handed over to the
     // texture's own as a pixel grows to span the blades' height (as the cards'). Only
     // where the far grass shows, as the trails below: the soil under the near blades has
     // none of it (the same pixels; the prairie's frame at 1280x720 on llvmpipe did not
@@ -202,7 +202,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         // grazing view, as the cards take theirs: a pixel spans that much of the blades'
         // height).
         let to_eye = frame.camera_pos.xyz - in.world;
-        let across = in.footprint * max(dot(n, to_eye) / max(length(to_eye), 1e-4), 0.05);
+        let across = in.footprint * max(dot(n, to_eye) / max(dist, 1e-4), 0.05);
         let handover = smoothstep(CONTRAST_FOOTPRINT.x, CONTRAST_FOOTPRINT.y, across / max(terrain.grass_albedo.w, 1e-3));
         let f = canopy_factor(canopy_tex, canopy_sampler, q, dqx, dqy, CARD_SHARPEN * (1.0 - handover));
         let k = mix(contrast_gain(waves[11]), 1.0, handover);

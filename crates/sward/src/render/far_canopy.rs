@@ -23,6 +23,7 @@ use wgpu::util::DeviceExt;
 
 use crate::field::hash32;
 use crate::gpu::Gpu;
+use crate::render::far_gain::LUMA;
 use crate::render::light::sky::smoothstep;
 use crate::scene::types::Field;
 
@@ -227,7 +228,7 @@ pub fn render_layer(field: &Field, layer: u32) -> Layer {
             let shade = super::billboard::atlas::albedo(tint, v);
             // Lower down, the neighbours shade it (CWD-Sim's self-shadow, Eq. 14, as 0.5 at
             // the root to 1 at the tip).
-            let l = (0.2126 * shade[0] + 0.7152 * shade[1] + 0.0722 * shade[2])
+            let l = LUMA.dot(Vec3::from_array(shade))
                 * facing_light
                 * (0.5 + 0.5 * v);
             for k in -half_samples..=half_samples {
@@ -248,7 +249,7 @@ pub fn render_layer(field: &Field, layer: u32) -> Layer {
     }
     // The deep canopy where no blade was met: a mean blade's root in its own shade.
     let root = super::billboard::atlas::albedo([0.5, 0.5], 0.0);
-    let deep = DEEP * (0.2126 * root[0] + 0.7152 * root[1] + 0.0722 * root[2]);
+    let deep = DEEP * LUMA.dot(Vec3::from_array(root));
     let covered = depth.iter().filter(|&&d| d > f32::NEG_INFINITY).count();
     let lum: Vec<f32> = depth
         .iter()

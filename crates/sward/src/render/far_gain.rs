@@ -87,13 +87,23 @@ pub const NEAR_RING: (f32, f32) = (0.35, 0.5);
 /// steepest view of them (+28 levels from 19 m up, its few pixels at the frame's edge).
 pub const NEAR_RING_ABOVE: (f32, f32) = (0.85, 0.98);
 
+/// The camera's height over the ground as the rings take it: 0 below the ground or when
+/// not a number.
+fn ground_height(height: f32) -> f32 {
+    if height.is_finite() {
+        height.max(0.0)
+    } else {
+        0.0
+    }
+}
+
 /// The far ring (m from the camera) for the blades' reach `reach` with the camera
 /// `height` metres above the ground under it: [`RING`] of the reach, or of the height when
 /// that is larger. From 49 m up with a 28 m reach the ring of 28-42 m holds no ground, the
 /// far levels were never measured (their gain 1, the light model's), and the prairie read
 /// 12-19 levels darker than a frame whose 50 m reach put its ring on the ground.
 pub fn far_ring(reach: f32, height: f32) -> (f32, f32) {
-    let h = if height.is_finite() { height.max(0.0) } else { 0.0 };
+    let h = ground_height(height);
     (
         (RING.0 * reach).max(RING.0 * h),
         (RING.1 * reach).max(RING.1 * h),
@@ -105,7 +115,7 @@ pub fn far_ring(reach: f32, height: f32) -> (f32, f32) {
 /// of the blades' edge, going over to [`NEAR_RING_ABOVE`] as the view of it looks down (as
 /// the cards hand over to the canopy, `far_canopy::weight`).
 pub fn near_ring(reach: f32, height: f32) -> (f32, f32) {
-    let h = if height.is_finite() { height.max(0.0) } else { 0.0 };
+    let h = ground_height(height);
     let down = if reach > 0.0 {
         crate::render::far_canopy::weight_at(h / reach)
     } else {
