@@ -339,15 +339,28 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
     return clamp(1.0 - (h_px - threshold) / (threshold * cull.lod.w), 0.0, 1.0);
 }
 
-// The quadratic's `a` (`chord_shape`) of the blade's chord from `root_v` to its tip: where
-// the centre line's middle projects onto the chord.
-fn blade_chord_shape(blade: Blade, ctx: BladeCtx, index: u32, root_v: f32) -> f32 {
-    let p0 = centre_line(blade, ctx, index, root_v).p;
-    let p1 = centre_line(blade, ctx, index, 1.0).p;
-    let pm = centre_line(blade, ctx, index, root_v + 0.5 * (1.0 - root_v)).p;
+// The quadratic's `a` (`chord_shape`) of the blade's centre line from `va` to `vb` as one
+// straight segment: where the line's middle projects onto it.
+fn segment_shape(blade: Blade, ctx: BladeCtx, index: u32, va: f32, vb: f32) -> f32 {
+    let p0 = centre_line(blade, ctx, index, va).p;
+    let p1 = centre_line(blade, ctx, index, vb).p;
+    let pm = centre_line(blade, ctx, index, 0.5 * (va + vb)).p;
     let d = p1 - p0;
     let dd = dot(d, d);
     return chord_shape(select(0.5, dot(pm - p0, d) / dd, dd > 1e-12));
+}
+
+// The coarsest mesh's chord code (`lod_v`, lod_chord.wgsl) for its `segments` (1 or 2)
+// from `root_v` to the tip, each segment's shape taken `share` of the way from the
+// identity (the level before it, morphing).
+fn blade_chord_code(blade: Blade, ctx: BladeCtx, index: u32, root_v: f32, segments: u32, share: f32) -> f32 {
+    if segments <= 1u {
+        return chord_code_one(mix(0.5, segment_shape(blade, ctx, index, root_v, 1.0), share));
+    }
+    let mid = root_v + 0.5 * (1.0 - root_v);
+    let a0 = mix(0.5, segment_shape(blade, ctx, index, root_v, mid), share);
+    let a1 = mix(0.5, segment_shape(blade, ctx, index, mid, 1.0), share);
+    return chord_code_two(a0, a1);
 }
 
 // The depth-only passes (shadow casters, the coverage measurement): no light bound.
@@ -437,8 +450,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     var b: BladeVertex;
     // The slot in the visible list: the instance's batch, the blade in the batch.
     var level = draw_level.x;
-    // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade with
-    // the coarsest level's mesh, out to the radius.
+    // A sun's shadow cascade (frame.debug.z: the grass's shadow radius): every blade as one
+    // triangle from its root to its tip (`CASTER_VERTICES`), out to the radius.
     let shadow_pass = CASTER || frame.debug.z > 0.0;
     // Multi-draw: the level is the region the batch lies in (the regions are whole batches,
     // so a batch never straddles two of them). One draw per level binds its region at an
@@ -451,7 +464,8 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
         region_start = level * region;
     }
     let mesh_level = select(level, 2u, shadow_pass);
-    let rows = max(cull.lod_segments[mesh_level], 1u);
+    // The caster's one row spans the blade, whatever the coarsest level's rows.
+    let rows = select(max(cull.lod_segments[mesh_level], 1u), 1u, shadow_pass);
     let cols = lod_columns(mesh_level);
     let per_blade = select(cols * (rows + 1u), CASTER_VERTICES, shadow_pass);
     let in_batch = div_small(batch_vid, per_blade);
@@ -542,12 +556,12 @@ fn blade_vertex(batch_vid: u32, inst: u32) -> BladeVertex {
     out.world = point.p;
     out.normal = point.n;
     out.uv = vec2<f32>(u, v);
-    // The coarsest level is the chord, where v runs linearly (`lod_v`); the level before it
-    // goes over to the chord as it morphs. The finer rows lie on the curve.
-    out.chord = vec2<f32>(0.5, root_v);
+    // The coarsest level's segments are straight, v runs linearly along each (`lod_v`); the
+    // level before it goes over to them as it morphs. The finer rows lie on the curve.
+    out.chord = vec2<f32>(chord_code_one(0.5), root_v);
     let chord_share = select(select(0.0, morph, level == 1u), 1.0, level >= 2u);
     if !shadow_pass && !flower && chord_share > 0.0 {
-        out.chord.x = mix(0.5, blade_chord_shape(blade, ctx, index, root_v), chord_share);
+        out.chord.x = blade_chord_code(blade, ctx, index, root_v, cull.lod_segments[2], chord_share);
     }
     out.card = card;
     out.side = ctx.side;

@@ -14,7 +14,15 @@
 // at s, the curve taken as the quadratic through the chord's ends and the curve's middle:
 // with its middle projecting at c (0.5 for a straight blade), the projection of the
 // quadratic at v is 2 v (1 − v) a + v², a = 2 c − 0.5, so that v solves
-// (1 − 2a) v² + 2a v − s = 0. No bindings; the twins are in `render::lod_chord`.
+// (1 − 2a) v² + 2a v − s = 0.
+//
+// The coarsest level has two segments where the field's blades have three or more
+// (`mesh::lod_segments`), each mapped so onto its half of the curve: a bent blade's chord
+// cuts the corner of its curve, and at a grazing view the one-segment blades at 28-45 m
+// read 3-5 levels brighter than the finest mesh after 32 frames of the prairie's wind
+// (two mapped segments: within 2, with and without wind). A blade's code (`chord.x`) says
+// which: −1 − a for one segment, 2048 q0 + q1 for two (each half's a in 11 bits, exact in
+// an f32 and carried flat). No bindings; the twins are in `render::lod_chord`.
 
 // The quadratic's `a` from the projection `c` of the curve's middle onto the chord
 // (as a share of the chord): within [0, 1], where the projection rises along the blade.
@@ -32,13 +40,37 @@ fn chord_v(s: f32, a: f32) -> f32 {
     return select(clamp(t / den, 0.0, 1.0), 0.0, den <= 1e-12);
 }
 
+// The chord code of a one-segment mesh of shape `a`: −1 − a (negative).
+fn chord_code_one(a: f32) -> f32 {
+    return -1.0 - clamp(a, 0.0, 1.0);
+}
+
+// The chord code of a two-segment mesh of shapes `a0` (root half) and `a1` (tip half), in
+// 11 bits each (exact in an f32).
+fn chord_code_two(a0: f32, a1: f32) -> f32 {
+    let q0 = round(clamp(a0, 0.0, 1.0) * 2047.0);
+    let q1 = round(clamp(a1, 0.0, 1.0) * 2047.0);
+    return q0 * 2048.0 + q1;
+}
+
 // A fragment's v on its blade from the interpolated `v` and the blade's `chord` (x: the
-// quadratic's `a` the drawn mesh needs, 0.5 where its rows follow the curve; y: the v the
-// drawn blade starts at, `thinned_root_at`): the chord spans v from y to 1.
+// chord code; y: the v the drawn blade starts at, `thinned_root_at`).
 fn lod_v(v: f32, chord: vec2<f32>) -> f32 {
     let span = 1.0 - chord.y;
-    if span <= 1e-4 || abs(chord.x - 0.5) < 1e-6 {
+    if span <= 1e-4 {
         return v;
     }
-    return chord.y + span * chord_v((v - chord.y) / span, chord.x);
+    let s = (v - chord.y) / span;
+    if chord.x < 0.0 {
+        let a = -1.0 - chord.x;
+        if abs(a - 0.5) < 1e-6 {
+            return v;
+        }
+        return chord.y + span * chord_v(s, a);
+    }
+    let q0 = floor(chord.x / 2048.0);
+    let q1 = chord.x - q0 * 2048.0;
+    let half = select(0.0, 1.0, s >= 0.5);
+    let a = select(q0, q1, s >= 0.5) / 2047.0;
+    return chord.y + span * 0.5 * (half + chord_v(2.0 * s - half, a));
 }
