@@ -674,6 +674,18 @@ fn far_field_compares_the_levels_band_by_band() {
             |d: &Value| (f(d, &["luminance"]).abs() / 5.0).max(f(d, &["contrast"]).abs() / 0.3);
         assert!(diffs.iter().all(|d| score(d) <= score(worst) + 1e-9), "{c}");
         assert!(u(c, &["within"]) <= 5);
+        // Five bands of eight blocks; a band's mean is the mean of its blocks (64 columns
+        // split evenly), so no block is less off than the band most off by luminance.
+        let blocks = c["blocks_within"].as_array().expect("blocks");
+        assert_eq!(blocks[1].as_u64(), Some(40), "{c}");
+        assert!(blocks[0].as_u64().unwrap() <= 40);
+        let block = f(&c["worst_block"], &["luminance"]).abs();
+        let band = diffs
+            .iter()
+            .map(|d| f(d, &["luminance"]).abs())
+            .fold(0.0, f64::max);
+        assert!(block + 1e-9 >= band, "{c}");
+        assert!(u(&c["worst_block"], &["sector"]) < 8);
     }
     let out = sward(&["bench", "--far-field", "--light", "--scene", SCENE]);
     assert!(!out.status.success());

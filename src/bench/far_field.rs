@@ -10,7 +10,9 @@
 //!   (the reference of `levels` where `levels` shows the far ground).
 //!
 //! `--frames` frames are rendered per configuration after `--warmup`; the last one is
-//! compared. Reported: every band of each comparison and its worst band, and the worst
+//! compared. Reported: every band of each comparison and its worst band, the worst block
+//! of a band's rows across an eighth of the width (`compare::compare_blocks`: a band's mean
+//! can hide one side of the view brighter and the other darker), and the worst
 //! band of `levels` against `blades` along the run ([`checkpoints`]: after 4, 8, 16, …
 //! frames): the far levels follow gains measured frame by frame while the wind bends the
 //! field from rest, so one frame count is not a settled state.
@@ -19,7 +21,10 @@ use serde::Serialize;
 
 use super::{utc_now, BenchOptions, BENCH_DT};
 use sward::commands::world_frame;
-use sward::compare::{bands, compare_bands, diff_bands, worst_band, Band, BandDiff};
+use sward::compare::{
+    bands, compare_bands, compare_blocks, diff_bands, worst_band, worst_block, Band, BandDiff,
+    BlockDiff, BAND_LUMINANCE_TOLERANCE,
+};
 use sward::error::Result;
 use sward::render::camera::CameraView;
 use sward::render::target::Target;
@@ -54,6 +59,11 @@ pub struct BandComparison {
     pub worst: Option<BandDiff>,
     /// Bands within the issue's 5 levels and 30 %.
     pub within: usize,
+    /// The block (a band's rows across an eighth of the width, `compare::compare_blocks`)
+    /// whose luminance differs most: what the bands' means can hide.
+    pub worst_block: Option<BlockDiff>,
+    /// Blocks within 5 levels, and all of them.
+    pub blocks_within: (usize, usize),
 }
 
 /// The worst band of `levels` against `blades` after `frames` frames (warm-up included).
@@ -144,7 +154,14 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
     let compare = |a: usize, b: usize| -> BandComparison {
         let (image, reference) = (&images[a], &images[b]);
         let diffs = compare_bands(&image.1, &reference.1, 0..o.size.1).unwrap_or_default();
+        let blocks = compare_blocks(&image.1, &reference.1, 0..o.size.1).unwrap_or_default();
+        let blocks_within = blocks
+            .iter()
+            .filter(|d| d.luminance.abs() <= BAND_LUMINANCE_TOLERANCE)
+            .count();
         BandComparison {
+            worst_block: worst_block(&blocks),
+            blocks_within: (blocks_within, blocks.len()),
             image: image.0.into(),
             reference: reference.0.into(),
             reference_bands: bands(&reference.1),
@@ -213,6 +230,18 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
                 100.0 * w.contrast,
                 c.within,
                 c.diffs.len()
+            );
+        }
+        if let Some(b) = c.worst_block {
+            out += &format!(
+                "worst block (8 rows by an eighth of the width): rows {}-{}, eighth {} from the \
+                 left: {:+.1} levels; {} of {} blocks within 5 levels\n",
+                b.top,
+                b.top + sward::compare::BAND_ROWS - 1,
+                b.sector + 1,
+                b.luminance,
+                c.blocks_within.0,
+                c.blocks_within.1
             );
         }
     }

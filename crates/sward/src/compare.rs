@@ -173,6 +173,78 @@ pub fn worst_band(diffs: &[BandDiff]) -> Option<BandDiff> {
         .max_by(|a, b| score(a).total_cmp(&score(b)))
 }
 
+/// Blocks across a band for [`compare_blocks`]: each an eighth of the width.
+pub const BAND_SECTORS: u32 = 8;
+
+/// How one block (a band's rows across an eighth of the width) of an image differs from
+/// the same block of a reference in mean luminance (0–255). The bands' means can hide a
+/// field that reads brighter on one side of the view and darker on the other (the far
+/// levels against the blades they replace: the sun and the wind light the grass by the
+/// direction it is seen in).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct BlockDiff {
+    /// First row of the block's band.
+    pub top: u32,
+    /// Which eighth of the width, from the left.
+    pub sector: u32,
+    /// The image's mean luminance minus the reference's.
+    pub luminance: f64,
+}
+
+fn block_means(img: &image::RgbaImage, top: u32) -> [f64; BAND_SECTORS as usize] {
+    let (w, h) = img.dimensions();
+    let mut out = [0.0; BAND_SECTORS as usize];
+    for (k, m) in out.iter_mut().enumerate() {
+        let (x0, x1) = (k as u32 * w / BAND_SECTORS, (k as u32 + 1) * w / BAND_SECTORS);
+        let (mut sum, mut n) = (0.0, 0.0);
+        for y in top..(top + BAND_ROWS).min(h) {
+            for x in x0..x1 {
+                sum += luma(img.get_pixel(x, y));
+                n += 1.0;
+            }
+        }
+        *m = sum / f64::max(n, 1.0);
+    }
+    out
+}
+
+/// Every block of the whole bands of `img` against `reference` whose top row lies in
+/// `rows`, band by band from the top, left to right; `None` when the sizes differ.
+pub fn compare_blocks(
+    img: &image::RgbaImage,
+    reference: &image::RgbaImage,
+    rows: std::ops::Range<u32>,
+) -> Option<Vec<BlockDiff>> {
+    if img.dimensions() != reference.dimensions() {
+        return None;
+    }
+    let bands = img.height() / BAND_ROWS;
+    let mut out = Vec::new();
+    for b in 0..bands {
+        let top = b * BAND_ROWS;
+        if !rows.contains(&top) {
+            continue;
+        }
+        let (a, r) = (block_means(img, top), block_means(reference, top));
+        for (k, (x, y)) in a.iter().zip(&r).enumerate() {
+            out.push(BlockDiff {
+                top,
+                sector: k as u32,
+                luminance: x - y,
+            });
+        }
+    }
+    Some(out)
+}
+
+/// The block whose luminance differs most.
+pub fn worst_block(diffs: &[BlockDiff]) -> Option<BlockDiff> {
+    diffs
+        .iter()
+        .copied()
+        .max_by(|a, b| a.luminance.abs().total_cmp(&b.luminance.abs()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,5 +303,28 @@ mod tests {
             compare_bands(&img, &reference, 8..16).expect("same").len(),
             1
         );
+    }
+
+    #[test]
+    fn blocks_find_a_side_the_band_mean_hides() {
+        // 32 x 16: the image's left half 10 levels above the reference, its right half 10
+        // below; the bands' means agree.
+        let reference = image::RgbaImage::from_pixel(32, 16, image::Rgba([100, 100, 100, 255]));
+        let img = image::RgbaImage::from_fn(32, 16, |x, _| {
+            let v = if x < 16 { 110 } else { 90 };
+            image::Rgba([v, v, v, 255])
+        });
+        let bands = compare_bands(&img, &reference, 0..16).expect("same size");
+        assert!(bands.iter().all(|d| d.luminance.abs() < 1e-9));
+        let blocks = compare_blocks(&img, &reference, 0..16).expect("same size");
+        assert_eq!(blocks.len(), 2 * BAND_SECTORS as usize);
+        for d in &blocks {
+            let want = if d.sector < BAND_SECTORS / 2 { 10.0 } else { -10.0 };
+            assert!((d.luminance - want).abs() < 1e-9, "{d:?}");
+        }
+        assert_eq!(worst_block(&blocks).map(|w| w.luminance.abs()), Some(10.0));
+        assert_eq!(compare_blocks(&img, &reference, 8..16).expect("same").len(), 8);
+        assert!(compare_blocks(&img, &image::RgbaImage::new(4, 4), 0..4).is_none());
+        assert!(worst_block(&[]).is_none());
     }
 }
