@@ -339,12 +339,9 @@ fn morph_factor(level: u32, h_px: f32) -> f32 {
     return clamp(1.0 - (h_px - threshold) / (threshold * cull.lod.w), 0.0, 1.0);
 }
 
-// The quadratic's `a` (`chord_shape`) of the blade's centre line from `va` to `vb` as one
-// straight segment: where the line's middle projects onto it.
-fn segment_shape(blade: Blade, ctx: BladeCtx, index: u32, va: f32, vb: f32) -> f32 {
-    let p0 = centre_line(blade, ctx, index, va).p;
-    let p1 = centre_line(blade, ctx, index, vb).p;
-    let pm = centre_line(blade, ctx, index, 0.5 * (va + vb)).p;
+// The quadratic's `a` (`chord_shape`) of a straight segment from `p0` to `p1` standing for
+// the centre line through `pm` (its point halfway in v): where `pm` projects onto it.
+fn segment_shape(p0: vec3<f32>, pm: vec3<f32>, p1: vec3<f32>) -> f32 {
     let d = p1 - p0;
     let dd = dot(d, d);
     return chord_shape(select(0.5, dot(pm - p0, d) / dd, dd > 1e-12));
@@ -352,14 +349,20 @@ fn segment_shape(blade: Blade, ctx: BladeCtx, index: u32, va: f32, vb: f32) -> f
 
 // The coarsest mesh's chord code (`lod_v`, lod_chord.wgsl) for its `segments` (1 or 2)
 // from `root_v` to the tip, each segment's shape taken `share` of the way from the
-// identity (the level before it, morphing).
+// identity (the level before it, morphing). The centre line is evaluated once per point
+// the segments share.
 fn blade_chord_code(blade: Blade, ctx: BladeCtx, index: u32, root_v: f32, segments: u32, share: f32) -> f32 {
+    let span = 1.0 - root_v;
+    let p0 = centre_line(blade, ctx, index, root_v).p;
+    let mid = centre_line(blade, ctx, index, root_v + 0.5 * span).p;
+    let p1 = centre_line(blade, ctx, index, 1.0).p;
     if segments <= 1u {
-        return chord_code_one(mix(0.5, segment_shape(blade, ctx, index, root_v, 1.0), share));
+        return chord_code_one(mix(0.5, segment_shape(p0, mid, p1), share));
     }
-    let mid = root_v + 0.5 * (1.0 - root_v);
-    let a0 = mix(0.5, segment_shape(blade, ctx, index, root_v, mid), share);
-    let a1 = mix(0.5, segment_shape(blade, ctx, index, mid, 1.0), share);
+    let q0 = centre_line(blade, ctx, index, root_v + 0.25 * span).p;
+    let q1 = centre_line(blade, ctx, index, root_v + 0.75 * span).p;
+    let a0 = mix(0.5, segment_shape(p0, q0, mid), share);
+    let a1 = mix(0.5, segment_shape(mid, q1, p1), share);
     return chord_code_two(a0, a1);
 }
 
