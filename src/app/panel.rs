@@ -761,6 +761,20 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                  {:.2}; far field's distance gain: {:.2}",
                 far.ratio.x, far.ratio.y, far.ratio.z, far.contrast, far.distance
             ));
+            // The sectors measured (`render::far_sectors`): the spread across directions.
+            let measured: Vec<f32> = far.sectors.iter().copied().filter(|m| *m > 0.0).collect();
+            ui.label(match (
+                measured.iter().copied().reduce(f32::min),
+                measured.iter().copied().reduce(f32::max),
+            ) {
+                (Some(lo), Some(hi)) => format!(
+                    "far levels by direction: {lo:.2} to {hi:.2} times the gain ({} of {} \
+                     sectors measured)",
+                    measured.len(),
+                    far.sectors.len()
+                ),
+                _ => "far levels by direction: not measured yet".to_string(),
+            });
             match app.stats.pass_ms {
                 Some(ms) => {
                     let text: Vec<String> = PASSES

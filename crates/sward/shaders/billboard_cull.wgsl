@@ -30,7 +30,7 @@
 // The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
 // `wave_blades`), in word 2 the far field's distance gain, in words 4-7 the far levels'
 // measured light gain and in word 11 the cards' contrast gain (far_gain_math.wgsl).
-@group(0) @binding(12) var<storage, read> waves: array<u32, 12>;
+@group(0) @binding(12) var<storage, read> waves: array<u32, FAR_STATE_WORDS>;
 // The trail map (`trails.wgsl`): cards over a trail lie down as its blades did.
 @group(0) @binding(13) var<storage, read> trails: array<u32>;
 
@@ -129,11 +129,14 @@ fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
     let p11 = length(vec3<f32>(m[0][1], m[1][1], m[2][1]));
     let footprint = 2.0 * clip.w / max(p11 * frame.viewport_time.y, 1e-6);
     // Calibrated on the blades the cards stand for (`far_gain`), at the card's distance
-    // (`distance_gain`).
-    let to_card = length(centre - frame.camera_pos.xyz);
+    // (`distance_gain`) and in its direction from the camera (`sector_gain`).
+    let card_dir = centre - frame.camera_pos.xyz;
+    let to_card = length(card_dir);
+    let sector = sector_pair(card_dir.xz);
     let patchy = grass_texture(grass_octaves(c.pos.xz), footprint)
         * far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]))
-        * distance_gain(to_card, frame.thinning_reach.x, waves[2]);
+        * distance_gain(to_card, frame.thinning_reach.x, waves[2])
+        * sector_gain(sector, waves[SECTOR_WORD + sector.a], waves[SECTOR_WORD + sector.b]);
     // The contrast the blades have where the cards take over from them (a pixel spans a
     // fraction of a blade's height there), handed over to the far ground's (1: the atlas's
     // own) as a pixel grows to span half a card: further out a pixel of blades would show

@@ -13,8 +13,9 @@
 // ground are measured together: the terrain's mesh is coarse that far out, and its pixels
 // stand above or below the height function by more than a card's root.) The sums, and the luminance's sums and squares for the contrast,
 // are reduced across the workgroup; the light gain is written into the far state's words
-// 4-7, the blades' ratio and the contrast gain into words 8-11 (`render::far_gain`), which
-// the next frame's billboards and far ground read.
+// 4-7, the blades' ratio and the contrast gain into words 8-11 (`render::far_gain`), and
+// each sector's multiplier of the gain into words 12-27 (far_sectors.wgsl), which the
+// next frame's billboards and far ground read.
 // The depth texture's binding and `frame_depth` come from the including file (one sample
 // or multisampled).
 //!include common.wgsl
@@ -38,8 +39,9 @@ struct GainParams {
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Bindings 1 and 2: the terrain's parameters and grid (terrain_height.wgsl).
 // The far state: words 0-1 the gusts' bend at the blades' edge, 2 the far field's distance
-// gain, 4-7 the gain, 8-10 the blades' ratio to the model, 11 the contrast gain.
-@group(0) @binding(3) var<storage, read_write> far_state: array<u32, 12>;
+// gain, 4-7 the gain, 8-10 the blades' ratio to the model, 11 the contrast gain, 12-27 the
+// sectors' multipliers.
+@group(0) @binding(3) var<storage, read_write> far_state: array<u32, FAR_STATE_WORDS>;
 @group(0) @binding(4) var<uniform> params: GainParams;
 @group(0) @binding(5) var scene_color: texture_2d<f32>;
 // What the frame shows: the TAA's history where it blended the frame, else `scene_color`
@@ -75,6 +77,24 @@ fn store_gain(at: u32, g: vec4<f32>) {
     far_state[at + 3u] = w.w;
 }
 
+// Sums each invocation's entries of the workgroup's arrays into their first (invocation
+// `i`; the rings' four arrays, and the contrast's and the far field's with `all`).
+fn reduce_sums(i: u32, all: bool) {
+    for (var s = GAIN_THREADS / 2u; s > 0u; s = s / 2u) {
+        if i < s {
+            far_shown[i] += far_shown[i + s];
+            far_model[i] += far_model[i + s];
+            near_shown[i] += near_shown[i + s];
+            near_model[i] += near_model[i + s];
+            if all {
+                shown_d[i] += shown_d[i + s];
+                far_field[i] += far_field[i + s];
+            }
+        }
+        workgroupBarrier();
+    }
+}
+
 @compute @workgroup_size(128)
 fn measure(@builtin(local_invocation_index) i: u32) {
     let wave = mean_wave(far_state[0], far_state[1]);
@@ -87,6 +107,10 @@ fn measure(@builtin(local_invocation_index) i: u32) {
     var model_n = zero;
     var disp = zero;
     var field = zero;
+    // Per sector of the view's azimuth (far_sectors.wgsl), the far ring's and the near
+    // ring's luminance sums (`next_sectors`), each pixel shared between the two sectors it
+    // lies between.
+    var sec: array<vec4<f32>, SECTOR_SUMS>;
     for (var k = i; k < cells; k += GAIN_THREADS) {
         let cell = vec2<u32>(k % params.grid.x, k / params.grid.x);
         // A pixel of the grid's cell, a different one each frame: the blades, cards and
@@ -133,7 +157,19 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         shown_n += select(zero, shown, near);
         model_n += select(zero, vec4<f32>(t.model, 0.0), near);
         model_n.w += select(0.0, 1.0, in_near);
-        field += select(zero, vec4<f32>(d, dot(t.model, LUMA), 1.0, 0.0), in_field);
+        let model_l = dot(t.model, LUMA);
+        field += select(zero, vec4<f32>(d, model_l, 1.0, 0.0), in_field);
+        let pair = sector_pair(to_p.xz);
+        // The multiplier the pixel was lit with (the cards and ground read it last frame).
+        let lit = sector_gain(pair, far_state[SECTOR_WORD + pair.a], far_state[SECTOR_WORD + pair.b]);
+        let sec_far = select(zero, vec4<f32>(d, model_l, d / lit, 1.0), far);
+        let wa = vec4<f32>(1.0, 1.0, 1.0 - pair.t, 1.0) * (1.0 - pair.t);
+        let wb = vec4<f32>(1.0, 1.0, pair.t, 1.0) * pair.t;
+        let sec_near = select(zero, vec4<f32>(select(vec3<f32>(0.0), vec3<f32>(d, model_l, 1.0), near), 1.0), in_near);
+        sec[2u * pair.a] += wa * sec_far;
+        sec[2u * pair.b] += wb * sec_far;
+        sec[2u * pair.a + 1u] += (1.0 - pair.t) * sec_near;
+        sec[2u * pair.b + 1u] += pair.t * sec_near;
         disp += select(zero, vec4<f32>(d2, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
     }
     far_shown[i] = shown_f;
@@ -143,21 +179,14 @@ fn measure(@builtin(local_invocation_index) i: u32) {
     shown_d[i] = disp;
     far_field[i] = field;
     workgroupBarrier();
-    for (var s = GAIN_THREADS / 2u; s > 0u; s = s / 2u) {
-        if i < s {
-            far_shown[i] += far_shown[i + s];
-            far_model[i] += far_model[i + s];
-            near_shown[i] += near_shown[i + s];
-            near_model[i] += near_model[i + s];
-            shown_d[i] += shown_d[i + s];
-            far_field[i] += far_field[i + s];
-        }
-        workgroupBarrier();
-    }
+    reduce_sums(i, true);
+    // The measurements the gain averaged before this frame (thread 0's).
+    var n_before = 0.0;
     if i == 0u {
         let previous = state_gain(4u);
         let next = next_gain(far_shown[0], far_model[0].rgb, near_shown[0], near_model[0], previous, params.ring.w);
         let n = select(0.0, previous.w, previous.w > 0.5);
+        n_before = n;
         var k = bitcast<f32>(far_state[11]);
         if params.near.z > 0.5 {
             k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, near_shown[0].w, k, n, params.ring.w);
@@ -169,5 +198,32 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         far_state[2] = bitcast<u32>(next_distance_gain(far_field[0].xyz, ring_need, bitcast<f32>(far_state[2]), n, params.ring.w));
         store_gain(4u, next);
         store_gain(8u, vec4<f32>(blades_ratio(near_shown[0], near_model[0]), k));
+    }
+    // The sectors' sums, reduced four at a time in the rings' arrays (the workgroup's
+    // memory holds no more), into thread 0's `sums`.
+    var sums: array<vec4<f32>, SECTOR_SUMS>;
+    for (var r = 0u; r < SECTOR_SUMS; r += 4u) {
+        // Thread 0 has read the arrays' last sums.
+        workgroupBarrier();
+        far_shown[i] = sec[r];
+        far_model[i] = sec[r + 1u];
+        near_shown[i] = sec[r + 2u];
+        near_model[i] = sec[r + 3u];
+        workgroupBarrier();
+        reduce_sums(i, false);
+        sums[r] = far_shown[0];
+        sums[r + 1u] = far_model[0];
+        sums[r + 2u] = near_shown[0];
+        sums[r + 3u] = near_model[0];
+    }
+    if i == 0u {
+        var previous: array<f32, SECTORS>;
+        for (var k = 0u; k < SECTORS; k++) {
+            previous[k] = bitcast<f32>(far_state[SECTOR_WORD + k]);
+        }
+        let next = next_sectors(sums, previous, n_before, params.ring.w);
+        for (var k = 0u; k < SECTORS; k++) {
+            far_state[SECTOR_WORD + k] = bitcast<u32>(next[k]);
+        }
     }
 }

@@ -14,6 +14,7 @@
 // and amount `f` there, and the model's radiance `model` (unfogged, without the gain). The
 // fog is taken off the actual radiance; both are weighed by (1 − f), so that a pixel deep
 // in the fog, which shows little of the grass, weighs little.
+//!include far_sectors.wgsl
 
 // What one pixel adds to its level's sums.
 struct GainTerms {

@@ -19,7 +19,7 @@
 // The far state: the gusts' bend at the edge of the blades' reach (`CullCounters::wave_sum`,
 // `wave_blades`), in word 2 the far field's distance gain, in words 4-7 the far levels'
 // measured light gain and in word 11 their contrast gain (far_gain_math.wgsl).
-@group(0) @binding(5) var<storage, read> waves: array<u32, 12>;
+@group(0) @binding(5) var<storage, read> waves: array<u32, FAR_STATE_WORDS>;
 // The trail map (`trails.wgsl`): a path pressed into the grass shows on the far ground.
 @group(0) @binding(6) var<storage, read> trails: array<u32>;
 // The canopy seen from above (`render::far_canopy`, canopy.wgsl): brightness factors over
@@ -104,9 +104,11 @@ fn vs_lit(@builtin(vertex_index) vid: u32, @builtin(instance_index) level: u32) 
     out.sky = sky_radiance(to_p / max(length(to_p), 1e-4));
     let grass = far_grass_light(out.world, out.normal, terrain.grass_albedo.rgb, mean_wave(waves[0], waves[1]));
     // Calibrated on the blades this light stands for (`far_gain`), at its distance
-    // (`distance_gain`).
+    // (`distance_gain`) and in its direction from the camera (`sector_gain`).
+    let sector = sector_pair(to_p.xz);
     let gain = far_gain(vec4<u32>(waves[4], waves[5], waves[6], waves[7]))
-        * distance_gain(length(to_p), frame.thinning_reach.x, waves[2]);
+        * distance_gain(length(to_p), frame.thinning_reach.x, waves[2])
+        * sector_gain(sector, waves[SECTOR_WORD + sector.a], waves[SECTOR_WORD + sector.b]);
     out.grass_ambient = grass.ambient * gain;
     out.grass_sun = grass.sun * gain;
     // A pixel spans 2 w / (P11 · height) metres across the view at view depth w (P11 the

@@ -296,6 +296,17 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             "far field's distance gain (times the light gain): {:.3}",
             far.distance
         );
+        let shown: Vec<String> = far
+            .sectors
+            .iter()
+            .map(|&m| if m > 0.0 { format!("{m:.3}") } else { "-".into() })
+            .collect();
+        println!(
+            "far levels by direction (times the light gain; {} sectors of azimuth from +x \
+             towards +z, - not measured): {}",
+            crate::render::far_sectors::SECTORS,
+            shown.join(" ")
+        );
         if timed > 0 {
             let wind_total: f64 = wind_sums.iter().map(|(_, s)| s).sum::<f64>() / timed as f64;
             let total: f64 = sums.iter().sum::<f64>() / timed as f64 + wind_total;

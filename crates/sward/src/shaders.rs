@@ -28,6 +28,11 @@ const FILES: &[(&str, &str)] = &[
         "far_gain_math.wgsl",
         include_str!("../shaders/far_gain_math.wgsl"),
     ),
+    ("far_sectors.wgsl", include_str!("../shaders/far_sectors.wgsl")),
+    (
+        "far_sectors_probe.wgsl",
+        include_str!("../shaders/far_sectors_probe.wgsl"),
+    ),
     (
         "far_gain_common.wgsl",
         include_str!("../shaders/far_gain_common.wgsl"),
@@ -249,6 +254,7 @@ pub const ENTRY_FILES: &[&str] = &[
     "far_gain.wgsl",
     "far_gain_msaa.wgsl",
     "far_gain_probe.wgsl",
+    "far_sectors_probe.wgsl",
     "contrast_probe.wgsl",
     "card_profile_probe.wgsl",
     "distance_gain_probe.wgsl",

@@ -48,6 +48,7 @@ use glam::Vec3;
 use crate::error::Result;
 use crate::gpu::queries::PassQueries;
 use crate::gpu::Gpu;
+use super::far_sectors::{SECTORS, SECTOR_WORD};
 use super::light::sky::smoothstep;
 
 /// Columns and rows of the frame's pixels the measurement looks at (8,192 samples: 64 per
@@ -160,7 +161,7 @@ pub const GAIN_WORD: usize = 4;
 pub const CALIBRATION_WORD: usize = 8;
 
 /// Bytes of the far state.
-pub const STATE_BYTES: u64 = 48;
+pub const STATE_BYTES: u64 = 4 * super::far_sectors::STATE_WORDS as u64;
 
 /// One pixel's terms: its radiance without the fog and the model's, both weighed by
 /// (1 − f) (twin of `gain_terms`).
@@ -245,7 +246,7 @@ pub fn blades_ratio(near: &RingSums) -> Vec3 {
 
 /// How far a measurement moves a value averaged over `n` measurements before it: a running
 /// mean until there are 1 / `blend`, then `blend` of the way.
-fn step(n: f32, blend: f32) -> f32 {
+pub(crate) fn step(n: f32, blend: f32) -> f32 {
     (1.0 / (n + 1.0)).max(blend)
 }
 
@@ -393,7 +394,7 @@ impl super::Renderer {
     }
 
     /// The far levels' calibration as the last frame measured it (each 1 before
-    /// measured; blocking read-back, for statistics and tests).
+    /// measured, the sectors 0; blocking read-back, for statistics and tests).
     pub fn far_calibration(&self, gpu: &Gpu) -> Result<FarCalibration> {
         let bytes = crate::gpu::read_buffer(gpu, self.draw.waves_buffer(), STATE_BYTES)?;
         let words: &[f32] = bytemuck::cast_slice(&bytes);
@@ -405,10 +406,13 @@ impl super::Renderer {
         };
         let m = words[DISTANCE_WORD];
         let distance = if m > 0.0 { m } else { 1.0 };
+        let mut sectors = [0.0; SECTORS];
+        sectors.copy_from_slice(&words[SECTOR_WORD..SECTOR_WORD + SECTORS]);
         Ok(FarCalibration {
             ratio,
             contrast,
             distance,
+            sectors,
         })
     }
 }
@@ -422,6 +426,9 @@ pub struct FarCalibration {
     pub contrast: f32,
     /// The far field's distance gain (times the light gain, [`distance_gain`]).
     pub distance: f32,
+    /// The multipliers of the light gain by the direction of view (`far_sectors`; 0 where
+    /// not measured yet).
+    pub sectors: [f32; SECTORS],
 }
 
 impl Default for FarCalibration {
@@ -430,6 +437,7 @@ impl Default for FarCalibration {
             ratio: Vec3::ONE,
             contrast: 1.0,
             distance: 1.0,
+            sectors: [0.0; SECTORS],
         }
     }
 }

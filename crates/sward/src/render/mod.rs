@@ -15,6 +15,7 @@ pub mod deferred;
 pub mod draw;
 pub mod far_canopy;
 pub mod far_gain;
+pub mod far_sectors;
 pub mod far_light;
 pub mod far_texture;
 mod frame;

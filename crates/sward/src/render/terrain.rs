@@ -179,9 +179,9 @@ impl TerrainPass {
         });
         // The far state: the gusts' bend at the edge of the blades' reach, copied from the
         // cull's counters each frame (`CullCounters::wave_sum`, `wave_blades`: the far
-        // grass's shading waves), in word 2 the far field's distance gain and from word
-        // 4 their light gains the frame's measurement writes (`far_gain`; zero: not
-        // measured yet).
+        // grass's shading waves), in word 2 the far field's distance gain, from word 4
+        // their light gains and from word 12 the sectors' multipliers the frame's
+        // measurement writes (`far_gain`, `far_sectors`; zero: not measured yet).
         let waves = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.terrain.waves"),
             size: super::far_gain::STATE_BYTES,
