@@ -602,7 +602,11 @@ pub fn run_probe(
         pass.dispatch_workgroups((points.max(1) as u32).div_ceil(64), 1, 1);
     }
     gpu.queue.submit([encoder.finish()]);
-    read_buffer(gpu, output, size)
+    let bytes = read_buffer(gpu, output, size)?;
+    // A kernel that failed to build (a WGSL error) runs as nothing and reads back zeros:
+    // the device's error, not the zeros, is the answer.
+    gpu.check_errors()?;
+    Ok(bytes)
 }
 
 /// Runs a probe kernel of the WGSL file `shader` (entry `probe`, 64 invocations per
