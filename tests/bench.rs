@@ -686,7 +686,10 @@ fn far_field_compares_the_levels_band_by_band() {
             .fold(0.0, f64::max);
         assert!(block + 1e-9 >= band, "{c}");
         assert!(u(&c["worst_block"], &["sector"]) < 8);
+        assert!(u(c, &["differing_pixels"]) <= 64 * 40, "{c}");
     }
+    // Blades to 50 m and no thinning draw another frame than the levels.
+    assert!(u(&comparisons[0], &["differing_pixels"]) > 0);
     let out = sward(&["bench", "--far-field", "--light", "--scene", SCENE]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--far-field compares the far levels"));

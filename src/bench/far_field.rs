@@ -22,8 +22,8 @@ use serde::Serialize;
 use super::{utc_now, BenchOptions, BENCH_DT};
 use sward::commands::world_frame;
 use sward::compare::{
-    bands, compare_bands, compare_blocks, diff_bands, worst_band, worst_block, Band, BandDiff,
-    BlockDiff, BAND_LUMINANCE_TOLERANCE,
+    bands, compare_bands, compare_blocks, diff_bands, differing_pixels, worst_band, worst_block,
+    Band, BandDiff, BlockDiff, BAND_LUMINANCE_TOLERANCE,
 };
 use sward::error::Result;
 use sward::render::camera::CameraView;
@@ -64,6 +64,9 @@ pub struct BandComparison {
     pub worst_block: Option<BlockDiff>,
     /// Blocks within 5 levels, and all of them.
     pub blocks_within: (usize, usize),
+    /// Pixels whose colour differs between the two frames: 0 when the configurations drew
+    /// the same frame, and the comparison measured nothing (`compare::differing_pixels`).
+    pub differing_pixels: usize,
 }
 
 /// The worst band of `levels` against `blades` after `frames` frames (warm-up included).
@@ -160,6 +163,7 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
             .filter(|d| d.luminance.abs() <= BAND_LUMINANCE_TOLERANCE)
             .count();
         BandComparison {
+            differing_pixels: differing_pixels(&image.1, &reference.1).unwrap_or(0),
             worst_block: worst_block(&blocks),
             blocks_within: (blocks_within, blocks.len()),
             image: image.0.into(),
@@ -230,6 +234,14 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
                 100.0 * w.contrast,
                 c.within,
                 c.diffs.len()
+            );
+        }
+        if c.differing_pixels == 0 {
+            out += &format!(
+                "the two frames are the same in every pixel: {} adds nothing this view shows \
+                 (its ground lies behind nearer ground, or the levels reach it already), so \
+                 this comparison measures nothing here; look from higher up (--set camera.eye=...) to see it\n",
+                c.reference
             );
         }
         if let Some(b) = c.worst_block {

@@ -128,6 +128,25 @@ impl BandDiff {
     }
 }
 
+/// `Some` when the two images have the same size (the comparisons' precondition).
+fn same_size(img: &image::RgbaImage, reference: &image::RgbaImage) -> Option<()> {
+    (img.dimensions() == reference.dimensions()).then_some(())
+}
+
+/// Pixels of `img` whose colour differs from `reference`'s at all; `None` when the sizes
+/// differ. Zero says a comparison of the two measured nothing (the configurations drew
+/// the same frame: a far ground hidden behind hills draws the same whether the cards
+/// reach it or not).
+pub fn differing_pixels(img: &image::RgbaImage, reference: &image::RgbaImage) -> Option<usize> {
+    same_size(img, reference)?;
+    Some(
+        img.pixels()
+            .zip(reference.pixels())
+            .filter(|(a, b)| a.0[..3] != b.0[..3])
+            .count(),
+    )
+}
+
 /// The bands of `img` against those of `reference` whose top row lies in `rows`;
 /// `None` when the sizes differ.
 pub fn compare_bands(
@@ -135,9 +154,7 @@ pub fn compare_bands(
     reference: &image::RgbaImage,
     rows: std::ops::Range<u32>,
 ) -> Option<Vec<BandDiff>> {
-    if img.dimensions() != reference.dimensions() {
-        return None;
-    }
+    same_size(img, reference)?;
     Some(diff_bands(&bands(img), &bands(reference), rows))
 }
 
@@ -215,9 +232,7 @@ pub fn compare_blocks(
     reference: &image::RgbaImage,
     rows: std::ops::Range<u32>,
 ) -> Option<Vec<BlockDiff>> {
-    if img.dimensions() != reference.dimensions() {
-        return None;
-    }
+    same_size(img, reference)?;
     let bands = img.height() / BAND_ROWS;
     let mut out = Vec::new();
     for b in 0..bands {
@@ -263,6 +278,18 @@ mod tests {
         assert!((d.failing - 0.01).abs() < 1e-12);
         assert_eq!(d.image.get_pixel(3, 4)[0], 255);
         assert!(compare(&a, &image::RgbaImage::new(5, 5)).is_none());
+    }
+
+    #[test]
+    fn differing_pixels_counts_colour_not_alpha() {
+        let a = image::RgbaImage::from_pixel(6, 4, image::Rgba([10, 20, 30, 255]));
+        let mut b = a.clone();
+        b.put_pixel(0, 0, image::Rgba([10, 20, 30, 0]));
+        assert_eq!(differing_pixels(&a, &b), Some(0));
+        b.put_pixel(5, 3, image::Rgba([10, 21, 30, 255]));
+        b.put_pixel(2, 1, image::Rgba([11, 20, 30, 255]));
+        assert_eq!(differing_pixels(&a, &b), Some(2));
+        assert_eq!(differing_pixels(&a, &image::RgbaImage::new(4, 6)), None);
     }
 
     #[test]
