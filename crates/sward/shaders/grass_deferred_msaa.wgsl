@@ -12,14 +12,10 @@
 //    GRASS_ALPHA (negative) after all draws is grass that nothing covered later.
 // 3. After the hardware resolve, `blade_sun_points` looks the sun up along the drawn
 //    blades (grass_vis.wgsl, with `PerRow`), `grass_pixels_ms` lists the pixels with a
-//    grass sample, with the first such sample; `shade_pixels_ms` lights that sample's
-//    blade point once (`vis_lit`) and resolves the pixel itself: in each grass sample that
-//    light on the sample's own blade albedo, the multisampled colour in the others, averaged as the
-//    hardware resolve averages.
-//
-// Where two blades share a pixel both take the first one's light, each on its own albedo
-// (root to tip, the blade's colour): the coverage and the colour of each are kept, the
-// light differs little at the size of a pixel.
+//    grass sample; `shade_pixels_ms` lights each distinct blade in the pixel once, at its
+//    first sample's blade point (`vis_lit`), and resolves the pixel itself: in each grass
+//    sample its blade's light on the sample's own albedo and height, the multisampled
+//    colour in the others, averaged as the hardware resolve averages.
 //!include grass_vis.wgsl
 
 @group(2) @binding(0) var vis_ms: texture_multisampled_2d<u32>;
@@ -86,22 +82,38 @@ fn grass_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let px = vec2<i32>(gid.xy);
     let samples = textureNumSamples(colour_ms);
-    var first = samples;
+    var grass = false;
     for (var s = 0u; s < samples; s++) {
-        if first == samples && is_grass(px, s) {
-            first = s;
-        }
+        grass = grass || is_grass(px, s);
     }
-    if first == samples {
+    if !grass {
         return;
     }
     let i = atomicAdd(&pixel_list.count, 1u);
     if i % SHADE_GROUP == 0u {
         atomicAdd(&shade_args.x, 1u);
     }
-    // Multisampled targets are at most 16384 wide (`DeferredTargets::fits`): 14 bits each,
-    // the sample in the 3 above.
-    pixel_list.pixels[i] = (first << 28u) | (gid.y << 14u) | gid.x;
+    // Multisampled targets are at most 16384 wide (`DeferredTargets::fits`): 14 bits each.
+    pixel_list.pixels[i] = (gid.y << 14u) | gid.x;
+}
+
+// The light of one blade in a pixel, per unit of albedo and of its height terms
+// (`blade_light`: the sky's part goes with the ambient occlusion, the sun's mostly with
+// 0.55 + 0.45 of it), so that each of its samples, higher or lower on it, takes its own share.
+struct PixelLight {
+    ambient: vec3<f32>,
+    sun: vec3<f32>,
+    point: vec3<f32>,
+    sky: vec3<f32>,
+    ao: f32,
+}
+
+fn pixel_light(id: u32, uv: vec2<f32>) -> PixelLight {
+    let lit = vis_lit(id, uv);
+    let albedo = max(lit.albedo, vec3<f32>(1e-4));
+    let ambient = lit.ambient / (albedo * max(lit.ao, 1e-3));
+    let sun = lit.sun / (albedo * mix(0.55, 1.0, lit.ao));
+    return PixelLight(ambient, sun, lit.point, lit.sky, lit.ao);
 }
 
 @compute @workgroup_size(256)
@@ -111,28 +123,56 @@ fn shade_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let packed = pixel_list.pixels[gid.x];
     let px = vec2<i32>(vec2<u32>(packed & 0x3fffu, (packed >> 14u) & 0x3fffu));
-    let vis = textureLoad(vis_ms, px, i32(packed >> 28u));
-    let lit = vis_lit((vis.x | (vis.y << 16u)) - 1u, vec2<f32>(vis.zw) / 65535.0);
-    // The light per unit of albedo and of its height terms (`blade_light`: the sky's part
-    // goes with the ambient occlusion, the sun's mostly with 0.55 + 0.45 of it), so that a
-    // sample higher or lower on a blade takes its own share.
-    let albedo = max(lit.albedo, vec3<f32>(1e-4));
-    let ambient = lit.ambient / (albedo * max(lit.ao, 1e-3));
-    let sun = lit.sun / (albedo * mix(0.55, 1.0, lit.ao));
+    // The pixel's first two distinct blades each take their own light, lit at the first
+    // sample each covers, and give it to all of their samples; a third or fourth blade
+    // (rare: a pixel's 4 samples on 3 blades) takes the first's. One light for the whole
+    // pixel (its first grass sample's blade) made the pixel's light depend on which blade
+    // that sample landed on, and so on how many blades share the pixel: thinning (Eq. 20)
+    // darkened the blades seen turned from the sun by 6-10 % (docs/levels.md). A light per
+    // sample cost the pass about twice; these two cost it about 1.2 times. In scalars, not
+    // arrays: llvmpipe keeps an indexed array in memory, which cost as much as the light.
     let samples = textureNumSamples(colour_ms);
+    var first = 0xffffffffu;
+    var second = 0xffffffffu;
+    var first_uv = vec2<f32>(0.0);
+    var second_uv = vec2<f32>(0.0);
+    for (var s = 0u; s < samples; s++) {
+        if is_grass(px, s) {
+            let v = textureLoad(vis_ms, px, i32(s));
+            let id = (v.x | (v.y << 16u)) - 1u;
+            if first == 0xffffffffu {
+                first = id;
+                first_uv = vec2<f32>(v.zw) / 65535.0;
+            } else if second == 0xffffffffu && id != first {
+                second = id;
+                second_uv = vec2<f32>(v.zw) / 65535.0;
+            }
+        }
+    }
+    let light_first = pixel_light(first, first_uv);
+    var light_second = light_first;
+    if second != 0xffffffffu {
+        light_second = pixel_light(second, second_uv);
+    }
     var sum = vec4<f32>(0.0);
     for (var s = 0u; s < samples; s++) {
         let c = textureLoad(colour_ms, px, i32(s));
-        // A grass sample: the pixel's light on its own blade's albedo and height there
-        // (the light's direction terms vary little within a pixel; the colour along a
-        // blade, root to tip, does).
+        if !is_grass(px, s) {
+            sum += c;
+            continue;
+        }
         let v = textureLoad(vis_ms, px, i32(s));
-        let id = max(v.x | (v.y << 16u), 1u) - 1u;
+        let id = (v.x | (v.y << 16u)) - 1u;
         let uv = vec2<f32>(v.zw) / 65535.0;
-        let ao = vis_ao(uv.y, lit.ao);
-        let own = vis_albedo(id, uv) * (ambient * ao + sun * mix(0.55, 1.0, ao));
-        let fogged = fog_towards(own, lit.point, lit.sky);
-        sum += select(c, vec4<f32>(fogged, 1.0), is_grass(px, s));
+        var l = light_first;
+        if id == second {
+            l = light_second;
+        }
+        // The light's direction terms vary little along a blade within a pixel; the colour
+        // along it, root to tip, and the occlusion do.
+        let ao = vis_ao(uv.y, l.ao);
+        let own = vis_albedo(id, uv) * (l.ambient * ao + l.sun * mix(0.55, 1.0, ao));
+        sum += vec4<f32>(fog_towards(own, l.point, l.sky), 1.0);
     }
     textureStore(scene_out, px, sum / f32(samples));
 }
