@@ -175,9 +175,10 @@ fn far_gain(words: vec4<u32>) -> vec3<f32> {
 const FAR_BIN: vec2<f32> = vec2<f32>(2.0, 5.0);
 const FAR_RAMP: vec2<f32> = vec2<f32>(1.5, 2.0);
 // The range the multiplier is kept in: it corrects how the far levels change with
-// distance, not their light (the light gain's).
+// distance, not their light (the light gain's), and only darkens them (the blades' own
+// ratio to the model falls with distance; `far_gain::DISTANCE_GAIN_RANGE`).
 const DISTANCE_GAIN_MIN: f32 = 0.7;
-const DISTANCE_GAIN_MAX: f32 = 1.4;
+const DISTANCE_GAIN_MAX: f32 = 1.0;
 
 // The light gain's multiplier at distance `d` (m) from the camera with the blades' reach
 // `reach`, from the far field's state word (0: not measured, 1).
