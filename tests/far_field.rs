@@ -50,7 +50,8 @@ use sward::compare::{bands, compare_bands, worst_band};
 const SIZE: (u32, u32) = (240, 136);
 const FRAMES: usize = 4;
 /// Every band's luminance difference, at most (levels): the 5. Measured 2.8 (band
-/// 96) with the light gain by direction (`far_sectors`), 3.4 since the cards' contrast
+/// 64) since each of a pixel's first two blades takes its own light under 4x MSAA; 2.8
+/// (band 96) with the light gain by direction (`far_sectors`), 3.4 since the cards' contrast
 /// moves their texels about their height profile; the ring
 /// where the cards take over from the blades was 8.4 before, 8.5 with the levels
 /// calibrated on the blades, 13.4 on the light model and 23.9 before either.
