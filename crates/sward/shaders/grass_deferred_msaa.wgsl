@@ -68,10 +68,22 @@ fn fs_vis_ms(in: VisOut, @builtin(sample_mask) covered: u32) -> VisMsOut {
     return VisMsOut(vec4<u32>(id & 0xffffu, id >> 16u, uv.x, uv.y), vec4<f32>(0.0, 0.0, 0.0, GRASS_ALPHA));
 }
 
-// Whether sample `s` of pixel `px` is grass: marked in the colour, with a blade.
-fn is_grass(px: vec2<i32>, s: u32) -> bool {
+// Sample `s` of pixel `px`: its multisampled colour, and from the visibility buffer the
+// blade it shows (index + 1, 0 where none) and the (u, v) on it.
+struct MsSample {
+    colour: vec4<f32>,
+    blade: u32,
+    uv: vec2<f32>,
+}
+
+fn ms_sample(px: vec2<i32>, s: u32) -> MsSample {
     let vis = textureLoad(vis_ms, px, i32(s));
-    return textureLoad(colour_ms, px, i32(s)).a == GRASS_ALPHA && (vis.x | vis.y) != 0u;
+    return MsSample(textureLoad(colour_ms, px, i32(s)), vis.x | (vis.y << 16u), vec2<f32>(vis.zw) / 65535.0);
+}
+
+// Whether a sample is grass: marked in the colour, with a blade.
+fn is_grass(m: MsSample) -> bool {
+    return m.colour.a == GRASS_ALPHA && m.blade != 0u;
 }
 
 @compute @workgroup_size(8, 8)
@@ -84,7 +96,7 @@ fn grass_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     let samples = textureNumSamples(colour_ms);
     var grass = false;
     for (var s = 0u; s < samples; s++) {
-        grass = grass || is_grass(px, s);
+        grass = grass || is_grass(ms_sample(px, s));
     }
     if !grass {
         return;
@@ -137,15 +149,15 @@ fn shade_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     var first_uv = vec2<f32>(0.0);
     var second_uv = vec2<f32>(0.0);
     for (var s = 0u; s < samples; s++) {
-        if is_grass(px, s) {
-            let v = textureLoad(vis_ms, px, i32(s));
-            let id = (v.x | (v.y << 16u)) - 1u;
+        let m = ms_sample(px, s);
+        if is_grass(m) {
+            let id = m.blade - 1u;
             if first == 0xffffffffu {
                 first = id;
-                first_uv = vec2<f32>(v.zw) / 65535.0;
+                first_uv = m.uv;
             } else if second == 0xffffffffu && id != first {
                 second = id;
-                second_uv = vec2<f32>(v.zw) / 65535.0;
+                second_uv = m.uv;
             }
         }
     }
@@ -156,14 +168,13 @@ fn shade_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var sum = vec4<f32>(0.0);
     for (var s = 0u; s < samples; s++) {
-        let c = textureLoad(colour_ms, px, i32(s));
-        if !is_grass(px, s) {
-            sum += c;
+        let m = ms_sample(px, s);
+        if !is_grass(m) {
+            sum += m.colour;
             continue;
         }
-        let v = textureLoad(vis_ms, px, i32(s));
-        let id = (v.x | (v.y << 16u)) - 1u;
-        let uv = vec2<f32>(v.zw) / 65535.0;
+        let id = m.blade - 1u;
+        let uv = m.uv;
         var l = light_first;
         if id == second {
             l = light_second;

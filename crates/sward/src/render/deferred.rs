@@ -14,9 +14,9 @@
 //! multisampled too and the light still runs in one invocation per grass pixel: after the
 //! hardware resolve, each of the pixel's first two blades is lit once, at the first sample
 //! it covers, and the pixel is resolved again from its samples (each grass sample under its
-//! own blade's light, the multisampled colour in the others). The visibility draws write alpha [`GRASS_ALPHA`]
-//! into the colour's samples they cover, so the samples nothing covered after the grass
-//! are known. Forward MSAA shaded about 42 lit fragments per covered pixel on nature at
+//! own blade's light, the multisampled colour in the others). The visibility draws write
+//! alpha [`GRASS_ALPHA`] into the colour's samples they cover, so the samples nothing
+//! covered after the grass are known. Forward MSAA shaded about 42 lit fragments per covered pixel on nature at
 //! 1280x720.
 //!
 //! The path is taken with filled triangles and grass pipelines specialised without flower
