@@ -15,8 +15,8 @@ use sward::sim::layout::{
 };
 use sward::sim::reference::thin_order::update_chunks;
 use sward::sim::reference::{
-    cull_blade, early_seen, grass_hidden, late_pass, patch_spheres, patch_update, wave_of,
-    CullOutcome, Late, Pyramid,
+    cull_blade, early_seen, grass_hidden, late_pass, list_order, patch_spheres, patch_update,
+    wave_of, CullOutcome, Late, Pyramid,
 };
 
 /// Blades whose outcome may differ between GPU and CPU: only those within float rounding
@@ -55,11 +55,14 @@ fn run(
         .cull
         .read_visible_levels(&gpu, &r.buffers)
         .expect("visible");
+    let cp = *r.last_cull_params();
+    for l in &levels {
+        assert_in_list_order(l, &cp);
+    }
     for l in &mut levels {
         l.sort_unstable();
     }
     let (blades, states) = r.buffers.read(&gpu).expect("blades");
-    let cp = *r.last_cull_params();
     let pyramid_levels: Option<Vec<Vec<f32>>> = (cp.hiz[3] == 1).then(|| read_pyramid(&gpu, &r));
     let pyramid = pyramid_levels.as_ref().map(|levels| Pyramid {
         levels,
@@ -449,6 +452,8 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
         );
         let (mut gpu_early, mut gpu_late) =
             (levels[k][..split].to_vec(), levels[k][split..].to_vec());
+        assert_in_list_order(&gpu_early, &cp);
+        assert_in_list_order(&gpu_late, &cp);
         gpu_early.sort_unstable();
         gpu_late.sort_unstable();
         differ += symmetric_difference(&gpu_early, &early[k]);
@@ -501,6 +506,23 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
         d.mean,
         d.failing
     );
+}
+
+/// A visible list as the GPU wrote it is in `list_order` (patch, then class order), not in
+/// the order its workgroups happened to run: two blades at one depth are then drawn in the
+/// same order every frame, and the frame is the same every time.
+fn assert_in_list_order(list: &[u32], cp: &sward::sim::layout::CullParams) {
+    let key = |i: &u32| list_order(*i, cp.patch_size, cp.distance_levels);
+    if let Some(w) = list.windows(2).find(|w| key(&w[0]) >= key(&w[1])) {
+        panic!(
+            "blade {} ({:?}) listed before blade {} ({:?}), {} blades",
+            w[0],
+            key(&w[0]),
+            w[1],
+            key(&w[1]),
+            list.len()
+        );
+    }
 }
 
 /// Elements in exactly one of two sorted lists.

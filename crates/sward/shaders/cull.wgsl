@@ -7,14 +7,16 @@
 //    other patch in turn, go to the update list, in chunks of 64 blades in class order
 //    (`thin_order.wgsl`): a patch in view steps the chunks of classes Eq. 20 may keep
 //    every frame and the others (thinned everywhere in the patch) in turn, on one of two
-//    lists by whether a collider is near it. `finalize` turns the counts into the indirect
-//    dispatches of the two updates and of step 2.
+//    lists by whether a collider is near it. `finalize` lists the visible patches' chunks
+//    in patch order and turns the counts into the indirect dispatches of the two updates
+//    and of step 2.
 // 2. `main` (indirect, over visible patches only): every blade of a visible patch is tested
 //    (but the classes Eq. 20 culls everywhere in the patch, culled by distance in step 1)
 //    for orientation (Eq. 17), frustum on v0 / m / v2 (Eq. 18), distance levels (Eq. 19-20)
 //    and occlusion (v0 / m / v2 against the depth pyramid with a bias). Survivors are sorted
 //    by projected height into three level-of-detail lists, each drawn by its own indirect
-//    draw. Every culled blade bumps the counter of the test that culled it.
+//    draw, in a fixed order (`cull_order.wgsl`). Every culled blade bumps the counter of
+//    the test that culled it.
 // 3. `late` (with TEST_GRASS_OCCLUSION; after the early draw): two-phase occlusion
 //    culling. Step 2 draws only the survivors that were seen last frame and marks the
 //    others candidates; `late` tests the candidates on v0 / m / v2 against the depth, which
@@ -28,6 +30,7 @@
 //!include bvh_node.wgsl
 //!include thin_order.wgsl
 //!include cull_broad_phase.wgsl
+//!include cull_order.wgsl
 
 struct DrawArgs {
     index_count: u32,
@@ -74,8 +77,8 @@ struct CullOutput {
     free_chunks: atomic<u32>,
 }
 
-// PatchDispatch in Rust: three dispatch_workgroups_indirect argument blocks (the blade
-// cull, the update with collisions, the update without).
+// PatchDispatch in Rust: four dispatch_workgroups_indirect argument blocks (the blade
+// cull, the update with collisions, the update without, the lists' order).
 struct PatchDispatch {
     cull_x: u32,
     cull_y: u32,
@@ -86,9 +89,9 @@ struct PatchDispatch {
     free_x: u32,
     free_y: u32,
     free_z: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    order_x: u32,
+    order_y: u32,
+    order_z: u32,
 }
 
 const TEST_PATCH: u32 = 1u;
@@ -354,6 +357,7 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // An empty patch (a free tile slot, or a tile patch whose every blade was removed):
     // nothing to draw or step.
     if pbox.min.w != 0.0 {
+        patch_lists[keep_section() + p] = NOT_LISTED;
         return;
     }
     let n = patch_blades(p);
@@ -384,6 +388,8 @@ fn patches_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             keep = patch_keep(pbox.min.xyz, pbox.max.xyz, pbox.max.w);
         }
         list_visible(p, keep);
+    } else {
+        patch_lists[keep_section() + p] = NOT_LISTED;
     }
     // Physics: patches in the frustum or near the camera every frame, the others in turn;
     // patches beyond the blades' radius not at all (no turn of the camera shows them as
@@ -427,28 +433,18 @@ fn patch_keep(bmin: vec3<f32>, bmax: vec3<f32>, up_y: f32) -> u32 {
     return u32(clamp(keep, 0.0, f32(n)));
 }
 
-// Puts visible patch `p`'s chunks on the blade cull's list: those holding a class below
-// `keep`. The others' blades are culled by distance here, whole (a partial patch, the
-// field's last, lists every chunk). The twin is `reference::thin_order::cull_skips`.
+// Marks visible patch `p`'s chunks for the blade cull's list (`finalize` lists them in
+// patch order): those holding a class below `keep`. The others' blades are culled by
+// distance here, whole (a partial patch, the field's last, lists every chunk). The twin is
+// `reference::thin_order::cull_skips`.
 fn list_visible(p: u32, keep: u32) {
-    let size = params.patch_size;
-    let per_patch = size / CHUNK;
+    let per_patch = params.patch_size / CHUNK;
     let n = max(params.distance_levels, 1u);
-    var count = 0u;
-    for (var c = 0u; c < per_patch; c++) {
-        count += u32(chunk_kept(c, keep, p, size, n));
-    }
-    let skipped = (per_patch - count) * CHUNK;
+    let skipped = (per_patch - listed_chunks(p, keep, per_patch, n)) * CHUNK;
     if skipped != 0u {
         atomicAdd(&out.culled_distance, skipped);
     }
-    var k = 1u + atomicAdd(&out.visible_chunks, count);
-    for (var c = 0u; c < per_patch; c++) {
-        if chunk_kept(c, keep, p, size, n) {
-            patch_lists[k] = p * per_patch + c;
-            k += 1u;
-        }
-    }
+    patch_lists[keep_section() + p] = keep;
 }
 
 // Puts stepped patch `p`'s chunks on an update list (the free one when it has no collider
@@ -496,28 +492,6 @@ fn split(groups: u32) -> vec3<u32> {
     }
     let x = min(groups, MAX_GROUPS);
     return vec3<u32>(x, (groups + x - 1u) / x, 1u);
-}
-
-@compute @workgroup_size(1)
-fn finalize() {
-    let vis = atomicLoad(&out.visible_chunks);
-    let upd = atomicLoad(&out.collide_chunks);
-    let free = atomicLoad(&out.free_chunks);
-    patch_lists[0] = vis;
-    patch_lists[update_list(false)] = upd;
-    patch_lists[update_list(true)] = free;
-    let c = split(vis);
-    dispatch.cull_x = c.x;
-    dispatch.cull_y = c.y;
-    dispatch.cull_z = 1u;
-    let u = split(upd);
-    dispatch.update_x = u.x;
-    dispatch.update_y = u.y;
-    dispatch.update_z = 1u;
-    let f = split(free);
-    dispatch.free_x = f.x;
-    dispatch.free_y = f.y;
-    dispatch.free_z = 1u;
 }
 
 // The blade of this invocation of an indirect blade pass over the visible patches' listed
@@ -595,37 +569,36 @@ fn main(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let i = blade_of(wid, groups, lid);
+    store_codes(wid, groups, lid, early_code(blade_of(wid, groups, lid)));
+}
+
+// Blade `i`'s tests: 0 when culled (or marked a candidate for the late pass), else the
+// level of detail it is drawn at early plus 1 (`order_scatter` lists it).
+fn early_code(i: u32) -> u32 {
     if i == NO_BLADE {
-        return;
+        return 0u;
     }
     let blade = blades[i];
     // A blade the tile generation removed (density map, terrain edge) has height 0.
     if blade.v1_height.w <= 0.0 {
-        return;
+        return 0u;
     }
     let grass = (params.tests & TEST_GRASS_OCCLUSION) != 0u;
     if !early_tests(i, blade) {
         if grass {
             seen[i] = SEEN_NO;
         }
-        return;
+        return 0u;
     }
     if grass {
         if seen[i] != SEEN_YES {
             seen[i] = SEEN_CANDIDATE;
-            return;
+            return 0u;
         }
         seen[i] = SEEN_DRAWN_EARLY;
     }
-    let level = lod_level(projected_height(blade.v0_dir.xyz, blade.v1_height.w, params), params);
-    let at = atomicAdd(&out.blades[level], 1u);
-    // The blade that opens a batch adds the batch's instance.
-    if at % DRAW_BATCH == 0u {
-        atomicAdd(&out.draws[level].instance_count, 1u);
-    }
-    visible[level * region() + at] = i;
     count_wave(i, blade);
+    return lod_level(projected_height(blade.v0_dir.xyz, blade.v1_height.w, params), params) + 1u;
 }
 
 // The far levels' shading waves (far_grass.wgsl): the billboards and the far ground stand
@@ -652,21 +625,17 @@ fn late(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    // The early counts are final here: each late list goes on at the first whole batch
-    // after its early list (the early draw's instances are whole batches).
-    if wid.x == 0u && wid.y == 0u && lid == 0u {
-        for (var k = 0u; k < 3u; k++) {
-            out.late_draws[k].first_instance = out.draws[k].first_instance
-                + atomicLoad(&out.draws[k].instance_count);
-        }
-    }
-    let i = blade_of(wid, groups, lid);
+    store_codes(wid, groups, lid, late_code(blade_of(wid, groups, lid)));
+}
+
+// Blade `i`'s late test: 0 when it is not drawn late, else its level of detail plus 1.
+fn late_code(i: u32) -> u32 {
     if i == NO_BLADE {
-        return;
+        return 0u;
     }
     let state = seen[i];
     if state != SEEN_DRAWN_EARLY && state != SEEN_CANDIDATE {
-        return;
+        return 0u;
     }
     let blade = blades[i];
     let v0 = blade.v0_dir.xyz;
@@ -679,22 +648,14 @@ fn late(
     let hidden = blade_occluded(v0, m, v2, params.clip.z);
     if state == SEEN_DRAWN_EARLY {
         seen[i] = select(SEEN_YES, SEEN_NO, hidden);
-        return;
+        return 0u;
     }
     if hidden {
         seen[i] = SEEN_NO;
         atomicAdd(&out.culled_occlusion, 1u);
         atomicAdd(&out.culled_occlusion_grass, 1u);
-        return;
+        return 0u;
     }
     seen[i] = SEEN_YES;
-    let level = lod_level(projected_height(v0, blade.v1_height.w, params), params);
-    // Computed here rather than read from `late_draws`, whose first_instance another
-    // workgroup writes.
-    let start = late_start(atomicLoad(&out.blades[level]));
-    let at = atomicAdd(&out.late_blades[level], 1u);
-    if at % DRAW_BATCH == 0u {
-        atomicAdd(&out.late_draws[level].instance_count, 1u);
-    }
-    visible[level * region() + start + at] = i;
+    return lod_level(projected_height(v0, blade.v1_height.w, params), params) + 1u;
 }

@@ -146,6 +146,7 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../shaders/billboard_cull.wgsl"),
     ),
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
+    ("cull_order.wgsl", include_str!("../shaders/cull_order.wgsl")),
     (
         "cull_broad_phase.wgsl",
         include_str!("../shaders/cull_broad_phase.wgsl"),

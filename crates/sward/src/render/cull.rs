@@ -3,7 +3,9 @@
 //! dispatched indirectly over the visible patches only, every blade, whose survivors go
 //! into one visible list per level of detail with its own indirect draw; then, with grass
 //! occlusion, the late pass over the same blades against a pyramid that holds the grass
-//! drawn early (two-phase occlusion culling, see `cull.wgsl`).
+//! drawn early (two-phase occlusion culling, see `cull.wgsl`). Every list comes out in the
+//! same order whatever order the workgroups run in (`cull_order.wgsl`), so that a frame
+//! draws the same pixels every time.
 
 use crate::error::Result;
 use crate::gpu::queries::PassQueries;
@@ -22,6 +24,11 @@ pub struct CullPass {
     finalize: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
     late: wgpu::ComputePipeline,
+    /// The early and the late lists' offsets (`cull_order.wgsl`), and the pass that puts
+    /// each drawn blade at its slot after either.
+    order_early: wgpu::ComputePipeline,
+    order_late: wgpu::ComputePipeline,
+    order_scatter: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
     dispatch_group: wgpu::BindGroup,
@@ -219,6 +226,9 @@ impl CullPass {
             finalize: make("finalize", "sward.cull.finalize", &patch_layout),
             cull: make("main", "sward.cull.pipeline", &blade_layout),
             late: make("late", "sward.cull.late", &blade_layout),
+            order_early: make("order_early", "sward.cull.order_early", &blade_layout),
+            order_late: make("order_late", "sward.cull.order_late", &blade_layout),
+            order_scatter: make("order_scatter", "sward.cull.order_scatter", &blade_layout),
             layout,
             bind_group,
             dispatch_group,
@@ -292,7 +302,24 @@ impl CullPass {
         pass.set_pipeline(&self.cull);
         let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
         pass.dispatch_workgroups_indirect(dispatch, offset);
+        self.encode_order(&mut pass, &self.order_early, dispatch);
         q.end(&mut pass);
+    }
+
+    /// The lists in a fixed order (`cull_order.wgsl`): after the blade cull (or the late
+    /// pass) has written each lane's level, `scan` (`order_early` or `order_late`) gives each
+    /// chunk its offsets and the scatter puts each drawn blade at its slot.
+    fn encode_order(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        scan: &wgpu::ComputePipeline,
+        dispatch: &wgpu::Buffer,
+    ) {
+        pass.set_pipeline(scan);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.order_scatter);
+        let offset = std::mem::offset_of!(PatchDispatch, order) as u64;
+        pass.dispatch_workgroups_indirect(dispatch, offset);
     }
 
     /// Records the late pass (grass occlusion): the blades of the visible patches again,
@@ -314,6 +341,7 @@ impl CullPass {
         pass.set_pipeline(&self.late);
         let offset = std::mem::offset_of!(PatchDispatch, cull) as u64;
         pass.dispatch_workgroups_indirect(dispatch, offset);
+        self.encode_order(&mut pass, &self.order_late, dispatch);
         q.end(&mut pass);
     }
 

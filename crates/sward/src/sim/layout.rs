@@ -365,8 +365,9 @@ pub struct PatchDispatch {
     /// Workgroups of the blade update (its pipeline without collisions) over the chunks
     /// stepped this frame whose patch has no collider near.
     pub update_free: DispatchIndirect,
-    /// Padding to 48 bytes.
-    pub _pad: [u32; 3],
+    /// Workgroups of the pass that puts the cull's drawn blades at their slots, one
+    /// invocation per listed chunk (`cull_order.wgsl`).
+    pub order: DispatchIndirect,
 }
 
 impl PatchDispatch {

@@ -474,10 +474,17 @@ impl BladeBuffers {
 /// The trail map's buffer of `bytes` (zeroed).
 /// Words of the patch lists: the blade cull's chunks `[count, chunk, ...]`, then the
 /// update's two `[count, chunk | rate bits, ...]` (patches with a collider near, and
-/// without), room for every [`UPDATE_CHUNK`] blades of each patch in each.
+/// without), room for every [`UPDATE_CHUNK`] blades of each patch in each; then a word per
+/// patch (the classes its listed chunks keep) and [`ORDER_STRIDE`] per chunk, which put
+/// the cull's lists in a fixed order (`cull_order.wgsl`).
 fn list_words(patch_count: u32, patch_size: u32) -> u64 {
-    3 * (list_chunks(patch_count, patch_size) + 1)
+    let chunks = list_chunks(patch_count, patch_size);
+    3 * (chunks + 1) + u64::from(patch_count) + ORDER_STRIDE * chunks
 }
+
+/// Words per listed chunk in the patch lists' order section: its 64 lanes' levels, 2 bits
+/// each, and its first slot in each level's list (`cull_order.wgsl`).
+pub const ORDER_STRIDE: u64 = 8;
 
 /// Chunks of [`UPDATE_CHUNK`] blades in `patch_count` patches of `patch_size`.
 pub fn list_chunks(patch_count: u32, patch_size: u32) -> u64 {

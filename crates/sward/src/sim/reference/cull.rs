@@ -468,6 +468,19 @@ pub fn cull_blade(
     ))
 }
 
+/// Where blade `i` stands in the cull's visible lists (`cull_order.wgsl`): by patch, then
+/// by its position in the patch's class order (the listed chunks' order, then each chunk's
+/// lanes). Each level's early list and its late list are sorted by this key, whatever
+/// order the GPU ran its workgroups in, so that blades at one depth are drawn in the same
+/// order every frame.
+pub fn list_order(i: u32, patch_size: u32, distance_levels: u32) -> (u32, u32) {
+    let size = patch_size.max(1);
+    (
+        i / size,
+        super::thin_order::order_position(i % size, size, distance_levels),
+    )
+}
+
 /// The patch bound against the field's own blades (moved here from the field's tests: it
 /// checks the cull's twin, a layer above the field).
 #[cfg(test)]
