@@ -361,6 +361,20 @@ fn the_gpu_cull_keeps_the_cards_the_cpu_twin_keeps() {
     let terrain = sward::field::HeightField::from_scene(&session.scene.terrain).unwrap();
     let cpu = drawn_cells(&params, &terrain, None, view_proj);
     let mut gpu_cells: Vec<u32> = cards.iter().map(|c| c.info[0]).collect();
+    // The list is in the order the cull visits the cells (`visit_order`), not the order
+    // its workgroups ran in: two cards at one depth are drawn in the same order every
+    // frame, and the frame is the same every time.
+    let side = params.levels[2];
+    let mut visited = vec![u32::MAX; (params.levels[0] * side * side) as usize];
+    for i in 0..params.levels[0] * side * side {
+        visited[sward::render::billboard::visit_order(i, side, params.levels[3]) as usize] = i;
+    }
+    let at: Vec<u32> = gpu_cells.iter().map(|&c| visited[c as usize]).collect();
+    assert!(
+        at.windows(2).all(|w| w[0] < w[1]),
+        "cards not in visit order: {:?}",
+        at.windows(2).find(|w| w[0] >= w[1])
+    );
     gpu_cells.sort_unstable();
     let before = gpu_cells.len();
     gpu_cells.dedup();

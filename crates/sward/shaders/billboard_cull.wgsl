@@ -4,7 +4,8 @@
 // the test `billboard::count_drawn` makes on the CPU), computes its sway and bending and
 // the blades' light on it once (`billboard_sway.wgsl`, `far_grass.wgsl`) and appends the
 // survivors to a list that the draw reads, six vertices per card, through an indirect
-// draw whose vertex count this pass writes. Group 1 is the frame's light (its uniforms).
+// draw whose vertex count this pass writes, in the order the cells are visited
+// (`mark_cards`, `order_cards`, `cull_cards`). Group 1 is the frame's light (its uniforms).
 //
 // Why a compute pass: the draw used to place every cell's card in the vertex shader, six
 // times per card, for the whole grid (about 40,000 cards, most of them behind the camera
@@ -42,13 +43,20 @@ fn trail_word(i: u32) -> u32 {
 //!include trails.wgsl
 //!include billboard_sway.wgsl
 
-// `draw_indirect` arguments (wgpu::util::DrawIndirectArgs): six vertices per card.
+// `draw_indirect` arguments (wgpu::util::DrawIndirectArgs): six vertices per card; then,
+// per workgroup of the cull, its lanes' kept bits (two words) and its first slot
+// (`ORDER_WORDS`), which put the list in the order the cells are visited.
 struct CardDrawArgs {
-    vertex_count: atomic<u32>,
+    vertex_count: u32,
     instance_count: u32,
     first_vertex: u32,
     first_instance: u32,
+    order: array<u32>,
 }
+
+//!include workgroup_scan.wgsl
+
+const ORDER_WORDS: u32 = 3u;
 
 // The density map at (x, z) (1 without one), as the terrain shades it.
 fn density_at(xz: vec2<f32>) -> f32 {
@@ -63,7 +71,7 @@ fn density_at(xz: vec2<f32>) -> f32 {
 
 // The cell visited `i`-th (`billboard::visit_order`): within each level, rows along the
 // view's main axis from the camera outwards (`bb.levels.w`: bit 0 z downwards, bit 1 x
-// downwards, bit 2 x the outer axis), so that the cards are appended, and drawn, nearer
+// downwards, bit 2 x the outer axis), so that the cards are listed, and drawn, nearer
 // first and the depth test rejects what they hide before it is shaded.
 fn visit_order(i: u32, side: u32) -> u32 {
     let per = side * side;
@@ -82,32 +90,98 @@ fn visit_order(i: u32, side: u32) -> u32 {
     return level * per + z * side + x;
 }
 
-@compute @workgroup_size(64)
-fn cull_cards(@builtin(global_invocation_id) id: vec3<u32>) {
+// Cells visited by the cull.
+fn cells() -> u32 {
     let side = bb.levels.z;
-    let i = id.x;
-    if i == 0u {
+    return bb.levels.x * side * side;
+}
+
+// Whether the card of the cell visited `i`-th is drawn: in the ring, kept by the density
+// map, its centre in view with a card's margin (`billboard::drawn_cells` is the twin).
+fn card_kept(i: u32) -> bool {
+    if i >= cells() {
+        return false;
+    }
+    let c = card_at(visit_order(i, bb.levels.z));
+    if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
+        return false;
+    }
+    let centre = c.pos + vec3<f32>(0.0, 0.5 * bb.eye_card.w * c.scale, 0.0);
+    let clip = frame.view_proj * vec4<f32>(centre, 1.0);
+    let margin = 1.0 + bb.eye_card.z * f32(1u << c.level) / max(clip.w, 1e-3);
+    return clip.w > 0.0 && abs(clip.x) <= clip.w * margin && abs(clip.y) <= clip.w * margin
+        && clip.z <= clip.w;
+}
+
+var<workgroup> kept_bits: array<atomic<u32>, 2>;
+
+// The first of three passes that draw the kept cards in the order the cells are visited,
+// whatever order the workgroups run in (two crossing cards can lie at exactly one depth at
+// a pixel, and the depth test keeps the one drawn last): each workgroup's kept lanes.
+@compute @workgroup_size(64)
+fn mark_cards(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let kept = card_kept(id.x);
+    if lid < 2u {
+        atomicStore(&kept_bits[lid], 0u);
+    }
+    workgroupBarrier();
+    if kept {
+        atomicOr(&kept_bits[lid / 32u], 1u << (lid % 32u));
+    }
+    workgroupBarrier();
+    if lid < 2u {
+        args.order[wid.x * ORDER_WORDS + lid] = atomicLoad(&kept_bits[lid]);
+    }
+}
+
+// The second: each workgroup's first slot, and the draw's arguments (one workgroup).
+@compute @workgroup_size(256)
+fn order_cards(@builtin(local_invocation_index) t: u32) {
+    let slice = scan_slice(t, (cells() + 63u) / 64u);
+    var count = 0u;
+    for (var g = slice.x; g < slice.y; g++) {
+        count += countOneBits(args.order[g * ORDER_WORDS]) + countOneBits(args.order[g * ORDER_WORDS + 1u]);
+    }
+    var at = exclusive_scan(t, vec3<u32>(count, 0u, 0u)).x;
+    for (var g = slice.x; g < slice.y; g++) {
+        args.order[g * ORDER_WORDS + 2u] = at;
+        at += countOneBits(args.order[g * ORDER_WORDS]) + countOneBits(args.order[g * ORDER_WORDS + 1u]);
+    }
+    if t == 0u {
+        args.vertex_count = 6u * partial[SCAN_THREADS].x;
         args.instance_count = 1u;
         args.first_vertex = 0u;
         args.first_instance = 0u;
     }
-    if i >= bb.levels.x * side * side {
+}
+
+// The third: each kept card, lit, at its slot: its workgroup's first slot plus the kept
+// lanes before it.
+@compute @workgroup_size(64)
+fn cull_cards(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let i = id.x;
+    if !card_kept(i) {
         return;
     }
-    let cell = visit_order(i, side);
+    let words = wid.x * ORDER_WORDS;
+    let below = (1u << (lid % 32u)) - 1u;
+    var at = args.order[words + 2u] + countOneBits(args.order[words + lid / 32u] & below);
+    if lid >= 32u {
+        at += countOneBits(args.order[words]);
+    }
+    let cell = visit_order(i, bb.levels.z);
     let c = card_at(cell);
-    if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
-        return;
-    }
     let h = bb.eye_card.w * c.scale;
     let centre = c.pos + vec3<f32>(0.0, 0.5 * h, 0.0);
     let clip = frame.view_proj * vec4<f32>(centre, 1.0);
-    let margin = 1.0 + bb.eye_card.z * f32(1u << c.level) / max(clip.w, 1e-3);
-    if !(clip.w > 0.0 && abs(clip.x) <= clip.w * margin && abs(clip.y) <= clip.w * margin
-        && clip.z <= clip.w) {
-        return;
-    }
-    let at = atomicAdd(&args.vertex_count, 6u) / 6u;
     var out: DrawnCard;
     out.pos_fade = vec4<f32>(c.pos, c.fade);
     out.top_scale = vec4<f32>(top_offset(c.pos, h), c.scale);

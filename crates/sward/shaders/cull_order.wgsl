@@ -13,6 +13,7 @@
 //   per chunk) puts the chunk's drawn blades, in lane order, at its offsets.
 //
 // The twin is `reference::cull::list_order` (the key the lists are sorted by).
+//!include workgroup_scan.wgsl
 
 // Words per listed chunk in the order section: its lanes' codes (0: not drawn, else the
 // level + 1; 2 bits a lane, 16 lanes a word), then where its blades of each level start.
@@ -20,8 +21,6 @@ const ORDER_STRIDE: u32 = 8u;
 const ORDER_OFFSETS: u32 = 4u;
 // A patch none of whose chunks is on the blade cull's list this frame.
 const NOT_LISTED: u32 = 0xffffffffu;
-// Invocations of the scans.
-const SCAN_THREADS: u32 = 256u;
 
 // The patches' keep section of `patch_lists`, after the three lists: per patch, the classes
 // its listed chunks hold (`patch_keep`), or NOT_LISTED.
@@ -62,26 +61,6 @@ fn level_counts(flat: u32) -> vec3<u32> {
     return n;
 }
 
-var<workgroup> partial: array<vec3<u32>, 257>;
-
-// The sum of `v` over the invocations before `t` (of SCAN_THREADS); `partial[256]` holds the
-// total afterwards. In uniform control flow only.
-fn exclusive_scan(t: u32, v: vec3<u32>) -> vec3<u32> {
-    partial[t] = v;
-    workgroupBarrier();
-    if t == 0u {
-        var run = vec3<u32>(0u);
-        for (var k = 0u; k < SCAN_THREADS; k++) {
-            let x = partial[k];
-            partial[k] = run;
-            run += x;
-        }
-        partial[SCAN_THREADS] = run;
-    }
-    workgroupBarrier();
-    return partial[t];
-}
-
 // Chunks of patch `p` on the blade cull's list at `keep`.
 fn listed_chunks(p: u32, keep: u32, per_patch: u32, n: u32) -> u32 {
     if keep == NOT_LISTED {
@@ -102,17 +81,15 @@ fn listed_chunks(p: u32, keep: u32, per_patch: u32, n: u32) -> u32 {
 fn finalize(@builtin(local_invocation_index) t: u32) {
     let per_patch = params.patch_size / CHUNK;
     let n = max(params.distance_levels, 1u);
-    let span = (params.patch_count + SCAN_THREADS - 1u) / SCAN_THREADS;
-    let lo = min(t * span, params.patch_count);
-    let hi = min(lo + span, params.patch_count);
+    let slice = scan_slice(t, params.patch_count);
     let keeps = keep_section();
     var count = 0u;
-    for (var p = lo; p < hi; p++) {
+    for (var p = slice.x; p < slice.y; p++) {
         count += listed_chunks(p, patch_lists[keeps + p], per_patch, n);
     }
     var k = 1u + exclusive_scan(t, vec3<u32>(count, 0u, 0u)).x;
     let vis = partial[SCAN_THREADS].x;
-    for (var p = lo; p < hi; p++) {
+    for (var p = slice.x; p < slice.y; p++) {
         let keep = patch_lists[keeps + p];
         if keep == NOT_LISTED {
             continue;
@@ -177,16 +154,13 @@ fn store_codes(wid: vec3<u32>, groups: vec3<u32>, lid: u32, code: u32) {
 // Each listed chunk's first slot per level, after the chunks before it; `base` is where
 // the lists start in each level's region. Returns the totals.
 fn scan_offsets(t: u32, base: vec3<u32>) -> vec3<u32> {
-    let vis = patch_lists[0];
-    let span = (vis + SCAN_THREADS - 1u) / SCAN_THREADS;
-    let lo = min(t * span, vis);
-    let hi = min(lo + span, vis);
+    let slice = scan_slice(t, patch_lists[0]);
     var sum = vec3<u32>(0u);
-    for (var f = lo; f < hi; f++) {
+    for (var f = slice.x; f < slice.y; f++) {
         sum += level_counts(f);
     }
     var run = base + exclusive_scan(t, sum);
-    for (var f = lo; f < hi; f++) {
+    for (var f = slice.x; f < slice.y; f++) {
         let at = order_at(f) + ORDER_OFFSETS;
         patch_lists[at] = run.x;
         patch_lists[at + 1u] = run.y;

@@ -148,6 +148,10 @@ const FILES: &[(&str, &str)] = &[
     ("cull.wgsl", include_str!("../shaders/cull.wgsl")),
     ("cull_order.wgsl", include_str!("../shaders/cull_order.wgsl")),
     (
+        "workgroup_scan.wgsl",
+        include_str!("../shaders/workgroup_scan.wgsl"),
+    ),
+    (
         "cull_broad_phase.wgsl",
         include_str!("../shaders/cull_broad_phase.wgsl"),
     ),

@@ -108,7 +108,8 @@ pub struct BillboardParams {
     /// The atlas's mean albedo (rgb), unused: the cull lights the cards per unit of it.
     pub albedo: [f32; 4],
     /// Levels, a level's inner half-size in its cells ([`LEVEL_HALF`]), cells per level
-    /// side of the index space (`4 · LEVEL_HALF − 2`), unused.
+    /// side of the index space (`4 · LEVEL_HALF − 2`), the order the cull visits a level's
+    /// cells in ([`visit_flags`], set per frame).
     pub levels: [u32; 4],
 }
 
@@ -202,8 +203,9 @@ impl BillboardLayout {
 
 /// The order the cull visits a level's cells in (`BillboardParams::levels` w, read by
 /// `visit_order` in `billboard_cull.wgsl`), from the view direction `forward`: bit 0 walks
-/// z downwards, bit 1 x downwards, bit 2 makes x the outer axis. The cull appends the cards
-/// in about the order it visits them, and the draw draws them in that order: rows along
+/// z downwards, bit 1 x downwards, bit 2 makes x the outer axis. The cull lists the cards
+/// in the order it visits them (exactly, whatever order its workgroups run in), and the
+/// draw draws them in that order: rows along
 /// the view's main axis from the camera outwards, so the nearer cards come first and the
 /// depth test rejects the hidden parts of the ones behind before they are shaded (the
 /// cards are alpha-tested and overlap many times far out). Measured on llvmpipe at the
@@ -379,8 +381,9 @@ pub fn count_drawn(
     drawn_cells(p, terrain, density, view_proj).len() as u32
 }
 
-/// The cells whose cards the draw shows, in cell order (the twin of `cull_cards` in
-/// `billboard_cull.wgsl`, which keeps the same cards in any order).
+/// The cells whose cards the draw shows, in cell order (the twin of `card_kept` in
+/// `billboard_cull.wgsl`, whose list holds the same cards in the order [`visit_order`]
+/// visits their cells).
 pub fn drawn_cells(
     p: &BillboardParams,
     terrain: &HeightField,

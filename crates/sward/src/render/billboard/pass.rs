@@ -39,6 +39,12 @@ const _: () = assert!(std::mem::size_of::<DrawnCard>() == 128);
 /// Cells per workgroup of the cull.
 const CULL_WORKGROUP: u32 = 64;
 
+/// Bytes of the cards' draw arguments: the indirect draw (16), then per workgroup of the
+/// cull its lanes' kept bits and its first slot (three words, `ORDER_WORDS`).
+fn args_bytes(cards: u32) -> u64 {
+    16 + u64::from(cards.div_ceil(CULL_WORKGROUP)) * 12
+}
+
 fn buf(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
@@ -58,7 +64,10 @@ pub struct BillboardPass {
     args: wgpu::Buffer,
     cull_layout: wgpu::BindGroupLayout,
     cull_group: wgpu::BindGroup,
-    cull_pipeline: wgpu::ComputePipeline,
+    /// The cull's three passes (`billboard_cull.wgsl`): mark each workgroup's kept cards,
+    /// give each workgroup its first slot, write the cards: the list is in the order the
+    /// cells are visited, whatever order the workgroups run in.
+    cull_pipeline: [wgpu::ComputePipeline; 3],
     draw_layout: wgpu::BindGroupLayout,
     draw_group: wgpu::BindGroup,
     pipeline: wgpu::RenderPipeline,
@@ -167,7 +176,7 @@ impl BillboardPass {
         });
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward.billboard.args"),
-            size: 16,
+            size: args_bytes(layout.card_count()),
             usage: wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::INDIRECT
                 | wgpu::BufferUsages::COPY_DST
@@ -246,14 +255,21 @@ impl BillboardPass {
             bind_group_layouts: &[Some(&cull_layout), Some(&light_layout)],
             immediate_size: 0,
         });
-        let cull_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("sward.billboard.cull"),
-            layout: Some(&cull_pipeline_layout),
-            module: &cull_module,
-            entry_point: Some("cull_cards"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let cull_stage = |entry: &str, label: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: Some(&cull_pipeline_layout),
+                module: &cull_module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let cull_pipeline = [
+            cull_stage("mark_cards", "sward.billboard.cull.mark"),
+            cull_stage("order_cards", "sward.billboard.cull.order"),
+            cull_stage("cull_cards", "sward.billboard.cull"),
+        ];
         let atlas_view = atlas_tex.create_view(&wgpu::TextureViewDescriptor {
             label: Some("sward.billboard.atlas_view"),
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -495,10 +511,16 @@ impl BillboardPass {
             timestamp_writes: q.compute_writes(),
         });
         q.begin(&mut pass);
-        pass.set_pipeline(&self.cull_pipeline);
         pass.set_bind_group(0, &self.cull_group, &[]);
         pass.set_bind_group(1, light, &[]);
-        pass.dispatch_workgroups(self.layout.card_count().div_ceil(CULL_WORKGROUP), 1, 1);
+        let groups = self.layout.card_count().div_ceil(CULL_WORKGROUP);
+        let [mark, order, cull] = &self.cull_pipeline;
+        pass.set_pipeline(mark);
+        pass.dispatch_workgroups(groups, 1, 1);
+        pass.set_pipeline(order);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(cull);
+        pass.dispatch_workgroups(groups, 1, 1);
         q.end(&mut pass);
     }
 
