@@ -96,21 +96,38 @@ fn cells() -> u32 {
     return bb.levels.x * side * side;
 }
 
-// Whether the card of the cell visited `i`-th is drawn: in the ring, kept by the density
-// map, its centre in view with a card's margin (`billboard::drawn_cells` is the twin).
-fn card_kept(i: u32) -> bool {
+// The card of the cell visited `i`-th as the cull tests it: its cell and placement, its
+// height, centre and the centre's clip position (set only past the ring and density
+// tests), and whether it is drawn (in the ring, kept by the density map, its centre in
+// view with a card's margin; the twin is `billboard::drawn_cells`).
+struct CardView {
+    cell: u32,
+    card: Card,
+    height: f32,
+    centre: vec3<f32>,
+    clip: vec4<f32>,
+    kept: bool,
+}
+
+fn card_view(i: u32) -> CardView {
+    var v: CardView;
     if i >= cells() {
-        return false;
+        return v;
     }
-    let c = card_at(visit_order(i, bb.levels.z));
+    v.cell = visit_order(i, bb.levels.z);
+    let c = card_at(v.cell);
+    v.card = c;
     if c.fade <= 0.0 || c.accept >= density_at(c.pos.xz) {
-        return false;
+        return v;
     }
-    let centre = c.pos + vec3<f32>(0.0, 0.5 * bb.eye_card.w * c.scale, 0.0);
-    let clip = frame.view_proj * vec4<f32>(centre, 1.0);
+    v.height = bb.eye_card.w * c.scale;
+    v.centre = c.pos + vec3<f32>(0.0, 0.5 * v.height, 0.0);
+    v.clip = frame.view_proj * vec4<f32>(v.centre, 1.0);
+    let clip = v.clip;
     let margin = 1.0 + bb.eye_card.z * f32(1u << c.level) / max(clip.w, 1e-3);
-    return clip.w > 0.0 && abs(clip.x) <= clip.w * margin && abs(clip.y) <= clip.w * margin
+    v.kept = clip.w > 0.0 && abs(clip.x) <= clip.w * margin && abs(clip.y) <= clip.w * margin
         && clip.z <= clip.w;
+    return v;
 }
 
 var<workgroup> kept_bits: array<atomic<u32>, 2>;
@@ -124,7 +141,7 @@ fn mark_cards(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let kept = card_kept(id.x);
+    let kept = card_view(id.x).kept;
     if lid < 2u {
         atomicStore(&kept_bits[lid], 0u);
     }
@@ -138,18 +155,23 @@ fn mark_cards(
     }
 }
 
+// Cards `mark_cards` kept in workgroup `g`.
+fn kept_in_group(g: u32) -> u32 {
+    return countOneBits(args.order[g * ORDER_WORDS]) + countOneBits(args.order[g * ORDER_WORDS + 1u]);
+}
+
 // The second: each workgroup's first slot, and the draw's arguments (one workgroup).
 @compute @workgroup_size(256)
 fn order_cards(@builtin(local_invocation_index) t: u32) {
     let slice = scan_slice(t, (cells() + 63u) / 64u);
     var count = 0u;
     for (var g = slice.x; g < slice.y; g++) {
-        count += countOneBits(args.order[g * ORDER_WORDS]) + countOneBits(args.order[g * ORDER_WORDS + 1u]);
+        count += kept_in_group(g);
     }
     var at = exclusive_scan(t, vec3<u32>(count, 0u, 0u)).x;
     for (var g = slice.x; g < slice.y; g++) {
         args.order[g * ORDER_WORDS + 2u] = at;
-        at += countOneBits(args.order[g * ORDER_WORDS]) + countOneBits(args.order[g * ORDER_WORDS + 1u]);
+        at += kept_in_group(g);
     }
     if t == 0u {
         args.vertex_count = 6u * partial[SCAN_THREADS].x;
@@ -167,8 +189,8 @@ fn cull_cards(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let i = id.x;
-    if !card_kept(i) {
+    let view = card_view(id.x);
+    if !view.kept {
         return;
     }
     let words = wid.x * ORDER_WORDS;
@@ -177,11 +199,11 @@ fn cull_cards(
     if lid >= 32u {
         at += countOneBits(args.order[words]);
     }
-    let cell = visit_order(i, bb.levels.z);
-    let c = card_at(cell);
-    let h = bb.eye_card.w * c.scale;
-    let centre = c.pos + vec3<f32>(0.0, 0.5 * h, 0.0);
-    let clip = frame.view_proj * vec4<f32>(centre, 1.0);
+    let cell = view.cell;
+    let c = view.card;
+    let h = view.height;
+    let centre = view.centre;
+    let clip = view.clip;
     var out: DrawnCard;
     out.pos_fade = vec4<f32>(c.pos, c.fade);
     out.top_scale = vec4<f32>(top_offset(c.pos, h), c.scale);

@@ -471,7 +471,6 @@ impl BladeBuffers {
     }
 }
 
-/// The trail map's buffer of `bytes` (zeroed).
 /// Words of the patch lists: the blade cull's chunks `[count, chunk, ...]`, then the
 /// update's two `[count, chunk | rate bits, ...]` (patches with a collider near, and
 /// without), room for every [`UPDATE_CHUNK`] blades of each patch in each; then a word per
@@ -491,6 +490,7 @@ pub fn list_chunks(patch_count: u32, patch_size: u32) -> u64 {
     u64::from(patch_count) * u64::from(patch_size / UPDATE_CHUNK)
 }
 
+/// The trail map's buffer of `bytes` (zeroed).
 fn trails_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sward.trails"),

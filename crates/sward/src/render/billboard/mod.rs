@@ -381,7 +381,7 @@ pub fn count_drawn(
     drawn_cells(p, terrain, density, view_proj).len() as u32
 }
 
-/// The cells whose cards the draw shows, in cell order (the twin of `card_kept` in
+/// The cells whose cards the draw shows, in cell order (the twin of `card_view` in
 /// `billboard_cull.wgsl`, whose list holds the same cards in the order [`visit_order`]
 /// visits their cells).
 pub fn drawn_cells(
