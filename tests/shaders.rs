@@ -108,21 +108,33 @@ fn shared_constants_match_rust() {
 /// WGSL twin, and the cull that spares stems from the orientation test): one value.
 #[test]
 fn flower_stem_width_matches_rust() {
-    let value = |file: &str, name: &str| -> f32 {
-        let src = source(file);
-        let line = src
-            .lines()
-            .find(|l| l.starts_with(&format!("const {name}: f32 = ")))
-            .unwrap_or_else(|| panic!("{file} has no const {name}"));
-        line.rsplit('=')
-            .next()
-            .unwrap()
-            .trim()
-            .trim_end_matches(';')
-            .parse()
-            .expect("a number")
-    };
     let rust = sward::field::clumps::STEM_WIDTH;
-    assert_eq!(value("clumps.wgsl", "STEM_WIDTH"), rust);
-    assert_eq!(value("cull.wgsl", "FLOWER_STEM_WIDTH"), rust);
+    assert_eq!(float_in("clumps.wgsl", "STEM_WIDTH"), rust);
+    assert_eq!(float_in("cull.wgsl", "FLOWER_STEM_WIDTH"), rust);
+}
+
+/// The deferred grass's marker is written in three places (the shading's `BLADE_ALPHA`, its
+/// Rust twin, and the far gain's measurement that reads it, which does not include the
+/// shading's file): one value.
+#[test]
+fn blade_alpha_matches_rust() {
+    let rust = sward::render::deferred::BLADE_ALPHA;
+    assert_eq!(float_in("grass_vis.wgsl", "BLADE_ALPHA"), rust);
+    assert_eq!(float_in("far_gain_common.wgsl", "MARKED_ALPHA"), rust);
+}
+
+/// The value of `const {name}: f32 = …;` in shader `file`.
+fn float_in(file: &str, name: &str) -> f32 {
+    let src = source(file);
+    let line = src
+        .lines()
+        .find(|l| l.starts_with(&format!("const {name}: f32 = ")))
+        .unwrap_or_else(|| panic!("{file} has no const {name}"));
+    line.rsplit('=')
+        .next()
+        .unwrap()
+        .trim()
+        .trim_end_matches(';')
+        .parse()
+        .expect("a number")
 }

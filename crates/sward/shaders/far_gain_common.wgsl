@@ -3,19 +3,24 @@
 // the tone curve). A pixel whose point lies on the ground or below the tallest blade's
 // height over it (a blade, a card, or the ground between them; not the sky, not a taller
 // object) is compared with the far grass's light at the ground below it
-// (`far_grass_light`, shadowed as the point is, without the gain): beyond the blades'
-// reach, within `params.ring` (the far levels' first metres), for the far ring's sums; a
-// little inside the reach, within `params.near` (blades only: the cards fade in later),
-// for the near ring's, where only the pixels standing on a blade are measured (the ground
-// between the near blades is soil turning to the far ground's grass, lit with the gain:
-// measured, it fed the gain back into its own aim, and the soil a camera looking down sees
-// between the blades is not what a grazing view of the far field shows). (Cards and
-// ground are measured together: the terrain's mesh is coarse that far out, and its pixels
-// stand above or below the height function by more than a card's root.) The sums, and the luminance's sums and squares for the contrast,
-// are reduced across the workgroup; the light gain is written into the far state's words
-// 4-7, the blades' ratio and the contrast gain into words 8-11 (`render::far_gain`), and
-// each sector's multiplier of the gain into words 12-27 (far_sectors.wgsl), which the
-// next frame's billboards and far ground read.
+// (`far_grass_light`, shadowed as the point is, without the gain):
+// - beyond the blades' reach, within `params.ring` (the far levels' first metres), for
+//   the far ring's sums (cards and ground together: the terrain's mesh is coarse that far
+//   out, and its pixels stand above or below the height function by more than a card's
+//   root);
+// - inside the reach, within `params.near`, for the near ring's, where only the pixels
+//   standing on a blade are measured: told by the blades' share of the pixel that the
+//   deferred shading marks in its alpha, or without it by their height (which cannot tell
+//   a card from a blade: the ring then ends where the cards fade in). The ground between
+//   the near blades is soil turning to the far ground's grass, lit with the gain: measured,
+//   it fed the gain back into its own aim;
+// - the blades' variation for the contrast gain within `params.contrast`, on the pixels
+//   standing above the ground.
+// The sums, and the luminance's sums and squares for the contrast, are reduced across the
+// workgroup; the light gain is written into the far state's words 4-7, the blades' ratio
+// and the contrast gain into words 8-11 (`render::far_gain`), and each sector's multiplier
+// of the gain into words 12-27 (far_sectors.wgsl), which the next frame's billboards and
+// far ground read.
 // The depth texture's binding and `frame_depth` come from the including file (one sample
 // or multisampled).
 //!include common.wgsl
@@ -32,9 +37,22 @@ struct GainParams {
     // x, y: the sample grid's columns and rows; z: the frame's number.
     grid: vec4<u32>,
     // x, y: the near ring's inner and outer distance (m); z: 1 when cards are drawn (the
-    // contrast gain is theirs, and measured only then).
+    // contrast gain is theirs, and measured only then); w: 1 when the frame's grass was
+    // lit deferred, which marks the blades' share of each pixel in its alpha
+    // (`BLADE_ALPHA`): the near ring's blades are told from cards and ground by it.
     near: vec4<f32>,
+    // x, y: the contrast's ring, inner and outer distance (m): the blades' variation is
+    // measured there, on the pixels standing on a blade.
+    contrast: vec4<f32>,
 }
+
+// The alpha the deferred shading leaves in a pixel all blades (twin of `BLADE_ALPHA` in
+// grass_vis.wgsl, which this pass does not include).
+const MARKED_ALPHA: f32 = 3.0;
+// The share of a pixel's samples on blades for it to count as the blades' in the near
+// ring: most of it, so that what lies behind them (cards lit with the gain, soil) weighs
+// little.
+const MARKED_SHARE: f32 = 0.5;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Bindings 1 and 2: the terrain's parameters and grid (terrain_height.wgsl).
@@ -130,10 +148,18 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let far = grass && dist >= params.ring.x && dist < params.ring.y;
         let in_near = grass && dist >= params.near.x && dist < params.near.y;
         let in_field = grass && dist >= FAR_BIN.x * params.ring.x && dist < FAR_BIN.y * params.ring.x;
+        // Standing on a blade: where the frame marks its blades (deferred), most of the
+        // pixel's samples on them; else above the ground by a tenth of the tallest blade
+        // (the ground's mesh is fine near the camera), which cannot tell a card from a
+        // blade: the near ring then ends where the cards fade in.
+        let alpha = textureLoad(scene_color, p, 0).a;
+        let share = clamp((alpha - 1.0) / (MARKED_ALPHA - 1.0), 0.0, 1.0);
+        let standing = select(above > 0.1 * params.ring.z, share >= MARKED_SHARE, params.near.w > 0.5);
+        let in_contrast = grass && dist >= params.contrast.x && dist < params.contrast.y && above > 0.1 * params.ring.z;
         // The light model only where a sum takes it: most of the grid is sky, objects or
         // ground outside the rings (the model's 16 light evaluations and the shadow lookup
         // are the pass's cost).
-        if !(far || in_near || in_field) {
+        if !(far || in_near || in_field || in_contrast) {
             continue;
         }
         let n = normalize(vec3<f32>(-h.y, 1.0, -h.z));
@@ -142,13 +168,12 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let sky = sky_radiance(to_p / max(dist, 1e-4));
         let f = clamp(1.0 - exp(-dist / max(frame.viewport_time.w, 1.0)), 0.0, 1.0);
         let frame_radiance = textureLoad(scene_color, p, 0).rgb;
-        let radiance = select(frame_radiance, textureLoad(shown_color, p, 0).rgb, in_near);
+        let radiance = select(frame_radiance, textureLoad(shown_color, p, 0).rgb, in_near || in_contrast);
         let t = gain_terms(radiance, sky, f, should);
         let shown = vec4<f32>(t.shown, 1.0);
-        // The near ring measures the pixels standing on a blade (above the ground by a
-        // tenth of the tallest blade: the ground's mesh is fine near the camera); the
-        // model's sums count in w every pixel of the ring.
-        let near = in_near && above > 0.1 * params.ring.z;
+        // The near ring measures the pixels standing on a blade (`standing`); the model's
+        // sums count in w every pixel of the ring.
+        let near = in_near && standing;
         let model = vec4<f32>(t.model, 1.0);
         let d = dot(t.shown, LUMA);
         let pair = sector_pair(to_p.xz);
@@ -170,6 +195,8 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         model_n.w += select(0.0, 1.0, in_near);
         let model_l = dot(t.model, LUMA);
         field += select(zero, vec4<f32>(d, model_l, 1.0, 0.0), in_field);
+        // w: the contrast ring's pixels (its luminance sums are `disp.zw`).
+        field.w += select(0.0, 1.0, in_contrast);
         let sec_far = select(zero, vec4<f32>(d, model_l, d / lit, 1.0), far);
         let wa = vec4<f32>(1.0, 1.0, 1.0 - pair.t, 1.0) * (1.0 - pair.t);
         let wb = vec4<f32>(1.0, 1.0, pair.t, 1.0) * pair.t;
@@ -178,7 +205,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         sec[2u * pair.b] += wb * sec_far;
         sec[2u * pair.a + 1u] += (1.0 - pair.t) * sec_near;
         sec[2u * pair.b + 1u] += pair.t * sec_near;
-        disp += select(zero, vec4<f32>(d2f, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), near);
+        disp += select(zero, vec4<f32>(d2f, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), in_contrast);
     }
     far_shown[i] = shown_f;
     far_model[i] = model_f;
@@ -197,7 +224,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         n_before = n;
         var k = bitcast<f32>(far_state[11]);
         if params.near.z > 0.5 {
-            k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, near_shown[0].w, k, n, params.ring.w);
+            k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, far_field[0].w, k, n, params.ring.w);
         }
         // The far field's distance gain, against the ring's need in this frame (its pixels
         // were lit with the light gain alone: the ramp starts past it).

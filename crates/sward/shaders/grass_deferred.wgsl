@@ -138,5 +138,5 @@ fn shade_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     let sky = sky_towards(normalize(blades[vis.x].v0_dir.xyz - frame.camera_pos.xyz));
     let uv = unpack2x16unorm(vis.y);
     let sun = blade_sun_visibility(vis.x, uv.y, world);
-    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, uv, world, sky, sun), 1.0));
+    textureStore(scene_out, px, vec4<f32>(vis_colour(vis.x, uv, world, sky, sun), BLADE_ALPHA));
 }

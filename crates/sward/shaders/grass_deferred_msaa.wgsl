@@ -15,7 +15,8 @@
 //    grass sample; `shade_pixels_ms` lights each distinct blade in the pixel once, at its
 //    first sample's blade point (`vis_lit`), and resolves the pixel itself: in each grass
 //    sample its blade's light on the sample's own albedo and height, the multisampled
-//    colour in the others, averaged as the hardware resolve averages.
+//    colour in the others, averaged as the hardware resolve averages; the grass samples
+//    with alpha BLADE_ALPHA, so the pixel's alpha tells the share the blades cover.
 //!include grass_vis.wgsl
 
 @group(2) @binding(0) var vis_ms: texture_multisampled_2d<u32>;
@@ -183,7 +184,7 @@ fn shade_pixels_ms(@builtin(global_invocation_id) gid: vec3<u32>) {
         // along it, root to tip, and the occlusion do.
         let ao = vis_ao(uv.y, l.ao);
         let own = vis_albedo(id, uv) * (l.ambient * ao + l.sun * mix(0.55, 1.0, ao));
-        sum += vec4<f32>(fog_towards(own, l.point, l.sky), 1.0);
+        sum += vec4<f32>(fog_towards(own, l.point, l.sky), BLADE_ALPHA);
     }
     textureStore(scene_out, px, sum / f32(samples));
 }

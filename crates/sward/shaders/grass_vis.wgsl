@@ -35,6 +35,13 @@ struct ShadeArgs {
 // the 65,535 a dispatch may have along x.
 const SHADE_GROUP: u32 = 256u;
 
+// The alpha the deferred shading leaves in the scene target for each grass sample it
+// lights (twin: `deferred::BLADE_ALPHA`): above the 1 of every other lit pass, so that a
+// pixel's alpha 1 + (BLADE_ALPHA − 1) s tells the share s of it the blades cover (the far
+// gain's measurement takes its blades there: `far_gain_common.wgsl`). The tone mapping
+// reads any alpha of 1 or more as radiance.
+const BLADE_ALPHA: f32 = 3.0;
+
 struct VisOut {
     // Invariant: the same depth as the lit pass and the coverage measurement.
     @builtin(position) @invariant clip: vec4<f32>,

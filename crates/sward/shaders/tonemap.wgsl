@@ -3,9 +3,10 @@
 // full-screen triangle applies the scene's exposure and filmic curve (`tonemap` in
 // light.wgsl: ACES, AgX or a clamp) on the way to the 8-bit output.
 //
-// Alpha tells radiance from display colour: every lit pass leaves alpha 1, the window's
-// arrows (whose colour must keep the strength ramp's exact hue) write alpha 0, and an
-// anti-aliased edge between them mixes the two.
+// Alpha tells radiance from display colour: every lit pass leaves alpha 1 (the deferred
+// grass more, `BLADE_ALPHA` in grass_vis.wgsl: the share of the pixel its blades cover),
+// the window's arrows (whose colour must keep the strength ramp's exact hue) write alpha 0,
+// and an anti-aliased edge between them mixes the two.
 
 //!include common.wgsl
 //!include light.wgsl

@@ -41,6 +41,13 @@ pub const VIS_MS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Uint;
 /// in half floats.
 pub const GRASS_ALPHA: f64 = -1.0;
 
+/// The alpha the deferred shading leaves in the scene target for each grass sample it
+/// lights (`BLADE_ALPHA` in `grass_vis.wgsl`): above the 1 of every other lit pass, so a
+/// pixel's alpha `1 + (BLADE_ALPHA − 1) s` tells the share `s` of it the blades cover. The
+/// far gain's measurement tells the near blades from the cards by it (`far_gain`); the
+/// tone mapping reads any alpha of 1 or more as radiance.
+pub const BLADE_ALPHA: f32 = 3.0;
+
 /// Widest multisampled target the path takes: the pixel list packs x and y in 14 bits.
 const MS_MAX_SIDE: u32 = 1 << 14;
 

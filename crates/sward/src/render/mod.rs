@@ -15,6 +15,7 @@ pub mod deferred;
 pub mod draw;
 pub mod far_canopy;
 pub mod far_gain;
+pub mod far_gain_pass;
 pub mod far_sectors;
 pub mod far_light;
 pub mod far_texture;
@@ -166,7 +167,7 @@ pub struct Renderer {
     pending_grass_light: Option<[wgpu::BindGroup; 2]>,
     /// The far levels' light gain, measured on the blades at the edge of their reach after
     /// each frame's grass is lit (`far_gain`).
-    far_gain: far_gain::FarGainPass,
+    far_gain: far_gain_pass::FarGainPass,
     /// The depth the frame's 3D passes drew into (the multisampled one with MSAA), for the
     /// far gain's measurement in [`Renderer::resolve`]; `None` outside a frame.
     frame_depth: Option<wgpu::TextureView>,
@@ -454,7 +455,7 @@ impl Renderer {
             pyramid_depth: None,
             deferred: None,
             pending_grass_light: None,
-            far_gain: far_gain::FarGainPass::new(gpu),
+            far_gain: far_gain_pass::FarGainPass::new(gpu),
             frame_depth: None,
             frame_count: 0,
             last_cull: CullParams::default(),

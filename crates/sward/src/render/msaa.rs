@@ -193,6 +193,13 @@ impl Renderer {
         }
     }
 
+    /// The scene target after the last frame: linear radiance and alpha per pixel,
+    /// row-major (blocking; for tests: the deferred grass marks its share of each pixel in
+    /// the alpha, `deferred::BLADE_ALPHA`). `None` before the first frame.
+    pub fn read_scene(&self, gpu: &Gpu) -> Option<crate::error::Result<Vec<[f32; 4]>>> {
+        self.post.read_target(gpu)
+    }
+
     /// Ends the frame's drawing: resolves the multisampled scene into the scene target
     /// (and lights the deferred grass's pixels in it, `render::deferred`), tone-maps that
     /// into `color` (`post::ToneMap`) and draws the wind overlay over it in
@@ -268,11 +275,13 @@ impl Renderer {
         };
         let tallest = super::light::blade_heights(&self.scene.field).1;
         let cards = self.billboards.is_some();
+        // The deferred shading marks its blades' share of each pixel (`BLADE_ALPHA`).
+        let marked = self.deferred.is_some();
         let eye = self.last_cull.camera_pos;
         let height = eye[1] - self.terrain.height(eye[0], eye[2]);
         let reach = (self.last_cull.max_distance, height);
-        self.far_gain.prepare(reach, tallest, self.frame_count, cards);
-        let inputs = super::far_gain::GainInputs {
+        self.far_gain.prepare(reach, tallest, self.frame_count, (cards, marked));
+        let inputs = super::far_gain_pass::GainInputs {
             frame: self.draw.frame_buffer(),
             terrain: self.draw.terrain_buffers(),
             state: self.draw.waves_buffer(),
