@@ -148,14 +148,10 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let far = grass && dist >= params.ring.x && dist < params.ring.y;
         let in_near = grass && dist >= params.near.x && dist < params.near.y;
         let in_field = grass && dist >= FAR_BIN.x * params.ring.x && dist < FAR_BIN.y * params.ring.x;
-        // Standing on a blade: where the frame marks its blades (deferred), most of the
-        // pixel's samples on them; else above the ground by a tenth of the tallest blade
-        // (the ground's mesh is fine near the camera), which cannot tell a card from a
-        // blade: the near ring then ends where the cards fade in.
-        let alpha = textureLoad(scene_color, p, 0).a;
-        let share = clamp((alpha - 1.0) / (MARKED_ALPHA - 1.0), 0.0, 1.0);
-        let standing = select(above > 0.1 * params.ring.z, share >= MARKED_SHARE, params.near.w > 0.5);
-        let in_contrast = grass && dist >= params.contrast.x && dist < params.contrast.y && above > 0.1 * params.ring.z;
+        // Above the ground by a tenth of the tallest blade (the ground's mesh is fine near
+        // the camera): a blade, or a card.
+        let raised = above > 0.1 * params.ring.z;
+        let in_contrast = grass && dist >= params.contrast.x && dist < params.contrast.y && raised;
         // The light model only where a sum takes it: most of the grid is sky, objects or
         // ground outside the rings (the model's 16 light evaluations and the shadow lookup
         // are the pass's cost).
@@ -167,13 +163,16 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let should = l.ambient + sun_visibility(world) * l.sun;
         let sky = sky_radiance(to_p / max(dist, 1e-4));
         let f = clamp(1.0 - exp(-dist / max(frame.viewport_time.w, 1.0)), 0.0, 1.0);
-        let frame_radiance = textureLoad(scene_color, p, 0).rgb;
-        let radiance = select(frame_radiance, textureLoad(shown_color, p, 0).rgb, in_near || in_contrast);
+        let frame_texel = textureLoad(scene_color, p, 0);
+        let radiance = select(frame_texel.rgb, textureLoad(shown_color, p, 0).rgb, in_near || in_contrast);
         let t = gain_terms(radiance, sky, f, should);
         let shown = vec4<f32>(t.shown, 1.0);
-        // The near ring measures the pixels standing on a blade (`standing`); the model's
-        // sums count in w every pixel of the ring.
-        let near = in_near && standing;
+        // The near ring measures the pixels standing on a blade: where the frame marks its
+        // blades (deferred), most of the pixel's samples on them; else `raised`, which
+        // cannot tell a card from a blade (the near ring then ends where the cards fade
+        // in). The model's sums count in w every pixel of the ring.
+        let share = clamp((frame_texel.a - 1.0) / (MARKED_ALPHA - 1.0), 0.0, 1.0);
+        let near = in_near && select(raised, share >= MARKED_SHARE, params.near.w > 0.5);
         let model = vec4<f32>(t.model, 1.0);
         let d = dot(t.shown, LUMA);
         let pair = sector_pair(to_p.xz);

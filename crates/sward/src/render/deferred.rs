@@ -526,25 +526,13 @@ impl DeferredTargets {
     /// The sky's table of the last frame, row-major, read back (blocking; the twin's
     /// test): the radiance along [`sky_lut_direction`] of each texel.
     pub fn read_sky_lut(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
-        let bytes = super::target::read_texels_sized(
+        let texels = super::target::read_rgba16f(
             gpu,
-            wgpu::TexelCopyTextureInfo {
-                texture: self.sky_lut.texture(),
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
+            self.sky_lut.texture(),
             (SKY_LUT_SIDE, SKY_LUT_SIDE),
-            8,
             "sward.deferred.read_sky_lut",
         )?;
-        let half = |t: &[u8], i: usize| {
-            super::taa::reference::f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]))
-        };
-        Ok(bytes
-            .chunks_exact(8)
-            .map(|t| [half(t, 0), half(t, 1), half(t, 2)])
-            .collect())
+        Ok(texels.iter().map(|t| [t[0], t[1], t[2]]).collect())
     }
 
     /// The bind groups of a frame's light passes (the pixel pass's, then the shading's):

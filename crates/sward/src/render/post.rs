@@ -118,26 +118,12 @@ impl ToneMap {
     /// (blocking; for tests), `None` before the first frame.
     pub fn read_target(&self, gpu: &Gpu) -> Option<crate::error::Result<Vec<[f32; 4]>>> {
         let t = self.target.as_ref()?;
-        let bytes = super::target::read_texels_sized(
+        Some(super::target::read_rgba16f(
             gpu,
-            wgpu::TexelCopyTextureInfo {
-                texture: t.view.texture(),
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
+            t.view.texture(),
             t.size,
-            8,
             "sward.tonemap.read_target",
-        );
-        let half = |t: &[u8], i: usize| {
-            super::taa::reference::f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]))
-        };
-        Some(bytes.map(|b| {
-            b.chunks_exact(8)
-                .map(|t| [half(t, 0), half(t, 1), half(t, 2), half(t, 3)])
-                .collect()
-        }))
+        ))
     }
 
     /// Bytes of GPU memory the scene target holds.

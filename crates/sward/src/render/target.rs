@@ -154,6 +154,30 @@ pub fn read_texels_sized(
     Ok(out)
 }
 
+/// Copies a half-float RGBA texture's first mip level (`post::HDR_FORMAT`, the sky's
+/// table) of `size` back as f32 texels, row-major, blocking.
+pub fn read_rgba16f(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    size: (u32, u32),
+    label: &str,
+) -> Result<Vec<[f32; 4]>> {
+    let source = wgpu::TexelCopyTextureInfo {
+        texture,
+        mip_level: 0,
+        origin: wgpu::Origin3d::ZERO,
+        aspect: wgpu::TextureAspect::All,
+    };
+    let bytes = read_texels_sized(gpu, source, size, 8, label)?;
+    let half = |t: &[u8], i: usize| {
+        super::taa::reference::f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]))
+    };
+    Ok(bytes
+        .chunks_exact(8)
+        .map(|t| [half(t, 0), half(t, 1), half(t, 2), half(t, 3)])
+        .collect())
+}
+
 /// Copies an 8-bit RGBA or BGRA colour texture (with COPY_SRC usage) back into an RGBA
 /// image, blocking. The window uses it for `--screenshot` on its surface texture, which is
 /// often BGRA.

@@ -621,17 +621,8 @@ impl TaaPass {
             )
         };
         let all = wgpu::TextureAspect::All;
-        let halves = |view| -> Result<Vec<[f32; 4]>> {
-            let bytes = read(view, 8, all)?;
-            Ok(bytes
-                .chunks_exact(8)
-                .map(|t| {
-                    let c = |i: usize| {
-                        reference::f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]))
-                    };
-                    [c(0), c(1), c(2), c(3)]
-                })
-                .collect())
+        let halves = |view: &wgpu::TextureView| {
+            super::target::read_rgba16f(gpu, view.texture(), size, "sward.taa.read_frame")
         };
         let floats = |view, aspect| -> Result<Vec<f32>> {
             Ok(bytemuck::pod_collect_to_vec(&read(view, 4, aspect)?))
