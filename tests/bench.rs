@@ -688,6 +688,17 @@ fn far_field_compares_the_levels_band_by_band() {
         assert!(u(&c["worst_block"], &["sector"]) < 8);
         assert!(u(c, &["differing_pixels"]) <= 64 * 40, "{c}");
     }
+    // Each band's ground distance: one per band, in metres where the band shows ground
+    // (the view looks down onto a field, so some do), null where it is mostly sky.
+    let ground = r["band_ground"].as_array().expect("band_ground");
+    assert_eq!(ground.len(), 5, "{ground:?}");
+    assert!(ground.iter().any(|g| g.is_number()), "{ground:?}");
+    for g in ground {
+        assert!(
+            g.is_null() || g.as_f64().is_some_and(|m| m > 0.0),
+            "{ground:?}"
+        );
+    }
     // Blades to 50 m and no thinning draw another frame than the levels.
     assert!(u(&comparisons[0], &["differing_pixels"]) > 0);
     let out = sward(&["bench", "--far-field", "--light", "--scene", SCENE]);

@@ -19,6 +19,7 @@
 
 use serde::Serialize;
 
+use super::band_ground::{band_ground_distances, format_ground};
 use super::{utc_now, BenchOptions, BENCH_DT};
 use sward::commands::world_frame;
 use sward::compare::{
@@ -102,6 +103,17 @@ pub struct FarFieldReport {
     pub comparisons: Vec<BandComparison>,
     /// `levels` against `blades` along the run, at [`checkpoints`].
     pub series: Vec<SeriesPoint>,
+    /// The median distance (m) from the camera to the ground each band shows, top to
+    /// bottom (`band_ground::band_ground_distances`; `None`: mostly sky).
+    pub band_ground: Vec<Option<f32>>,
+}
+
+impl FarFieldReport {
+    /// The ground distance of the band starting at row `top`, as the tables print it.
+    fn ground_at(&self, top: u32) -> String {
+        let band = (top / sward::compare::BAND_ROWS) as usize;
+        format_ground(self.band_ground.get(band).copied().flatten())
+    }
 }
 
 /// The configurations, by name.
@@ -137,11 +149,15 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
     // The bands of `levels` and `blades` at each checkpoint (their images would hold a
     // frame each).
     let mut along: [Vec<Vec<Band>>; 2] = Default::default();
+    let mut band_ground = Vec::new();
     for (k, (name, scene)) in configs.into_iter().enumerate() {
         eprintln!("bench: {name} ({} warm-up + {} frames)", o.warmup, o.frames);
         let session = Session::new(scene.clone(), None, Some(&gpu))?;
         let mut renderer = super::measure::fresh_renderer(&gpu, &session, scene)?;
         let camera = CameraView::from_scene(&session.scene.camera);
+        if k == 0 {
+            band_ground = band_ground_distances(&camera, o.size, &session.terrain, camera.far);
+        }
         for frame in 1..=total {
             world_frame(&gpu, &mut renderer, BENCH_DT, camera, &target)?;
             if k < 2 && frame < total && at.contains(&frame) {
@@ -196,6 +212,7 @@ pub fn run_far_field(o: &BenchOptions) -> Result<FarFieldReport> {
         blade_reach: reach,
         comparisons: vec![compare(0, 1), compare(0, 2)],
         series,
+        band_ground,
     })
 }
 
@@ -211,12 +228,13 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
             "\n{} against {} (8-row bands: luminance 0-255, 8x8 block contrast)\n",
             c.image, c.reference
         );
-        out += "| band | reference luminance | difference | reference contrast | difference |\n";
-        out += "|---|---|---|---|---|\n";
+        out += "| band | ground (m) | reference luminance | difference | reference contrast | difference |\n";
+        out += "|---|---|---|---|---|---|\n";
         for (d, b) in c.diffs.iter().zip(&c.reference_bands) {
             out += &format!(
-                "| {} | {:.1} | {:+.1}{} | {:.1} | {:+.0} % |\n",
+                "| {} | {} | {:.1} | {:+.1}{} | {:.1} | {:+.0} % |\n",
                 d.top,
+                r.ground_at(d.top),
                 b.luminance,
                 d.luminance,
                 if d.within_tolerance() { "" } else { " *" },
@@ -226,10 +244,11 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
         }
         if let Some(w) = c.worst {
             out += &format!(
-                "worst band: rows {}-{}: {:+.1} levels, contrast {:+.0} %; {} of {} bands \
-                 within 5 levels and 30 %\n",
+                "worst band: rows {}-{} (ground {} m): {:+.1} levels, contrast {:+.0} %; {} of \
+                 {} bands within 5 levels and 30 %\n",
                 w.top,
                 w.top + sward::compare::BAND_ROWS - 1,
+                r.ground_at(w.top),
                 w.luminance,
                 100.0 * w.contrast,
                 c.within,
@@ -260,25 +279,26 @@ pub fn format_far_field(r: &FarFieldReport) -> String {
     if let Some(c) = r.comparisons.first() {
         out += &format!(
             "\n{} against {} along the run (the worst band after each count of frames)\n\
-             | frames | worst band | luminance | contrast | bands within 5 levels and 30 % |\n\
-             |---|---|---|---|---|\n",
+             | frames | worst band | ground (m) | luminance | contrast | bands within 5 levels and 30 % |\n\
+             |---|---|---|---|---|---|\n",
             c.image, c.reference
         );
         for p in &r.series {
             match p.worst {
                 Some(w) => {
                     out += &format!(
-                        "| {} | rows {}-{} | {:+.1} | {:+.0} % | {} of {} |\n",
+                        "| {} | rows {}-{} | {} | {:+.1} | {:+.0} % | {} of {} |\n",
                         p.frames,
                         w.top,
                         w.top + sward::compare::BAND_ROWS - 1,
+                        r.ground_at(w.top),
                         w.luminance,
                         100.0 * w.contrast,
                         p.within,
                         c.diffs.len()
                     )
                 }
-                None => out += &format!("| {} | – | – | – | – |\n", p.frames),
+                None => out += &format!("| {} | – | – | – | – | – |\n", p.frames),
             }
         }
     }

@@ -38,7 +38,7 @@ use sward::session::{check_blade_count, Session, MAX_BLADES};
 use sward::sim::layout::{CullCounters, BYTES_PER_BLADE, MAX_SPHERES, WORKGROUP_SIZE};
 
 pub mod antialias;
-/// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
+pub mod band_ground;
 pub mod colliders;
 pub mod far_field;
 pub mod flight;
@@ -51,6 +51,7 @@ mod table;
 
 pub use table::{format_report, thousands};
 
+/// Time step of every benchmarked frame (the paper's scenes run at a fixed step too).
 pub const BENCH_DT: f32 = 1.0 / 30.0;
 /// Largest `--frames`.
 pub const MAX_FRAMES: u32 = 100_000;

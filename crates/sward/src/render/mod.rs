@@ -33,6 +33,7 @@ pub mod objects;
 pub mod overlay;
 pub mod pipelines;
 pub mod post;
+pub mod ray;
 pub mod skinning;
 pub mod taa;
 pub mod target;
