@@ -36,12 +36,12 @@ const BISECT_TOLERANCE: f32 = 1e-5;
 const MAX_MARCH_STEPS: usize = 1 << 20;
 
 /// Viewport size with zero dimensions replaced by 1 (a minimised window).
-pub fn viewport(size: (u32, u32)) -> (f64, f64) {
+fn viewport(size: (u32, u32)) -> (f64, f64) {
     (f64::from(size.0.max(1)), f64::from(size.1.max(1)))
 }
 
 /// The view-projection matrix the renderer uses for this viewport.
-pub fn view_proj(view: &CameraView, size: (u32, u32)) -> Mat4 {
+fn view_proj(view: &CameraView, size: (u32, u32)) -> Mat4 {
     let (w, h) = viewport(size);
     view.view_proj((w / h) as f32)
 }

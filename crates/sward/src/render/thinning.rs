@@ -5,8 +5,8 @@
 //! and past the distance where that no longer covers it (half the reach) each is drawn
 //! from part way up ([`root`], up to [`CUT_MAX`] of the blade): a lone blade among the
 //! cards fading in shows its shaded lower part, which the full field's neighbours hide from
-//! a distant eye, and the cards stand for the canopy below (only where cards are drawn: past their radius, or without
-//! them, each blade is drawn whole).
+//! a distant eye, and the cards stand for the canopy below (only where cards are drawn:
+//! past their radius, or without them, each blade is drawn whole).
 
 use crate::error::Result;
 use crate::gpu::Gpu;
