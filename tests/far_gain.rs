@@ -132,6 +132,14 @@ fn twin(
     (far, near, next, k)
 }
 
+/// The twin's next running mean of the blades' ratio, from `ratio` before, over the
+/// measurements the gain averaged before (`previous.1`).
+fn twin_mean(pixels: &[GainPixel], previous: (Vec3, f32), ratio: Vec3, blend: f32) -> Vec3 {
+    let (_, near, _, _) = twin(pixels, previous, 0.0, blend);
+    let n = if previous.1 > 0.5 { previous.1 } else { 0.0 };
+    far_gain::next_blades_mean(&near, ratio, n, blend)
+}
+
 /// A probe case: its name, pixels, previous gain and measurements, previous contrast gain.
 type Case = (&'static str, Vec<GainPixel>, (Vec3, f32), f32);
 
@@ -221,9 +229,16 @@ fn the_gpu_far_gain_arithmetic_matches_its_twin() {
         ),
     ];
     for (what, px, previous, contrast) in cases {
-        let (far, near, next, lit, (k, k_lit)) =
-            far_gain::probe(&gpu, &px, previous, contrast, far_gain::BLEND).expect("probe");
+        // The blades' running mean before: none before the first measurement.
+        let ratio = if previous.1 > 0.5 {
+            Vec3::new(1.15, 1.0, 0.85)
+        } else {
+            Vec3::ZERO
+        };
+        let (far, near, next, lit, (k, k_lit), mean) =
+            far_gain::probe(&gpu, &px, previous, contrast, ratio, far_gain::BLEND).expect("probe");
         let (tf, tn, tnext, tk) = twin(&px, previous, contrast, far_gain::BLEND);
+        close(mean, twin_mean(&px, previous, ratio, far_gain::BLEND), what);
         close_sums(&far, &tf, what);
         close_sums(&near, &tn, what);
         assert_eq!(next.1, tnext.1, "{what}: measurements");
@@ -275,6 +290,21 @@ fn the_far_gain_brings_the_far_levels_to_the_blades() {
         (aimed.0 - Vec3::splat(1.2 / 1.3)).abs().max_element() < 1e-4,
         "{aimed:?}"
     );
+    // The ratio the panel shows is averaged over the frames as the gain averages its aims:
+    // the first measurement taken as it is, the second moves it half way, the fifth a
+    // quarter.
+    let mean = |previous: Vec3, n: f32| far_gain::next_blades_mean(&near, previous, n, b);
+    for (previous, n, expected) in [
+        (Vec3::ZERO, 0.0, 1.2),
+        (Vec3::ONE, 1.0, 1.1),
+        (Vec3::ONE, 4.0, 1.05),
+    ] {
+        let m = mean(previous, n);
+        assert!(
+            (m - Vec3::splat(expected)).abs().max_element() < 1e-4,
+            "from {previous} after {n}: {m}"
+        );
+    }
     // The soil between the near blades (dark, or lit with the gain as the far ground is)
     // is not measured: the ratio and the contrast are the blades' alone.
     let with_soil = twin(
@@ -324,6 +354,11 @@ fn the_far_gain_brings_the_far_levels_to_the_blades() {
         b,
     );
     assert_eq!(far_gain::blades_ratio(&near), Vec3::ONE);
+    // ... nor does it move the blades' running mean towards 1.
+    assert_eq!(
+        far_gain::next_blades_mean(&near, Vec3::splat(0.9), 3.0, b),
+        Vec3::splat(0.9)
+    );
     assert!(
         (bare.0 - Vec3::splat(1.0 / 1.3)).abs().max_element() < 1e-4,
         "{bare:?}"

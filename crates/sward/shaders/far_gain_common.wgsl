@@ -18,9 +18,9 @@
 //   standing above the ground.
 // The sums, and the luminance's sums and squares for the contrast, are reduced across the
 // workgroup; the light gain is written into the far state's words 4-7, the blades' ratio
-// and the contrast gain into words 8-11 (`render::far_gain`), and each sector's multiplier
-// of the gain into words 12-27 (far_sectors.wgsl), which the next frame's billboards and
-// far ground read.
+// (a running mean, for the panel: the gain takes this frame's) and the contrast gain into
+// words 8-11 (`render::far_gain`), and each sector's multiplier of the gain into words
+// 12-27 (far_sectors.wgsl), which the next frame's billboards and far ground read.
 // The depth texture's binding and `frame_depth` come from the including file (one sample
 // or multisampled).
 //!include common.wgsl
@@ -57,8 +57,8 @@ const MARKED_SHARE: f32 = 0.5;
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Bindings 1 and 2: the terrain's parameters and grid (terrain_height.wgsl).
 // The far state: words 0-1 the gusts' bend at the blades' edge, 2 the far field's distance
-// gain, 4-7 the gain, 8-10 the blades' ratio to the model, 11 the contrast gain, 12-27 the
-// sectors' multipliers.
+// gain, 4-7 the gain, 8-10 the blades' ratio to the model (its running mean), 11 the
+// contrast gain, 12-27 the sectors' multipliers.
 @group(0) @binding(3) var<storage, read_write> far_state: array<u32, FAR_STATE_WORDS>;
 @group(0) @binding(4) var<uniform> params: GainParams;
 @group(0) @binding(5) var scene_color: texture_2d<f32>;
@@ -231,7 +231,9 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         let ring_need = select(0.0, dot(far_model[0].rgb, LUMA) / ring_shown, far_shown[0].w >= GAIN_MIN_SAMPLES && ring_shown > 1e-6);
         far_state[2] = bitcast<u32>(next_distance_gain(far_field[0].xyz, ring_need, bitcast<f32>(far_state[2]), n, params.ring.w));
         store_gain(4u, next);
-        store_gain(8u, vec4<f32>(blades_ratio(near_shown[0], near_model[0]), k));
+        let ratio_before = bitcast<vec3<f32>>(vec3<u32>(far_state[8], far_state[9], far_state[10]));
+        let ratio = next_blades_mean(near_shown[0], near_model[0], ratio_before, n, params.ring.w);
+        store_gain(8u, vec4<f32>(ratio, k));
     }
     // The sectors' sums, reduced four at a time in the rings' arrays (the workgroup's
     // memory holds no more), into thread 0's `sums`.

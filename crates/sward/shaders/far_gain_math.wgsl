@@ -54,15 +54,39 @@ const BLADES_STANDING: f32 = 0.5;
 // ring's stand on blades (bare ground, a density map's hole, a field seen from outside),
 // so that nothing but blades sets the far levels.
 fn blades_ratio(shown: vec4<f32>, model: vec4<f32>) -> vec3<f32> {
+    return select(vec3<f32>(1.0), blades_measured(shown, model), blades_were_measured(shown, model));
+}
+
+// Whether the near ring's sums measured the blades (`blades_ratio` is 1 where not).
+fn blades_were_measured(shown: vec4<f32>, model: vec4<f32>) -> bool {
     let few = shown.w < GAIN_MIN_SAMPLES || shown.w < BLADES_STANDING * model.w;
     if few || any(shown.rgb <= vec3<f32>(1e-6)) || any(model.rgb <= vec3<f32>(1e-6)) {
-        return vec3<f32>(1.0);
+        return false;
     }
-    let r = shown.rgb / model.rgb;
-    if !finite3(r) {
-        return vec3<f32>(1.0);
+    return finite3(shown.rgb / model.rgb);
+}
+
+// The blades' ratio to the model from sums `blades_were_measured` accepts.
+fn blades_measured(shown: vec4<f32>, model: vec4<f32>) -> vec3<f32> {
+    return clamp(shown.rgb / max(model.rgb, vec3<f32>(1e-6)), vec3<f32>(BLADES_MIN), vec3<f32>(BLADES_MAX));
+}
+
+// The blades' ratio to the model as the far state keeps it for the panel and `--timings`
+// (words 8-10; the gain does not read it): averaged over the frames as the gain averages
+// its aims (`next_gain`: a running mean over the `n` measurements before this one until
+// there are 1 / `blend` of them, then `blend` of the way), since one frame's near ring is a
+// few hundred pixels and its ratio wanders by several per cent. `previous` is 0 before the
+// first frame that measured the blades, taken as it is; a frame that did not measure them
+// keeps it.
+fn next_blades_mean(shown: vec4<f32>, model: vec4<f32>, previous: vec3<f32>, n: f32, blend: f32) -> vec3<f32> {
+    if !blades_were_measured(shown, model) {
+        return previous;
     }
-    return clamp(r, vec3<f32>(BLADES_MIN), vec3<f32>(BLADES_MAX));
+    let now = blades_measured(shown, model);
+    if !all(previous > vec3<f32>(0.0)) || !finite3(previous) {
+        return now;
+    }
+    return mix(previous, now, max(1.0 / (n + 1.0), blend));
 }
 
 // The gain after a frame's sums: `far_shown` / `far_model` over the far ring's pixels

@@ -3,9 +3,10 @@
 // and f, the fog's colour and the ring (w: 1 near, 0 far), the model's radiance and
 // whether the pixel stands on a blade (w; the near ring measures only those); then the
 // previous gain with its measurements, the blend, the pixels and the previous contrast
-// gain. Out: the far ring's sums (shown with the count, model), the near ring's, the next
-// gain, the gain the level would light with, the luminance sums (far, near) and the next
-// contrast gain with the one the cards would be shown with.
+// gain, then the blades' running mean before. Out: the far ring's sums (shown with the
+// count, model), the near ring's, the next gain, the gain the level would light with, the
+// luminance sums (far, near), the next contrast gain with the one the cards would be shown
+// with, and the blades' next running mean.
 //!include common.wgsl
 //!include far_gain_math.wgsl
 
@@ -16,7 +17,7 @@ struct GainPixel {
 }
 
 @group(0) @binding(0) var<storage, read> probe_pixels: array<GainPixel>;
-@group(0) @binding(1) var<storage, read> probe_previous: array<vec4<f32>, 2>;
+@group(0) @binding(1) var<storage, read> probe_previous: array<vec4<f32>, 3>;
 @group(0) @binding(2) var<storage, read_write> probe_out: array<vec4<f32>>;
 
 @compute @workgroup_size(64)
@@ -61,4 +62,5 @@ fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
     probe_out[5] = vec4<f32>(far_gain(bitcast<vec4<u32>>(next)), 0.0);
     probe_out[6] = d;
     probe_out[7] = vec4<f32>(k, contrast_gain(bitcast<u32>(k)), 0.0, 0.0);
+    probe_out[8] = vec4<f32>(next_blades_mean(near_shown, near_model, probe_previous[2].xyz, n, probe_previous[1].x), 0.0);
 }

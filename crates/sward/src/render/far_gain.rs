@@ -188,8 +188,9 @@ pub const MIN_SAMPLES: f32 = 16.0;
 /// Word of the far state where the gain starts (rgb, then 1 once measured).
 pub const GAIN_WORD: usize = 4;
 
-/// Word of the far state where the blades' ratio to the model (rgb) and the cards'
-/// contrast gain (w, 0 before the first measurement) start.
+/// Word of the far state where the blades' ratio to the model (rgb: its running mean,
+/// [`next_blades_mean`], 0 before the blades were measured) and the cards' contrast gain
+/// (w, 0 before the first measurement) start.
 pub const CALIBRATION_WORD: usize = 8;
 
 /// Bytes of the far state.
@@ -266,14 +267,34 @@ pub const BLADES_STANDING: f32 = 0.5;
 /// (twin of `blades_ratio`): 1 where too few pixels were measured or too few of the ring's
 /// stand on blades (bare ground, a hole in the density map, a field seen from outside).
 pub fn blades_ratio(near: &RingSums) -> Vec3 {
+    blades_measured(near).unwrap_or(Vec3::ONE)
+}
+
+/// The blades' ratio to the model in the near ring's sums, where they measured the blades
+/// (twin of `blades_were_measured` and `blades_measured`).
+fn blades_measured(near: &RingSums) -> Option<Vec3> {
     if !near.measured() || near.count < BLADES_STANDING * near.pixels {
-        return Vec3::ONE;
+        return None;
     }
     let r = near.shown / near.model;
-    if !r.is_finite() {
-        return Vec3::ONE;
+    r.is_finite()
+        .then(|| r.clamp(Vec3::splat(BLADES_RANGE.0), Vec3::splat(BLADES_RANGE.1)))
+}
+
+/// The blades' ratio to the model as the far state keeps it for the panel and `--timings`
+/// (twin of `next_blades_mean`; the gain does not read it): averaged over the frames as
+/// [`next_gain`] averages its aims, `n` the measurements before this one. One frame's near
+/// ring is a few hundred pixels: its ratio wanders by several per cent from frame to
+/// frame. `previous` is 0 before the first frame that measured the blades (taken as it
+/// is); a frame that did not measure them keeps it.
+pub fn next_blades_mean(near: &RingSums, previous: Vec3, n: f32, blend: f32) -> Vec3 {
+    let Some(now) = blades_measured(near) else {
+        return previous;
+    };
+    if !(previous.cmpgt(Vec3::ZERO).all() && previous.is_finite()) {
+        return now;
     }
-    r.clamp(Vec3::splat(BLADES_RANGE.0), Vec3::splat(BLADES_RANGE.1))
+    previous.lerp(now, step(n, blend))
 }
 
 /// How far a measurement moves a value averaged over `n` measurements before it: a running
@@ -431,11 +452,15 @@ impl super::Renderer {
         let bytes = crate::gpu::read_buffer(gpu, self.draw.waves_buffer(), STATE_BYTES)?;
         let words: &[f32] = bytemuck::cast_slice(&bytes);
         let g = &words[CALIBRATION_WORD..CALIBRATION_WORD + 4];
-        let (ratio, contrast) = if g[3] <= 0.0 {
-            (Vec3::ONE, 1.0)
+        // The blades' ratio is 0 until they were measured, the contrast gain until the
+        // cards were.
+        let mean = Vec3::new(g[0], g[1], g[2]);
+        let ratio = if mean.cmpgt(Vec3::ZERO).all() {
+            mean
         } else {
-            (Vec3::new(g[0], g[1], g[2]), g[3])
+            Vec3::ONE
         };
+        let contrast = if g[3] > 0.0 { g[3] } else { 1.0 };
         let m = words[DISTANCE_WORD];
         let distance = if m > 0.0 { m } else { 1.0 };
         let mut sectors = [0.0; SECTORS];
@@ -452,7 +477,8 @@ impl super::Renderer {
 /// What the far levels are calibrated with besides the light gain (`Renderer::far_calibration`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FarCalibration {
-    /// The blades' ratio to the far light model in the near ring (rgb).
+    /// The blades' ratio to the far light model in the near ring (rgb), averaged over the
+    /// frames as the gain averages its aims ([`next_blades_mean`]).
     pub ratio: Vec3,
     /// The cards' contrast gain.
     pub contrast: f32,
@@ -495,16 +521,18 @@ pub struct GainPixel {
 /// What the probe returns: the far and the near ring's sums, the next gain and the
 /// measurements it averages, the gain the level would light with (`far_gain`), and the
 /// next contrast gain with the one the cards would be shown with (`contrast_gain`).
-pub type ProbeResult = (RingSums, RingSums, (Vec3, f32), Vec3, (f32, f32));
+pub type ProbeResult = (RingSums, RingSums, (Vec3, f32), Vec3, (f32, f32), Vec3);
 
 /// Runs the WGSL arithmetic (`far_gain_math.wgsl`) over `pixels` from `previous` (gain,
-/// measurements) and `contrast` (the previous contrast gain), on the GPU, for the test
-/// against [`gain_terms`], [`next_gain`] and [`next_contrast`].
+/// measurements), `contrast` (the previous contrast gain) and `ratio` (the blades' running
+/// mean before), on the GPU, for the test against [`gain_terms`], [`next_gain`],
+/// [`next_contrast`] and [`next_blades_mean`] (the last of the result).
 pub fn probe(
     gpu: &Gpu,
     pixels: &[GainPixel],
     previous: (Vec3, f32),
     contrast: f32,
+    ratio: Vec3,
     blend: f32,
 ) -> Result<ProbeResult> {
     let mut flat: Vec<[f32; 12]> = pixels
@@ -522,7 +550,7 @@ pub fn probe(
     if flat.is_empty() {
         flat.push([0.0; 12]);
     }
-    let prev: [f32; 8] = [
+    let prev: [f32; 12] = [
         previous.0.x,
         previous.0.y,
         previous.0.z,
@@ -531,13 +559,17 @@ pub fn probe(
         pixels.len() as f32,
         contrast,
         0.0,
+        ratio.x,
+        ratio.y,
+        ratio.z,
+        0.0,
     ];
     let out = crate::gpu::run_vec4_probe(
         gpu,
         "sward.far_gain_probe",
         "far_gain_probe.wgsl",
         &[bytemuck::cast_slice(&flat), bytemuck::cast_slice(&prev)],
-        8,
+        9,
     )?;
     let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
     let sums = |shown: [f32; 4], model: [f32; 4], luma: f32, luma2: f32| RingSums {
@@ -555,5 +587,6 @@ pub fn probe(
         (v(out[4]), out[4][3]),
         v(out[5]),
         (out[7][0], out[7][1]),
+        v(out[8]),
     ))
 }
