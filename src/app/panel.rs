@@ -757,8 +757,8 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
             });
             let far = app.far_calibration;
             ui.label(format!(
-                "blades against the far light model: {:.2} {:.2} {:.2}; cards' contrast gain: \
-                 {:.2}; far field's distance gain: {:.2}",
+                "blades against the far light model: {:.2} {:.2} {:.2} (running mean); cards' \
+                 contrast gain: {:.2}; far field's distance gain: {:.2}",
                 far.ratio.x, far.ratio.y, far.ratio.z, far.contrast, far.distance
             ));
             // The sectors measured (`render::far_sectors`): the spread across directions.

@@ -288,8 +288,8 @@ pub fn render(o: &RenderOptions) -> Result<()> {
         let far = world.renderer.far_calibration(&gpu)?;
         let (ratio, contrast) = (far.ratio, far.contrast);
         println!(
-            "blades against the far light model: {:.3} {:.3} {:.3}; cards' contrast gain: \
-             {contrast:.3}",
+            "blades against the far light model: {:.3} {:.3} {:.3} (running mean); cards' \
+             contrast gain: {contrast:.3}",
             ratio.x, ratio.y, ratio.z
         );
         println!(
