@@ -475,6 +475,20 @@ fn the_prairies_far_calibration_settles() {
     );
     // The blades were measured (a ratio that is not the default).
     assert!(r1 != Vec3::ONE, "no blades measured");
+    // The gusts' bend shown is the cull's count of this frame (its two words, which the far
+    // levels' shading waves read), and the prairie's gusts bend its blades.
+    let bend = r.far_calibration(&gpu).expect("read").bend;
+    let counted = r.stats(&gpu).expect("stats").counters;
+    assert!(
+        counted.wave_blades > 0,
+        "no blades counted at the reach's edge"
+    );
+    let expected = counted.wave_sum as f32 / (1024.0 * counted.wave_blades as f32);
+    assert_eq!(bend, expected, "the bend shown is not the cull's count");
+    assert!(
+        bend > 0.1 && bend <= 1.0,
+        "the prairie's gusts bend its blades: {bend}"
+    );
 }
 
 /// The cards' contrast curve: the GPU's against its twin, and what it promises — the line

@@ -761,6 +761,11 @@ fn stats_section(ui: &mut Ui, app: &mut AppState, gpu: &Gpu) {
                  contrast gain: {:.2}; far field's distance gain: {:.2}",
                 far.ratio.x, far.ratio.y, far.ratio.z, far.contrast, far.distance
             ));
+            ui.label(format!(
+                "gusts' mean bend at the edge of the blades' reach: {:.2} (0 calm, 1 bent \
+                 two thirds of the height)",
+                far.bend
+            ));
             // The sectors measured (`render::far_sectors`): the spread across directions.
             let measured: Vec<f32> = far.sectors.iter().copied().filter(|m| *m > 0.0).collect();
             ui.label(match (

@@ -296,6 +296,11 @@ pub fn render(o: &RenderOptions) -> Result<()> {
             "far field's distance gain (times the light gain): {:.3}",
             far.distance
         );
+        println!(
+            "gusts' mean bend at the edge of the blades' reach (0 calm, 1 bent two thirds \
+             of the height): {:.3}",
+            far.bend
+        );
         let shown: Vec<String> = far
             .sectors
             .iter()

@@ -172,6 +172,11 @@ pub const FAR_RAMP: (f32, f32) = (1.5, 2.0);
 /// bright and the multiplier takes it down (a band 7.8 levels off at 1).
 pub const DISTANCE_GAIN_RANGE: (f32, f32) = (0.7, 1.0);
 
+/// Words of the far state holding the cull's count of the gusts' bend at the edge of the
+/// blades' reach: the sum of clamp(1.5 |v2 − rest tip| / h, 0, 1) in 1/1024ths, then the
+/// blades counted (`count_wave` in cull.wgsl; `mean_wave` in far_grass.wgsl reads them).
+pub const BEND_WORDS: usize = 0;
+
 /// Word of the far state holding the far field's distance gain (0 before the first
 /// measurement).
 pub const DISTANCE_WORD: usize = 2;
@@ -465,8 +470,16 @@ impl super::Renderer {
         let distance = if m > 0.0 { m } else { 1.0 };
         let mut sectors = [0.0; SECTORS];
         sectors.copy_from_slice(&words[SECTOR_WORD..SECTOR_WORD + SECTORS]);
+        let counts: &[u32] = bytemuck::cast_slice(&bytes);
+        let (sum, blades) = (counts[BEND_WORDS], counts[BEND_WORDS + 1]);
+        let bend = if blades > 0 {
+            sum as f32 / (1024.0 * blades as f32)
+        } else {
+            0.0
+        };
         Ok(FarCalibration {
             ratio,
+            bend,
             contrast,
             distance,
             sectors,
@@ -480,6 +493,10 @@ pub struct FarCalibration {
     /// The blades' ratio to the far light model in the near ring (rgb), averaged over the
     /// frames as the gain averages its aims ([`next_blades_mean`]).
     pub ratio: Vec3,
+    /// The gusts' mean bend at the edge of the blades' reach ([`BEND_WORDS`]): 0 calm, 1
+    /// where every blade there is bent two thirds of its height from its rest. The far
+    /// levels' shading waves follow it.
+    pub bend: f32,
     /// The cards' contrast gain.
     pub contrast: f32,
     /// The far field's distance gain (times the light gain, [`distance_gain`]).
@@ -493,6 +510,7 @@ impl Default for FarCalibration {
     fn default() -> Self {
         Self {
             ratio: Vec3::ONE,
+            bend: 0.0,
             contrast: 1.0,
             distance: 1.0,
             sectors: [0.0; SECTORS],
