@@ -483,7 +483,8 @@ fn the_prairies_far_calibration_settles() {
         counted.wave_blades > 0,
         "no blades counted at the reach's edge"
     );
-    let expected = counted.wave_sum as f32 / (1024.0 * counted.wave_blades as f32);
+    let expected =
+        counted.wave_sum as f32 / (sward::sim::layout::WAVE_QUANTA * counted.wave_blades as f32);
     assert_eq!(bend, expected, "the bend shown is not the cull's count");
     assert!(
         bend > 0.1 && bend <= 1.0,

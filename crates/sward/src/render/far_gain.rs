@@ -473,7 +473,7 @@ impl super::Renderer {
         let counts: &[u32] = bytemuck::cast_slice(&bytes);
         let (sum, blades) = (counts[BEND_WORDS], counts[BEND_WORDS + 1]);
         let bend = if blades > 0 {
-            sum as f32 / (1024.0 * blades as f32)
+            sum as f32 / (crate::sim::layout::WAVE_QUANTA * blades as f32)
         } else {
             0.0
         };

@@ -309,6 +309,10 @@ pub struct CullCounters {
     pub free_chunks: u32,
 }
 
+/// The fixed point of [`CullCounters::wave_sum`]: each blade adds its bend in 1/1024ths
+/// (twin of the 1024 in `count_wave`, cull.wgsl, and `mean_wave`, far_grass.wgsl).
+pub const WAVE_QUANTA: f32 = 1024.0;
+
 /// Byte offset of [`CullCounters::wave_sum`] (the draw copies the two wave words from
 /// there into the far levels' buffer).
 pub const WAVE_OFFSET: u64 = std::mem::offset_of!(CullCounters, wave_sum) as u64;

@@ -10,6 +10,7 @@ use super::super::bvh::{self, BvhNode};
 use super::super::layout::{
     Blade, BladeState, CullParams, PatchBox, PATCH_SPHERE_STRIDE, SEEN_CANDIDATE, SEEN_DRAWN_EARLY,
     SEEN_NO, SEEN_YES, TEST_DISTANCE, TEST_FRUSTUM, TEST_OCCLUSION, TEST_ORIENTATION, TEST_PATCH,
+    WAVE_QUANTA,
 };
 use super::{blade_frame, hiz, v4};
 
@@ -395,7 +396,7 @@ pub fn wave_of(blade: &Blade, state: &BladeState, params: &CullParams) -> Option
     let v2 = Vec3::from_slice(&blade.v2_width[..3]);
     let rest = Vec3::from_slice(&state.rest_eta[..3]);
     let gust = (v2 - rest).length() / blade.v1_height[3].max(1e-4);
-    Some(((gust * 1.5).clamp(0.0, 1.0) * 1024.0) as u32)
+    Some(((gust * 1.5).clamp(0.0, 1.0) * WAVE_QUANTA) as u32)
 }
 
 /// The cull predicate for blade `index`: the patch step (frustum and occlusion of its
