@@ -11,8 +11,9 @@
 # OUT_DIR gets every bench's JSON report and tables.md (docs/performance.md's tables, Markdown).
 # Needs only cargo and a GPU driver; CI never runs it. SWARD_ADAPTER picks the adapter
 # (default: auto, the hardware one). FRAMES / WARMUP override the frame counts; SWEEP the
-# sweep's blade counts (comma-separated). On a machine without cargo, build here and point
-# SWARD_BIN and GPU_TABLES at the built `sward` and `examples/gpu_tables`: nothing is built then.
+# sweep's blade counts (comma-separated), SWEEP_FRAMES / SWEEP_WARMUP its frame counts. On a
+# machine without cargo, build here and point SWARD_BIN and GPU_TABLES at the built `sward`
+# and `examples/gpu_tables`: nothing is built then.
 #
 # Vulkan needs the loader (libvulkan.so.1) and, for NVIDIA's ICD, libglvnd (libGLdispatch):
 # without libglvnd the loader finds the ICD but not its vkCreateInstance and sward says
@@ -55,8 +56,11 @@ bench helicopter $run --scene assets/scenes/helicopter.ron --size 1920x1080
 bench helicopter-msaa-off $run --scene assets/scenes/helicopter.ron --size 1920x1080 --set render.msaa=1
 bench nature-light $run --scene assets/scenes/nature.ron --size 1920x1080 --set render.msaa=1 --light
 bench prairie-flight $run --scene assets/scenes/prairie.ron --size 1920x1080 --flight
-# The sweep's largest fields take a while to build: fewer frames.
-bench sweep --frames "${SWEEP_FRAMES:-10}" --warmup 3 --scene assets/scenes/nature.ron \
+# The sweep's largest fields take a while to build: fewer frames. The GPU idles while each
+# is built and its clock drops (345 MHz on the H200, against 1980 under load): 3 warm-up
+# frames left the 1M and 2M points of one run at half speed (the fixed-size tone map 0.48
+# and 0.61 ms against 0.34), so each point warms up for 30.
+bench sweep --frames "${SWEEP_FRAMES:-10}" --warmup "${SWEEP_WARMUP:-30}" --scene assets/scenes/nature.ron \
     --size 1920x1080 --set render.msaa=1 --sweep "$sweep"
 bench meadow $run --size 1280x720
 bench peer $run --scene assets/scenes/peer.ron --size 1280x720 --set render.msaa=1 \

@@ -11,7 +11,7 @@
 
 mod common;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use sward::render::far_gain::{self, GainPixel, RingSums};
 
 /// The frames of the prairie compared: once the gusts have built up from the still start
@@ -42,9 +42,19 @@ fn lcg(seed: u32) -> impl FnMut() -> f32 {
     }
 }
 
+/// The luminance sums of a block of `far_gain::CONTRAST_BLOCK`² texels (`GainPixel::block`)
+/// around a pixel of radiance `actual`, its texels varying by `spread` about it.
+fn block(actual: Vec3, spread: f32, next: &mut impl FnMut() -> f32) -> Vec2 {
+    let l = actual.dot(far_gain::LUMA);
+    (0..far_gain::CONTRAST_BLOCK * far_gain::CONTRAST_BLOCK).fold(Vec2::ZERO, |sum, _| {
+        let t = l * (1.0 + spread * (2.0 * next() - 1.0));
+        sum + Vec2::new(t, t * t)
+    })
+}
+
 /// `n` far pixels whose radiance is `scale` times the model's, varying by `spread` about
-/// it, with fog; then `near` pixels of blades `ratio` times the model's, varying by
-/// `near_spread`.
+/// it (and within their blocks), with fog; then `near` pixels of blades `ratio` times the
+/// model's, varying by `near_spread`.
 fn pixels(n: usize, seed: u32, scale: f32, spread: f32, near: (usize, f32, f32)) -> Vec<GainPixel> {
     let mut next = lcg(seed);
     let mut pixel = |k: f32, s: f32, near: bool| {
@@ -52,13 +62,15 @@ fn pixels(n: usize, seed: u32, scale: f32, spread: f32, near: (usize, f32, f32))
         let sky = Vec3::new(0.4, 0.5, 0.7) * next();
         let f = 0.4 * next();
         let wobble = 1.0 + s * (2.0 * next() - 1.0);
+        let actual = (model * k * wobble) * (1.0 - f) + sky * f;
         GainPixel {
-            actual: (model * k * wobble) * (1.0 - f) + sky * f,
+            actual,
             sky,
             f,
             model,
             near,
             standing: true,
+            block: block(actual, s, &mut next),
         }
     };
     let mut out: Vec<GainPixel> = (0..n).map(|_| pixel(scale, spread, false)).collect();
@@ -66,21 +78,23 @@ fn pixels(n: usize, seed: u32, scale: f32, spread: f32, near: (usize, f32, f32))
     out
 }
 
-/// `n` far pixels of one model radiance, without fog, varying by `far` about it, and as
-/// many near pixels varying by `near`.
+/// `n` far pixels of one model radiance, without fog, varying by `far` about it (and
+/// within their blocks), and as many near pixels varying by `near`.
 fn steady_pixels(n: usize, seed: u32, far: f32, near: f32) -> Vec<GainPixel> {
     let mut next = lcg(seed);
     let model = Vec3::new(0.3, 0.5, 0.2);
     (0..2 * n)
         .map(|i| {
             let spread = if i < n { far } else { near };
+            let actual = model * (1.0 + spread * (2.0 * next() - 1.0));
             GainPixel {
-                actual: model * (1.0 + spread * (2.0 * next() - 1.0)),
+                actual,
                 sky: Vec3::ZERO,
                 f: 0.0,
                 model,
                 near: i >= n,
                 standing: true,
+                block: block(actual, spread, &mut next),
             }
         })
         .collect()
@@ -121,9 +135,9 @@ fn twin(
     for p in pixels {
         let terms = far_gain::gain_terms(p.actual, p.sky, p.f, p.model);
         if p.near {
-            near.add(terms, p.standing);
+            near.add(terms, p.contrast(), p.standing);
         } else {
-            far.add(terms, true);
+            far.add(terms, p.contrast(), true);
         }
     }
     let next = far_gain::next_gain(&far, &near, previous, blend);
@@ -158,11 +172,7 @@ fn close_sums(a: &RingSums, b: &RingSums, what: &str) {
     close(a.model, b.model, what);
     assert_eq!(a.count, b.count, "{what}: count");
     assert_eq!(a.pixels, b.pixels, "{what}: pixels");
-    close(
-        Vec3::new(a.luma, a.luma2, 0.0),
-        Vec3::new(b.luma, b.luma2, 0.0),
-        what,
-    );
+    close(Vec3::splat(a.contrast), Vec3::splat(b.contrast), what);
 }
 
 #[test]
@@ -171,6 +181,9 @@ fn the_gpu_far_gain_arithmetic_matches_its_twin() {
     let mut poisoned = pixels(200, 10, 1.3, 0.1, (120, 1.2, 0.4));
     poisoned[7].actual = Vec3::new(f32::NAN, 0.2, 0.2);
     poisoned[150].actual = Vec3::splat(f32::INFINITY);
+    // Their blocks hold them too.
+    poisoned[7].block = Vec2::splat(f32::NAN);
+    poisoned[150].block = Vec2::splat(f32::INFINITY);
     let cases: [Case; 10] = [
         (
             "first measurement, no blades in view",
@@ -391,17 +404,18 @@ fn the_far_gain_brings_the_far_levels_to_the_blades() {
         b,
     );
     assert_eq!(clamped.0, Vec3::splat(far_gain::GAIN_RANGE.1));
-    // Cards that vary half as much as the blades about their mean: the contrast gain
-    // doubles (the first measurement taken as it is).
+    // Cards that vary half as much as the blades between neighbouring pixels: the
+    // contrast gain doubles (the first measurement taken as it is).
     let px = steady_pixels(4000, 9, 0.2, 0.4);
     let (far, near, _, k) = twin(&px, (Vec3::ONE, 0.0), 0.0, b);
-    let want = near.variation() / far.variation();
+    let want = near.local_contrast() / far.local_contrast();
     assert!((want - 2.0).abs() < 0.15, "variation ratio {want}");
     assert!((k - want).abs() < 1e-5, "contrast gain {k} against {want}");
     // A frame with an infinite pixel measures nothing; a NaN pixel reads as black.
     let clean = pixels(200, 10, 1.3, 0.1, (120, 1.2, 0.4));
     let mut px = clean.clone();
     px[7].actual = Vec3::splat(f32::INFINITY);
+    px[7].block = Vec2::splat(f32::INFINITY);
     let (_, _, kept_inf, k_inf) = twin(&px, (Vec3::splat(0.8), 3.0), 1.5, b);
     assert_eq!((kept_inf, k_inf), ((Vec3::splat(0.8), 3.0), 1.5));
     let (mut nan, mut black) = (clean.clone(), clean);

@@ -14,10 +14,10 @@
 //   a card from a blade: the ring then ends where the cards fade in). The ground between
 //   the near blades is soil turning to the far ground's grass, lit with the gain: measured,
 //   it fed the gain back into its own aim;
-// - the blades' variation for the contrast gain within `params.contrast`, on the pixels
-//   standing above the ground.
-// The sums, and the luminance's sums and squares for the contrast, are reduced across the
-// workgroup; the light gain is written into the far state's words 4-7, the blades' ratio
+// - the blades' local contrast for the contrast gain within `params.contrast`, on the
+//   pixels standing above the ground, and the far ring's (`block_contrast`: each measured
+//   pixel's block of CONTRAST_BLOCK² texels, in this frame's radiance).
+// The sums, and the local contrasts' sums, are reduced across the workgroup; the light gain is written into the far state's words 4-7, the blades' ratio
 // (a running mean, for the panel: the gain takes this frame's) and the contrast gain into
 // words 8-11 (`render::far_gain`), and each sector's multiplier of the gain into words
 // 12-27 (far_sectors.wgsl), which the next frame's billboards and far ground read.
@@ -79,8 +79,8 @@ var<workgroup> near_model: array<vec4<f32>, 128>;
 // Per invocation, for the far field's distance gain (`distance_gain`): the luminance shown
 // and the model's (xy) and the pixels (z).
 var<workgroup> far_field: array<vec4<f32>, 128>;
-// Per invocation: the luminance's sums and sums of squares, far ring (xy) and near ring
-// (zw) (`variation`).
+// Per invocation: the sums of the pixels' local contrasts (`block_contrast`), far ring (x)
+// and the contrast ring (y).
 var<workgroup> shown_d: array<vec4<f32>, 128>;
 
 fn state_gain(at: u32) -> vec4<f32> {
@@ -111,6 +111,21 @@ fn reduce_sums(i: u32, all: bool) {
         }
         workgroupBarrier();
     }
+}
+
+// The luminance of `tex` over the block of CONTRAST_BLOCK² texels around `p` (clamped to
+// the frame of `size`): its sum and sum of squares, for `block_contrast`.
+fn block_luma(tex: texture_2d<f32>, p: vec2<u32>, size: vec2<u32>) -> vec2<f32> {
+    var sums = vec2<f32>(0.0);
+    let last = vec2<i32>(size) - 1;
+    for (var y = 0; y < CONTRAST_BLOCK; y++) {
+        for (var x = 0; x < CONTRAST_BLOCK; x++) {
+            let at = vec2<i32>(p) + vec2<i32>(x, y) - CONTRAST_BLOCK / 2;
+            let l = dot(textureLoad(tex, clamp(at, vec2<i32>(0), last), 0).rgb, LUMA);
+            sums += vec2<f32>(l, l * l);
+        }
+    }
+    return sums;
 }
 
 @compute @workgroup_size(128)
@@ -179,14 +194,21 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         // The multiplier the pixel's direction was lit with (the cards and ground read it
         // last frame).
         let lit = sector_gain(pair, far_state[SECTOR_WORD + pair.a], far_state[SECTOR_WORD + pair.b]);
-        let d2 = vec2<f32>(d, d * d);
-        // The far ring's texture under one light: its luminance over the multiplier of its
-        // direction (a light, not texture, spread across the view by the sectors, which
-        // the near ring's blades show by themselves). Counted in the variation, it took the
-        // cards' contrast gain down: the prairie's TAA frame 34 % flatter than the blades
-        // where the cards begin (30 % before the sectors), 16 % from 19 m up (12 %).
-        let df = d / lit;
-        let d2f = vec2<f32>(df, df * df);
+        // The local contrasts (`block_contrast`), both rings' in this frame's radiance: the
+        // cards' contrast gain answers at once, as the light gain does. With TAA, the far
+        // ring's read in the history overshot (the prairie's cards 37 % above the blades'
+        // contrast just past them at 240 × 136, 18.7 levels dark), and the near ring's
+        // read there (smoothed) left them 39 % under it; both in the frame, 3 %. A block
+        // holds one light: the view's spread of it across the sectors does not count, and
+        // no multiplier needs taking off.
+        let fog = f * dot(sky, LUMA);
+        var contrast = vec2<f32>(0.0);
+        if far {
+            contrast.x = block_contrast(block_luma(scene_color, p, size), fog);
+        }
+        if in_contrast {
+            contrast.y = block_contrast(block_luma(scene_color, p, size), fog);
+        }
         shown_f += select(zero, shown, far);
         model_f += select(zero, model, far);
         shown_n += select(zero, shown, near);
@@ -194,7 +216,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         model_n.w += select(0.0, 1.0, in_near);
         let model_l = dot(t.model, LUMA);
         field += select(zero, vec4<f32>(d, model_l, 1.0, 0.0), in_field);
-        // w: the contrast ring's pixels (its luminance sums are `disp.zw`).
+        // w: the contrast ring's pixels (the sum of their local contrasts is `disp.y`).
         field.w += select(0.0, 1.0, in_contrast);
         let sec_far = select(zero, vec4<f32>(d, model_l, d / lit, 1.0), far);
         let wa = vec4<f32>(1.0, 1.0, 1.0 - pair.t, 1.0) * (1.0 - pair.t);
@@ -204,7 +226,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         sec[2u * pair.b] += wb * sec_far;
         sec[2u * pair.a + 1u] += (1.0 - pair.t) * sec_near;
         sec[2u * pair.b + 1u] += pair.t * sec_near;
-        disp += select(zero, vec4<f32>(d2f, 0.0, 0.0), far) + select(zero, vec4<f32>(0.0, 0.0, d2), in_contrast);
+        disp += vec4<f32>(contrast, 0.0, 0.0);
     }
     far_shown[i] = shown_f;
     far_model[i] = model_f;
@@ -223,7 +245,7 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         n_before = n;
         var k = bitcast<f32>(far_state[11]);
         if params.near.z > 0.5 {
-            k = next_contrast(shown_d[0].xy, far_shown[0].w, shown_d[0].zw, far_field[0].w, k, n, params.ring.w);
+            k = next_contrast(shown_d[0].x, far_shown[0].w, shown_d[0].y, far_field[0].w, k, n, params.ring.w);
         }
         // The far field's distance gain, against the ring's need in this frame (its pixels
         // were lit with the light gain alone: the ramp starts past it).

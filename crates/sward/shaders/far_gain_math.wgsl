@@ -127,30 +127,50 @@ fn next_gain(far_shown: vec4<f32>, far_model: vec3<f32>, near_shown: vec4<f32>, 
 const CONTRAST_MIN: f32 = 0.5;
 const CONTRAST_MAX: f32 = 4.0;
 
-// The variation of a ring's pixels: the standard deviation of their luminance (of the
-// radiance without the fog) over its mean, from its sums (x) and sums of squares (y) over
-// `n` pixels.
-fn variation(d: vec2<f32>, n: f32) -> f32 {
-    let k = max(n, 1.0);
-    let m = d.x / k;
-    return sqrt(max(d.y / k - m * m, 0.0)) / max(m, 1e-6);
+// The texels around a measured pixel whose luminance gives its local contrast
+// (`block_contrast`): a square of CONTRAST_BLOCK on a side, from CONTRAST_BLOCK / 2 left of
+// and above it (twin: `far_gain::CONTRAST_BLOCK`).
+const CONTRAST_BLOCK: i32 = 4;
+
+// A pixel's local contrast: the standard deviation of its block's luminance over the
+// block's mean without the fog, from the block's sum (x) and sum of squares (y) of the
+// frame's (fogged) luminance over CONTRAST_BLOCK² texels and the fog's luminance there
+// (`fog`: its colour's times its amount). The contrast the cards should show is the one
+// the eye sees between neighbouring pixels (what the bands' 8 × 8 blocks measure), not the
+// spread of single pixels across the ring: that grows with the frame's size as the near
+// blades are resolved (the prairie's contrast gain after 4 frames was 1.58, 1.71 and 1.89
+// at 480 × 270, 960 × 540 and 1920 × 1080, the cards' bands up to 24 % above the blades'
+// contrast at the larger two; from the blocks 1.41, 1.38 and 1.36, within 15 %), and
+// cards of too much contrast read dark in the tone-mapped frame (its curve is concave):
+// 7-11 levels at 29-50 m at 960 × 540, 3-8 from the blocks.
+fn block_contrast(block: vec2<f32>, fog: f32) -> f32 {
+    // A block with a texel that is not finite stays so, and keeps `next_contrast` from
+    // measuring the frame (its arithmetic could otherwise turn it into any number).
+    if !finite3(vec3<f32>(block, fog)) {
+        return block.x + block.y;
+    }
+    let n = f32(CONTRAST_BLOCK * CONTRAST_BLOCK);
+    let m = block.x / n;
+    return sqrt(max(block.y / n - m * m, 0.0)) / max(m - fog, 1e-6);
 }
 
 // The cards' contrast gain after a frame's sums (issue 27, point 1: texture of the same
 // contrast): the cards show the atlas's texels around its mean this many times as far as
-// lit, so that the far ring's pixels vary about their mean as much as the near ring's
-// blades do about theirs. `previous` is the gain they were lit with (0 before the first
-// measurement), `n` the measurements the light gain averages before this one (the two
-// settle together, as `next_gain`); either ring with too few pixels keeps it.
-fn next_contrast(far_d: vec2<f32>, far_n: f32, near_d: vec2<f32>, near_n: f32, previous: f32, n: f32, blend: f32) -> f32 {
-    let far_v = variation(far_d, far_n);
-    let near_v = variation(near_d, near_n);
+// lit, so that the far ring's pixels (`far_c`, the sum of their local contrasts,
+// `block_contrast`, over `far_n` pixels) vary against their neighbours as much as the near
+// ring's blades do (`near_c` over `near_n`). `previous` is the gain they were lit with (0
+// before the first measurement), `n` the measurements the light gain averages before this
+// one (the two settle together, as `next_gain`); either ring with too few pixels keeps it.
+fn next_contrast(far_c: f32, far_n: f32, near_c: f32, near_n: f32, previous: f32, n: f32, blend: f32) -> f32 {
+    let far_v = far_c / max(far_n, 1.0);
+    let near_v = near_c / max(near_n, 1.0);
     if far_n < GAIN_MIN_SAMPLES || near_n < GAIN_MIN_SAMPLES || far_v <= 1e-4 || near_v <= 1e-4 {
         return previous;
     }
     let old = select(1.0, previous, previous > 0.0);
-    // Not finite (a NaN in the frame's radiance): kept out, as `next_gain` does.
-    if !finite3(vec3<f32>(old * near_v / far_v)) {
+    // Not finite (a NaN or an infinity in the frame's radiance, whose block contrast stays
+    // so): kept out, as `next_gain` does.
+    if !finite3(vec3<f32>(far_v, near_v, old * near_v / far_v)) {
         return previous;
     }
     let aim = clamp(old * near_v / far_v, CONTRAST_MIN, CONTRAST_MAX);

@@ -1,11 +1,12 @@
 // Probe: the far gain's arithmetic (far_gain_math.wgsl) over a list of pixels, for the
 // test that compares it with its CPU twin (`render::far_gain`). In: per pixel the radiance
 // and f, the fog's colour and the ring (w: 1 near, 0 far), the model's radiance and
-// whether the pixel stands on a blade (w; the near ring measures only those); then the
+// whether the pixel stands on a blade (w; the near ring measures only those), its block's
+// luminance sum and sum of squares (xy, `block_contrast`); then the
 // previous gain with its measurements, the blend, the pixels and the previous contrast
 // gain, then the blades' running mean before. Out: the far ring's sums (shown with the
 // count, model), the near ring's, the next gain, the gain the level would light with, the
-// luminance sums (far, near), the next contrast gain with the one the cards would be shown
+// local contrasts' sums (far, near), the next contrast gain with the one the cards would be shown
 // with, and the blades' next running mean.
 //!include common.wgsl
 //!include far_gain_math.wgsl
@@ -14,6 +15,7 @@ struct GainPixel {
     actual_f: vec4<f32>,
     sky_near: vec4<f32>,
     model: vec4<f32>,
+    block: vec4<f32>,
 }
 
 @group(0) @binding(0) var<storage, read> probe_pixels: array<GainPixel>;
@@ -35,25 +37,25 @@ fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var k = 0u; k < count; k++) {
         let s = probe_pixels[k];
         let t = gain_terms(s.actual_f.rgb, s.sky_near.rgb, s.actual_f.w, s.model.rgb);
-        let l = dot(t.shown, LUMA);
+        let c = block_contrast(s.block.xy, s.actual_f.w * dot(s.sky_near.rgb, LUMA));
         if s.sky_near.w > 0.5 {
             // model.w: 1 for a pixel standing on a blade, the only ones measured here.
             if s.model.w > 0.5 {
                 near_shown += vec4<f32>(t.shown, 1.0);
                 near_model += vec4<f32>(t.model, 0.0);
-                d += vec4<f32>(0.0, 0.0, l, l * l);
+                d.y += c;
             }
             near_model.w += 1.0;
         } else {
             far_shown += vec4<f32>(t.shown, 1.0);
             far_model += vec4<f32>(t.model, 1.0);
-            d += vec4<f32>(l, l * l, 0.0, 0.0);
+            d.x += c;
         }
     }
     let previous = probe_previous[0];
     let next = next_gain(far_shown, far_model.rgb, near_shown, near_model, previous, probe_previous[1].x);
     let n = select(0.0, previous.w, previous.w > 0.5);
-    let k = next_contrast(d.xy, far_shown.w, d.zw, near_shown.w, probe_previous[1].z, n, probe_previous[1].x);
+    let k = next_contrast(d.x, far_shown.w, d.y, near_shown.w, probe_previous[1].z, n, probe_previous[1].x);
     probe_out[0] = far_shown;
     probe_out[1] = far_model;
     probe_out[2] = near_shown;

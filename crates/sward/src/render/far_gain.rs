@@ -43,7 +43,7 @@
 //! (`tests/far_field.rs`; after 30 frames 7.9 levels where the thinned blades stand in front
 //! of the first cards).
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -214,8 +214,28 @@ pub const LUMA: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 /// The smallest and largest contrast gain kept (twin of `CONTRAST_MIN`, `CONTRAST_MAX`).
 pub const CONTRAST_RANGE: (f32, f32) = (0.5, 4.0);
 
-/// A ring's sums: the radiance shown, the model's, the pixels measured, the shown
-/// luminance's sum and sum of squares, and every pixel of the ring.
+/// The side of the block of texels whose luminance gives a measured pixel its local
+/// contrast (twin of `CONTRAST_BLOCK`; [`block_contrast`]).
+pub const CONTRAST_BLOCK: u32 = 4;
+
+/// A pixel's local contrast (twin of `block_contrast`): the standard deviation of its
+/// block's luminance over the block's mean without the fog, from the block's sum (x) and sum
+/// of squares (y) of the frame's (fogged) luminance over [`CONTRAST_BLOCK`]² texels and
+/// the fog's luminance `fog` there. The cards' contrast gain matches the contrast between
+/// neighbouring pixels, which does not change with the frame's size as the spread of single
+/// pixels across a ring does (docs/levels.md).
+pub fn block_contrast(block: Vec2, fog: f32) -> f32 {
+    // Not finite: kept so, and [`next_contrast`] measures nothing that frame.
+    if !(block.is_finite() && fog.is_finite()) {
+        return block.x + block.y;
+    }
+    let n = (CONTRAST_BLOCK * CONTRAST_BLOCK) as f32;
+    let m = block.x / n;
+    (block.y / n - m * m).max(0.0).sqrt() / (m - fog).max(1e-6)
+}
+
+/// A ring's sums: the radiance shown, the model's, the pixels measured, their local
+/// contrasts' sum, and every pixel of the ring.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RingSums {
     /// Radiance shown, without the fog, weighed by (1 − f).
@@ -224,29 +244,25 @@ pub struct RingSums {
     pub model: Vec3,
     /// Pixels measured (in the near ring, those standing on a blade).
     pub count: f32,
-    /// The luminance of `shown`, summed over the pixels.
-    pub luma: f32,
-    /// Its square, summed.
-    pub luma2: f32,
+    /// The pixels' local contrasts ([`block_contrast`]), summed.
+    pub contrast: f32,
     /// Every pixel of the ring, measured or not.
     pub pixels: f32,
 }
 
 impl RingSums {
-    /// Adds one pixel of the ring, and its terms ([`gain_terms`]) where it is `measured`:
-    /// every pixel of the far ring, the near ring's standing on a blade (above the ground
-    /// by a tenth of the tallest blade).
-    pub fn add(&mut self, terms: (Vec3, Vec3), measured: bool) {
+    /// Adds one pixel of the ring, and its terms ([`gain_terms`]) and local contrast
+    /// ([`block_contrast`]) where it is `measured`: every pixel of the far ring, the near
+    /// ring's standing on a blade (above the ground by a tenth of the tallest blade).
+    pub fn add(&mut self, terms: (Vec3, Vec3), contrast: f32, measured: bool) {
         self.pixels += 1.0;
         if !measured {
             return;
         }
-        let l = terms.0.dot(LUMA);
         self.shown += terms.0;
         self.model += terms.1;
         self.count += 1.0;
-        self.luma += l;
-        self.luma2 += l * l;
+        self.contrast += contrast;
     }
 
     fn measured(&self) -> bool {
@@ -255,12 +271,9 @@ impl RingSums {
             && self.model.min_element() > 1e-6
     }
 
-    /// The standard deviation of the pixels' luminance over its mean (twin of
-    /// `variation`).
-    pub fn variation(&self) -> f32 {
-        let n = self.count.max(1.0);
-        let m = self.luma / n;
-        (self.luma2 / n - m * m).max(0.0).sqrt() / m.max(1e-6)
+    /// The pixels' mean local contrast (as `next_contrast` takes it).
+    pub fn local_contrast(&self) -> f32 {
+        self.contrast / self.count.max(1.0)
     }
 }
 
@@ -395,14 +408,14 @@ pub fn distance_probe(gpu: &Gpu, points: &[([f32; 4], [f32; 4], [f32; 3])]) -> R
 /// gain they were lit with (0 before the first measurement), `n` the measurements the
 /// light gain averaged before this frame's.
 pub fn next_contrast(far: &RingSums, near: &RingSums, previous: f32, n: f32, blend: f32) -> f32 {
-    let (far_v, near_v) = (far.variation(), near.variation());
+    let (far_v, near_v) = (far.local_contrast(), near.local_contrast());
     if far.count < MIN_SAMPLES || near.count < MIN_SAMPLES || far_v <= 1e-4 || near_v <= 1e-4 {
         return previous;
     }
     let old = if previous > 0.0 { previous } else { 1.0 };
     let raw = old * near_v / far_v;
-    // Not finite (a NaN in the frame's radiance): kept out.
-    if !raw.is_finite() {
+    // Not finite (a NaN or an infinity in the frame's radiance): kept out.
+    if !(raw.is_finite() && far_v.is_finite() && near_v.is_finite()) {
         return previous;
     }
     let aim = raw.clamp(CONTRAST_RANGE.0, CONTRAST_RANGE.1);
@@ -534,6 +547,17 @@ pub struct GainPixel {
     pub near: bool,
     /// Standing on a blade (above the ground): the near ring measures only these.
     pub standing: bool,
+    /// Its block's (fogged) luminance, summed (x) and its squares summed (y), over
+    /// [`CONTRAST_BLOCK`]² texels ([`block_contrast`]).
+    pub block: Vec2,
+}
+
+impl GainPixel {
+    /// Its local contrast ([`block_contrast`], the fog's luminance taken off its block's
+    /// mean).
+    pub fn contrast(&self) -> f32 {
+        block_contrast(self.block, self.f * self.sky.dot(LUMA))
+    }
 }
 
 /// What the probe returns: the far and the near ring's sums, the next gain and the
@@ -553,20 +577,20 @@ pub fn probe(
     ratio: Vec3,
     blend: f32,
 ) -> Result<ProbeResult> {
-    let mut flat: Vec<[f32; 12]> = pixels
+    let mut flat: Vec<[f32; 16]> = pixels
         .iter()
         .map(|s| {
             let near = if s.near { 1.0 } else { 0.0 };
             let standing = if s.standing { 1.0 } else { 0.0 };
             [
                 s.actual.x, s.actual.y, s.actual.z, s.f, s.sky.x, s.sky.y, s.sky.z, near,
-                s.model.x, s.model.y, s.model.z, standing,
+                s.model.x, s.model.y, s.model.z, standing, s.block.x, s.block.y, 0.0, 0.0,
             ]
         })
         .collect();
     // A binding is never empty: an empty list is one pixel the probe does not read.
     if flat.is_empty() {
-        flat.push([0.0; 12]);
+        flat.push([0.0; 16]);
     }
     let prev: [f32; 12] = [
         previous.0.x,
@@ -590,18 +614,17 @@ pub fn probe(
         9,
     )?;
     let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
-    let sums = |shown: [f32; 4], model: [f32; 4], luma: f32, luma2: f32| RingSums {
+    let sums = |shown: [f32; 4], model: [f32; 4], contrast: f32| RingSums {
         shown: v(shown),
         model: v(model),
         count: shown[3],
-        luma,
-        luma2,
+        contrast,
         pixels: model[3],
     };
     let d = out[6];
     Ok((
-        sums(out[0], out[1], d[0], d[1]),
-        sums(out[2], out[3], d[2], d[3]),
+        sums(out[0], out[1], d[0]),
+        sums(out[2], out[3], d[1]),
         (v(out[4]), out[4][3]),
         v(out[5]),
         (out[7][0], out[7][1]),
