@@ -140,6 +140,8 @@ pub(super) fn measure(
             billboards: passes[timing::BILLBOARDS] / t,
             tiles: passes[timing::TILES] / t,
             overlays: (passes[timing::OVERLAY] + passes[timing::UPSCALE]) / t,
+            far_gain: passes[timing::FAR_GAIN] / t,
+            skinning: passes[timing::SKINNING] / t,
         }
     });
     Ok(Measured {

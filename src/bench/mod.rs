@@ -384,6 +384,10 @@ pub struct GpuMs {
     pub tiles: f64,
     /// What is drawn over the scene (the wind overlay) and the window's upscale.
     pub overlays: f64,
+    /// The far levels' gains measured on the lit frame (`render::far_gain`).
+    pub far_gain: f64,
+    /// The animated objects' skinning.
+    pub skinning: f64,
 }
 
 impl GpuMs {
@@ -398,6 +402,8 @@ impl GpuMs {
             + self.billboards
             + self.tiles
             + self.overlays
+            + self.far_gain
+            + self.skinning
     }
 }
 

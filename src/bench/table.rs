@@ -136,6 +136,12 @@ pub fn format_report(r: &BenchReport) -> String {
     row(&mut s, "  billboards (cull)", gpu(|g| g.billboards));
     row(&mut s, "  tiles (generation)", gpu(|g| g.tiles));
     row(&mut s, "  overlays and upscale", gpu(|g| g.overlays));
+    row(
+        &mut s,
+        "  far levels' gains (measured)",
+        gpu(|g| g.far_gain),
+    );
+    row(&mut s, "  skinning", gpu(|g| g.skinning));
     row(&mut s, "  GPU frame (every timed pass)", gpu(|g| g.frame()));
     row(
         &mut s,
