@@ -15,8 +15,8 @@ use sward::sim::layout::{
 };
 use sward::sim::reference::thin_order::update_chunks;
 use sward::sim::reference::{
-    cull_blade, early_seen, grass_hidden, late_pass, list_order, patch_spheres, patch_update,
-    wave_of, CullOutcome, Late, Pyramid,
+    cull_blade, early_seen, grass_hidden, late_pass, list_from_last, list_order, patch_spheres,
+    patch_update, wave_of, CullOutcome, Late, Pyramid,
 };
 
 /// Blades whose outcome may differ between GPU and CPU: only those within float rounding
@@ -57,7 +57,7 @@ fn run(
         .expect("visible");
     let cp = *r.last_cull_params();
     for l in &levels {
-        assert_in_list_order(l, &cp);
+        assert_in_list_order(l, &cp, &session.field.patches);
     }
     for l in &mut levels {
         l.sort_unstable();
@@ -201,6 +201,40 @@ fn camera(eye: glam::Vec3, target: glam::Vec3) -> CameraView {
         near: 0.05,
         far: 100.0,
     }
+}
+
+/// The list starts on the camera's side of the field: from the first patch or from the
+/// last (`list_from_last`) as the view looks along the patches' order or against it, each
+/// list checked against the twin's order (in `run`). Seen from one side and then the
+/// other, both orders occur.
+#[test]
+fn the_list_starts_on_the_cameras_side() {
+    let orders = std::cell::Cell::new((false, false));
+    for (eye, target) in [
+        (
+            glam::Vec3::new(-3.0, 1.2, -3.0),
+            glam::Vec3::new(2.0, 0.0, 2.0),
+        ),
+        (
+            glam::Vec3::new(3.0, 1.2, 3.0),
+            glam::Vec3::new(-2.0, 0.0, -2.0),
+        ),
+    ] {
+        let c = run(Scene::default(), Some(8192), |s| {
+            let p = &s.field.patches;
+            let centre = |b: &sward::sim::layout::PatchBox| {
+                glam::Vec2::new(b.min[0] + b.max[0], b.min[2] + b.max[2])
+            };
+            let along = centre(&p[p.len() - 1]) - centre(&p[0]);
+            let view = glam::Vec2::new(target.x - eye.x, target.z - eye.z);
+            let (first, last) = orders.get();
+            let from_last = view.dot(along) < 0.0;
+            orders.set((first || !from_last, last || from_last));
+            camera(eye, target)
+        });
+        assert!(c.blades.iter().sum::<u32>() > 0, "{c:?}");
+    }
+    assert_eq!(orders.get(), (true, true), "both orders were listed");
 }
 
 #[test]
@@ -452,8 +486,8 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
         );
         let (mut gpu_early, mut gpu_late) =
             (levels[k][..split].to_vec(), levels[k][split..].to_vec());
-        assert_in_list_order(&gpu_early, &cp);
-        assert_in_list_order(&gpu_late, &cp);
+        assert_in_list_order(&gpu_early, &cp, &session.field.patches);
+        assert_in_list_order(&gpu_late, &cp, &session.field.patches);
         gpu_early.sort_unstable();
         gpu_late.sort_unstable();
         differ += symmetric_difference(&gpu_early, &early[k]);
@@ -508,11 +542,17 @@ fn grass_hides_grass_and_the_late_pass_matches_the_cpu() {
     );
 }
 
-/// A visible list as the GPU wrote it is in `list_order` (patch, then class order), not in
-/// the order its workgroups happened to run: two blades at one depth are then drawn in the
-/// same order every frame, and the frame is the same every time.
-fn assert_in_list_order(list: &[u32], cp: &sward::sim::layout::CullParams) {
-    let key = |i: &u32| list_order(*i, cp.patch_size, cp.distance_levels);
+/// A visible list as the GPU wrote it is in `list_order` (patch, then class order; the
+/// patches from the last where the view looks that way, `list_from_last`), not in the order
+/// its workgroups happened to run: two blades at one depth are then drawn in the same order
+/// every frame, and the frame is the same every time.
+fn assert_in_list_order(
+    list: &[u32],
+    cp: &sward::sim::layout::CullParams,
+    patches: &[sward::sim::layout::PatchBox],
+) {
+    let from_last = list_from_last(cp, &patches[0], &patches[patches.len() - 1]);
+    let key = |i: &u32| list_order(*i, cp, from_last);
     if let Some(w) = list.windows(2).find(|w| key(&w[0]) >= key(&w[1])) {
         panic!(
             "blade {} ({:?}) listed before blade {} ({:?}), {} blades",

@@ -469,17 +469,38 @@ pub fn cull_blade(
     ))
 }
 
-/// Where blade `i` stands in the cull's visible lists (`cull_order.wgsl`): by patch, then
-/// by its position in the patch's class order (the listed chunks' order, then each chunk's
-/// lanes). Each level's early list and its late list are sorted by this key, whatever
-/// order the GPU ran its workgroups in, so that blades at one depth are drawn in the same
-/// order every frame.
-pub fn list_order(i: u32, patch_size: u32, distance_levels: u32) -> (u32, u32) {
-    let size = patch_size.max(1);
+/// Where blade `i` stands in the cull's visible lists (`cull_order.wgsl`): by patch (from
+/// the last to the first where `from_last`, [`list_from_last`]), then by its position in
+/// the patch's class order (the listed chunks' order, then each chunk's lanes). Each
+/// level's early list and its late list are sorted by this key, whatever order the GPU ran
+/// its workgroups in, so that blades at one depth are drawn in the same order every frame.
+pub fn list_order(i: u32, params: &CullParams, from_last: bool) -> (u32, u32) {
+    let size = params.patch_size.max(1);
+    let patch = i / size;
+    let position = if from_last {
+        params.patch_count.saturating_sub(1).saturating_sub(patch)
+    } else {
+        patch
+    };
     (
-        i / size,
-        super::thin_order::order_position(i % size, size, distance_levels),
+        position,
+        super::thin_order::order_position(i % size, size, params.distance_levels),
     )
+}
+
+/// Whether the cull lists the patches from the last to the first (twin of
+/// `list_from_last`): where the view's direction on the ground (the view-projection's clip
+/// w row) points from the last patch's centre towards the first's. The field's patches
+/// follow a k-d split of the ground, low side first, so the list runs roughly near to far
+/// either way, and the GPU skips shading the blades hidden behind those drawn first.
+pub fn list_from_last(params: &CullParams, first: &PatchBox, last: &PatchBox) -> bool {
+    if params.patch_count < 2 {
+        return false;
+    }
+    let along_x = (last.max[0] + last.min[0]) - (first.max[0] + first.min[0]);
+    let along_z = (last.max[2] + last.min[2]) - (first.max[2] + first.min[2]);
+    let m = params.view_proj;
+    m[0][3] * along_x + m[2][3] * along_z < 0.0
 }
 
 /// The patch bound against the field's own blades (moved here from the field's tests: it
