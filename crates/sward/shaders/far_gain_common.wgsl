@@ -17,10 +17,11 @@
 // - the blades' local contrast for the contrast gain within `params.contrast`, on the
 //   pixels standing above the ground, and the far ring's (`block_contrast`: each measured
 //   pixel's block of CONTRAST_BLOCK² texels, in this frame's radiance).
-// The sums, and the local contrasts' sums, are reduced across the workgroup; the light gain is written into the far state's words 4-7, the blades' ratio
-// (a running mean, for the panel: the gain takes this frame's) and the contrast gain into
-// words 8-11 (`render::far_gain`), and each sector's multiplier of the gain into words
-// 12-27 (far_sectors.wgsl), which the next frame's billboards and far ground read.
+// The sums, and the local contrasts' sums, are reduced across the workgroup; the light
+// gain is written into the far state's words 4-7, the blades' ratio (a running mean, for
+// the panel: the gain takes this frame's) and the contrast gain into words 8-11
+// (`render::far_gain`), and each sector's multiplier of the gain into words 12-27
+// (far_sectors.wgsl), which the next frame's billboards and far ground read.
 // The depth texture's binding and `frame_depth` come from the including file (one sample
 // or multisampled).
 //!include common.wgsl
@@ -201,13 +202,10 @@ fn measure(@builtin(local_invocation_index) i: u32) {
         // read there (smoothed) left them 39 % under it; both in the frame, 3 %. A block
         // holds one light: the view's spread of it across the sectors does not count, and
         // no multiplier needs taking off.
-        let fog = f * dot(sky, LUMA);
         var contrast = vec2<f32>(0.0);
-        if far {
-            contrast.x = block_contrast(block_luma(scene_color, p, size), fog);
-        }
-        if in_contrast {
-            contrast.y = block_contrast(block_luma(scene_color, p, size), fog);
+        if far || in_contrast {
+            let c = block_contrast(block_luma(scene_color, p, size), f * dot(sky, LUMA));
+            contrast = select(vec2<f32>(0.0), vec2<f32>(c), vec2<bool>(far, in_contrast));
         }
         shown_f += select(zero, shown, far);
         model_f += select(zero, model, far);

@@ -2,12 +2,12 @@
 // test that compares it with its CPU twin (`render::far_gain`). In: per pixel the radiance
 // and f, the fog's colour and the ring (w: 1 near, 0 far), the model's radiance and
 // whether the pixel stands on a blade (w; the near ring measures only those), its block's
-// luminance sum and sum of squares (xy, `block_contrast`); then the
-// previous gain with its measurements, the blend, the pixels and the previous contrast
-// gain, then the blades' running mean before. Out: the far ring's sums (shown with the
-// count, model), the near ring's, the next gain, the gain the level would light with, the
-// local contrasts' sums (far, near), the next contrast gain with the one the cards would be shown
-// with, and the blades' next running mean.
+// luminance sum and sum of squares (xy, `block_contrast`); then the previous gain with its
+// measurements, the blend, the pixels and the previous contrast gain, then the blades'
+// running mean before. Out: the far ring's sums (shown with the count, model), the near
+// ring's, the next gain, the gain the level would light with, the local contrasts' sums
+// (far, near), the next contrast gain with the one the cards would be shown with, and the
+// blades' next running mean.
 //!include common.wgsl
 //!include far_gain_math.wgsl
 
