@@ -8,7 +8,7 @@
 // Which blades a distant eye sees: a view ray entering the canopy at elevation e meets
 // leaf area `G · LAI / sin e` on its way to the ground (G = 0.5: blades at random angles,
 // LAI the canopy's leaf area, `shading_b.z`), so the share of what it sees at depth d
-// below the tips (in shares of the canopy's leaf area, `canopy_v`) falls off as e^(−k d),
+// below the tips (in shares of the canopy's leaf area, `drawn_canopy_v`) falls off as e^(−k d),
 // k = G · LAI / sin e (Beer-Lambert). At grazing angles the eye sees the tips, from above the whole blade.
 // The light is averaged at the quartiles of that depth, over four blade facings spread
 // around the ground's normal, each turned to the viewer as the blades' shading turns them,
@@ -43,32 +43,49 @@ fn mean_wave(sum: u32, blades: u32) -> f32 {
     return f32(sum) / (1024.0 * f32(blades)) * light.shading_b.y;
 }
 
+// The table of the canopy as drawn (`light.canopy`, `render::light::canopy`): CANOPY_DEPTHS
+// depths into the leaf area, each a vector over the shares of quads 0, 1/3, 2/3 and 1.
+const CANOPY_DEPTHS: u32 = 32u;
+
 // Where on its blade a distant eye's view ray meets the canopy `depth` into its leaf area
-// (0 at the top, 1 at the ground: the share of the canopy's leaf area above the point):
-// the blade's own v there. The blades' heights spread evenly from r = `light.shading_b.w`
-// times the tallest to the tallest (far blades are drawn as quads, Eq. 24, so each keeps
-// its width to the tip), so the leaf area by height falls off above the shortest blade's
-// tip and the top of the canopy is the tallest blades' tips alone; a point at height z
-// (in tallest blades) lies on a blade of height h > z at v = z / h, whose mean over the
-// taller blades is z ln(1/m) / (1 − m), m = max(z, r). With one height (r = 1) this is
-// 1 − depth.
-fn canopy_v(depth: f32, r: f32) -> f32 {
-    if r >= 0.999 {
-        return clamp(1.0 - depth, 0.0, 1.0);
+// (0 at the top, 1 at the ground: the share of the canopy's leaf area above the point),
+// with a share `quads` of the blades drawn as quads (Eq. 24; `drawn_quad_share`): the mean
+// v there of the blades that reach it, each weighed by its drawn width at that height.
+// The blades' heights spread evenly from `light.shading_b.w` times the tallest to the
+// tallest, so the leaf area falls off above the shortest blade's tip; blades that narrow
+// to a point have little of it near their tips, and the eye sees further down them than
+// into quads, which keep their width to the tip. The CPU sums it for the field's outlines
+// (`render::light::canopy::canopy_table`); here it is interpolated in the square root of
+// the depth (the table's spacing) and in the share.
+fn drawn_canopy_v(depth: f32, quads: f32) -> f32 {
+    let s = sqrt(clamp(depth, 0.0, 1.0)) * f32(CANOPY_DEPTHS - 1u);
+    let q = clamp(quads, 0.0, 1.0) * 3.0;
+    let s0 = min(u32(s), CANOPY_DEPTHS - 2u);
+    // Each share's weight: its hat function at q.
+    let w = max(vec4<f32>(1.0) - abs(vec4<f32>(q) - vec4<f32>(0.0, 1.0, 2.0, 3.0)), vec4<f32>(0.0));
+    return mix(dot(light.canopy[s0], w), dot(light.canopy[s0 + 1u], w), s - f32(s0));
+}
+
+// Eq. 24's share of quads among the blades at `p` whose width runs along `side`
+// (`grass.wgsl`'s `blade_point` draws a blade `wp` pixels wide 1 − clamp((wp − w_min) /
+// w_span, 0, 1) of the way to a quad), averaged over the field's width quartiles
+// (`light.canopy_widths`): in a small frame the far blades are all quads, in a large one
+// they keep their outline further out. 0 with the correction off (no span).
+fn drawn_quad_share(p: vec3<f32>, side: vec3<f32>) -> f32 {
+    // No branch on the uniform (the correction off is a select at the end): lavapipe
+    // specialises a shader on a uniform that a branch or a loop's bound reads, and compiled
+    // the far gain pass again every frame, its memory growing by 3 MB a frame.
+    let span = max(frame.width_correction.y, 1e-6);
+    let c = frame.view_proj * vec4<f32>(p, 1.0);
+    var share = 0.0;
+    for (var k = 0u; k < 2u; k++) {
+        let e = frame.view_proj * vec4<f32>(side * (0.5 * light.canopy_widths[k]), 0.0);
+        let a = ((c.xy + e.xy) / max(c.w + e.w, 1e-4)) * 0.5 * frame.viewport_time.xy;
+        let b = ((c.xy - e.xy) / max(c.w - e.w, 1e-4)) * 0.5 * frame.viewport_time.xy;
+        let wp = length(a - b);
+        share += 0.5 * (1.0 - clamp((wp - frame.width_correction.x) / span, 0.0, 1.0));
     }
-    let spread = 1.0 - r;
-    let mean_h = 0.5 * (1.0 + r);
-    let above = clamp(depth, 0.0, 1.0) * mean_h;
-    var z = r - (above - 0.5 * spread);
-    if above <= 0.5 * spread {
-        z = 1.0 - sqrt(2.0 * spread * above);
-    }
-    let m = max(z, r);
-    var inv_h = 1.0;
-    if 1.0 - m > 1e-4 {
-        inv_h = log(1.0 / m) / (1.0 - m);
-    }
-    return clamp(z * inv_h, 0.0, 1.0);
+    return select(share, 0.0, frame.width_correction.y <= 0.0);
 }
 
 // `wave`: the blades' mean shading wave (`mean_wave`): gusts bend them and they show their
@@ -90,28 +107,36 @@ fn far_grass_facings(p: vec3<f32>, ground_n: vec3<f32>, albedo: vec3<f32>, wave:
     for (var j = 0u; j < 4u; j++) {
         out.sun[j] = vec3<f32>(0.0);
     }
+    // Each facing's blades: the direction their width runs, and the share of them Eq. 24
+    // draws as quads here.
+    var sides: array<vec3<f32>, 4>;
+    var quads: array<f32, 4>;
+    for (var j = 0u; j < 4u; j++) {
+        let phi = (f32(j) + 0.5) * 0.7853982;
+        sides[j] = normalize(cross(ground_n, cos(phi) * t0 + sin(phi) * t1));
+        quads[j] = drawn_quad_share(p, sides[j]);
+    }
     for (var q = 0u; q < 2u; q++) {
         let depth = -log(1.0 - (0.25 + 0.5 * f32(q)) * span) / k;
-        let v = canopy_v(depth, light.shading_b.w);
-        // The blade's albedo along it (`blade_albedo`: 0.55 at the root to 1.25 at the
-        // tip) relative to its value at the mean height the far albedo is taken at.
-        let still = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
-        let a = mix(still, still * 1.7 + vec3<f32>(0.04, 0.05, 0.02), wave * 0.6);
-        // CWD-Sim's Eq. 14 for an unbent blade, where the blades' shading uses it.
-        let s = frame.self_shadow;
-        let self_shade = clamp(v + s.w, s.x, s.y);
         for (var j = 0u; j < 4u; j++) {
+            let v = drawn_canopy_v(depth, quads[j]);
+            // The blade's albedo along it (`blade_albedo`: 0.55 at the root to 1.25 at the
+            // tip) relative to its value at the mean height the far albedo is taken at.
+            let still = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
+            let a = mix(still, still * 1.7 + vec3<f32>(0.04, 0.05, 0.02), wave * 0.6);
+            // CWD-Sim's Eq. 14 for an unbent blade, where the blades' shading uses it.
+            let s = frame.self_shadow;
+            let self_shade = clamp(v + s.w, s.x, s.y);
             let phi = (f32(j) + 0.5) * 0.7853982;
             let facing = cos(phi) * t0 + sin(phi) * t1;
             var n = facing;
             if dot(n, to_eye) < 0.0 {
                 n = -n;
             }
-            let side = normalize(cross(ground_n, facing));
             // Both halves of the width: the rounded normal turns them apart.
             for (var h = 0u; h < 2u; h++) {
                 let u = 0.2 + 0.6 * f32(h);
-                let l = blade_light(p, n, side, vec2<f32>(u, v), a, self_shade);
+                let l = blade_light(p, n, sides[j], vec2<f32>(u, v), a, self_shade);
                 out.ambient += l.ambient;
                 out.sun[j] += l.sun;
             }

@@ -35,9 +35,15 @@ struct LightUniforms {
     zenith: vec4<f32>,
     // Blade shading strengths: rounded normal, translucency, specular, ambient occlusion;
     // colour variation, wind waves, canopy leaf area (m²/m²), the shortest blade's height
-    // over the tallest's (`canopy_v` in far_grass.wgsl).
+    // over the tallest's (the canopy's height spread, `render::light::canopy`).
     shading_a: vec4<f32>,
     shading_b: vec4<f32>,
+    // xy: the blades' widths (m) Eq. 24's share of quads is taken at (`drawn_quad_share`
+    // in far_grass.wgsl), the quartiles of the field's; zw unused.
+    canopy_widths: vec4<f32>,
+    // The mean v at each depth into the canopy's leaf area (`drawn_canopy_v`), a vector
+    // per depth over the shares of quads 0, 1/3, 2/3 and 1.
+    canopy: array<vec4<f32>, 32>,
 }
 // sward:receiver end
 

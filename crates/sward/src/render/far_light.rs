@@ -7,6 +7,7 @@
 use glam::{Vec2, Vec3};
 use wgpu::util::DeviceExt;
 
+use super::light::canopy;
 use super::Renderer;
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -63,30 +64,6 @@ pub fn blade_light(
     }
 }
 
-/// Twin of `canopy_v` (far_grass.wgsl): the mean v on its blade of the point `depth` into
-/// the canopy's leaf area (0 at the top, 1 at the ground), the blades' heights spread
-/// evenly from `r` times the tallest to the tallest; 1 − depth with one height.
-pub fn canopy_v(depth: f32, r: f32) -> f32 {
-    if r >= 0.999 {
-        return (1.0 - depth).clamp(0.0, 1.0);
-    }
-    let spread = 1.0 - r;
-    let mean_h = 0.5 * (1.0 + r);
-    let above = depth.clamp(0.0, 1.0) * mean_h;
-    let z = if above <= 0.5 * spread {
-        1.0 - (2.0 * spread * above).sqrt()
-    } else {
-        r - (above - 0.5 * spread)
-    };
-    let m = z.max(r);
-    let inv_h = if 1.0 - m > 1e-4 {
-        (1.0 / m).ln() / (1.0 - m)
-    } else {
-        1.0
-    };
-    (z * inv_h).clamp(0.0, 1.0)
-}
-
 /// How much brighter the grass reads, against the light model, per unit of the sine of the
 /// view's elevation over it (twin of `FAR_ELEVATION_LIFT`): the model's light is scaled by
 /// `1 + ELEVATION_LIFT · sin e`. Measured on the prairie against blades to 50 m (the blades'
@@ -98,6 +75,27 @@ pub fn canopy_v(depth: f32, r: f32) -> f32 {
 /// it the prairie from 19 m up read 10-17 levels too bright past 40 m (every band within 5
 /// levels with it, but one), and on the ground the far ring 4 % too bright.
 pub const ELEVATION_LIFT: f32 = 0.35;
+
+/// Twin of `drawn_quad_share` (far_grass.wgsl): Eq. 24's share of quads among the blades
+/// at `p` whose width runs along `side`, under `frame`'s view, over the field's width
+/// quartiles (`LightUniforms::canopy_widths`).
+pub fn drawn_quad_share((frame, light): (&FrameUniforms, &LightUniforms), p: Vec3, side: Vec3) -> f32 {
+    let [w_min, w_span, ..] = frame.width_correction;
+    if w_span <= 0.0 {
+        return 0.0;
+    }
+    let vp = glam::Mat4::from_cols_array_2d(&frame.view_proj);
+    let viewport = Vec2::new(frame.viewport_time[0], frame.viewport_time[1]);
+    let c = vp * p.extend(1.0);
+    let mut share = 0.0;
+    for k in 0..2 {
+        let e = vp * (side * (0.5 * light.canopy_widths[k])).extend(0.0);
+        let a = Vec2::new(c.x + e.x, c.y + e.y) / (c.w + e.w).max(1e-4) * 0.5 * viewport;
+        let b = Vec2::new(c.x - e.x, c.y - e.y) / (c.w - e.w).max(1e-4) * 0.5 * viewport;
+        share += 0.5 * canopy::quad_share((a - b).length(), w_min, w_span);
+    }
+    share
+}
 
 /// `far_grass_facings`: the sky's part and each of the four facings' sun part of the
 /// grass around `p` (ground normal `ground_n`, far albedo `albedo`, mean wave `wave`),
@@ -120,23 +118,28 @@ pub fn far_grass_facings(
     let t0 = t0.normalize();
     let t1 = ground_n.cross(t0);
     let (mut ambient, mut sun) = (Vec3::ZERO, [Vec3::ZERO; 4]);
+    // Each facing's width direction and the share of its blades drawn as quads.
+    let facings: [(Vec3, Vec3, f32); 4] = std::array::from_fn(|j| {
+        let phi = (j as f32 + 0.5) * std::f32::consts::FRAC_PI_4;
+        let facing = phi.cos() * t0 + phi.sin() * t1;
+        let side = ground_n.cross(facing).normalize();
+        (facing, side, drawn_quad_share((frame, light), p, side))
+    });
     for q in 0..2 {
         let depth = -(1.0 - (0.25 + 0.5 * q as f32) * span).ln() / k;
-        let v = canopy_v(depth, light.shading[1][3]);
-        let still = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
-        let paler = still * 1.7 + Vec3::new(0.04, 0.05, 0.02);
-        let a = still + (paler - still) * (wave * 0.6);
-        let s = frame.self_shadow;
-        let self_shade = (v + s[3]).clamp(s[0], s[1]);
         for (j, sun_j) in sun.iter_mut().enumerate() {
-            let phi = (j as f32 + 0.5) * std::f32::consts::FRAC_PI_4;
-            let facing = phi.cos() * t0 + phi.sin() * t1;
+            let (facing, side, quads) = facings[j];
+            let v = canopy::drawn_canopy_v(&light.canopy, depth, quads);
+            let still = albedo * ((0.55 + 0.7 * v) / (0.55 + 0.7 * 0.625));
+            let paler = still * 1.7 + Vec3::new(0.04, 0.05, 0.02);
+            let a = still + (paler - still) * (wave * 0.6);
+            let s = frame.self_shadow;
+            let self_shade = (v + s[3]).clamp(s[0], s[1]);
             let n = if facing.dot(to_eye) < 0.0 {
                 -facing
             } else {
                 facing
             };
-            let side = ground_n.cross(facing).normalize();
             for h in 0..2 {
                 let u = 0.2 + 0.6 * h as f32;
                 let l = blade_light((frame, light), p, (n, side), Vec2::new(u, v), a, self_shade);
@@ -275,52 +278,4 @@ pub fn probe_far_grass(
         .take(points.len())
         .map(|v| (v3(v[0]), [v3(v[1]), v3(v[2]), v3(v[3]), v3(v[4])]))
         .collect())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::canopy_v;
-
-    /// `canopy_v` against the canopy it stands for, integrated numerically: blades of
-    /// heights spread evenly over [r, 1], each as wide to its tip (a far quad), their leaf
-    /// area summed by height; at the height where `depth` of it lies above, the mean v = z/h
-    /// over the blades that reach there.
-    #[test]
-    fn canopy_v_is_the_mean_v_where_the_leaf_area_above_is_depth() {
-        for r in [0.2f32, 0.44, 0.7] {
-            let heights: Vec<f64> = (0..4000)
-                .map(|i| f64::from(r) + (1.0 - f64::from(r)) * (i as f64 + 0.5) / 4000.0)
-                .collect();
-            let area_above = |z: f64| heights.iter().map(|&h| (h - z).max(0.0)).sum::<f64>();
-            let total = area_above(0.0);
-            for depth in [0.0f32, 0.05, 0.2, 0.5, 0.8, 1.0] {
-                // Bisect for the height with `depth` of the leaf area above it.
-                let (mut lo, mut hi) = (0.0f64, 1.0f64);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    if area_above(mid) / total > f64::from(depth) {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                let z = 0.5 * (lo + hi);
-                let taller: Vec<f64> = heights.iter().copied().filter(|&h| h > z).collect();
-                let expected = if taller.is_empty() {
-                    1.0
-                } else {
-                    taller.iter().map(|h| z / h).sum::<f64>() / taller.len() as f64
-                };
-                let got = f64::from(canopy_v(depth, r));
-                assert!(
-                    (got - expected).abs() < 2e-3,
-                    "r {r}, depth {depth}: {got} against {expected}"
-                );
-            }
-        }
-        // One height: the old mapping, 1 − depth.
-        for depth in [0.0f32, 0.3, 1.0] {
-            assert_eq!(canopy_v(depth, 1.0), 1.0 - depth);
-        }
-    }
 }

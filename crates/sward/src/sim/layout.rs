@@ -452,8 +452,14 @@ pub struct LightUniforms {
     /// Blade shading strengths (`shading_a`, `shading_b`): rounded normal, translucency,
     /// specular, ambient occlusion; colour variation, wind waves, canopy leaf area (m²/m²),
     /// the shortest blade's height over the tallest's (the canopy's height spread,
-    /// `canopy_v` in far_grass.wgsl).
+    /// `render::light::canopy`).
     pub shading: [[f32; 4]; 2],
+    /// The blades' widths (m) Eq. 24's share of quads is taken at (`drawn_quad_share` in
+    /// far_grass.wgsl): x and y the quartiles of the field's widths; zw unused.
+    pub canopy_widths: [f32; 4],
+    /// The mean v at each depth into the canopy's leaf area (`render::light::canopy`,
+    /// `drawn_canopy_v` in far_grass.wgsl), a vector per depth over the shares of quads.
+    pub canopy: [[f32; 4]; 32],
 }
 
 /// `draw_indexed_indirect` arguments, as wgpu reads them.
@@ -484,7 +490,7 @@ const _: () = assert!(std::mem::size_of::<CullCounters>() == 220 + MAX_SPHERES /
 const _: () = assert!(std::mem::offset_of!(CullCounters, blades) == 41 * 4);
 const _: () = assert!(std::mem::size_of::<PatchDispatch>() == 48);
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 272);
-const _: () = assert!(std::mem::size_of::<LightUniforms>() == 496);
+const _: () = assert!(std::mem::size_of::<LightUniforms>() == 496 + 16 + 512);
 const _: () = assert!(std::mem::size_of::<DrawIndexedIndirect>() == 20);
 
 /// GPU bytes per blade: the blade, its state, its slot in each level's visible-index list,

@@ -9,6 +9,7 @@
 //! whose view-projection is the cascade's, and restored to the camera's before the colour
 //! passes. So no caster needs a second set of bind groups.
 
+pub mod canopy;
 pub mod cascades;
 mod caster_levels;
 pub mod ground_cache;
@@ -672,7 +673,7 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
     // The canopy's leaf area per ground area: blades per m² times a blade's mean area.
     let leaf_area = field.density * field.height.lerp(0.5) * field.width.lerp(0.5);
     // The shortest blade over the tallest: how the canopy's leaf area thins towards its top
-    // (`canopy_v` in far_grass.wgsl).
+    // (`canopy::canopy_table`).
     let (shortest, tallest) = blade_heights(field);
     let height_spread = if tallest > 0.0 {
         (shortest / tallest).clamp(0.0, 1.0)
@@ -701,6 +702,11 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
             ],
             [sh.color_variation, sh.wind_waves, leaf_area, height_spread],
         ],
+        canopy_widths: {
+            let [lo, hi] = canopy::width_quartiles(field);
+            [lo, hi, 0.0, 0.0]
+        },
+        canopy: canopy::packed(&canopy::canopy_table(field, height_spread)),
         ..Default::default()
     }
 }
