@@ -608,3 +608,17 @@ fn the_blades_cast_shadows_from_their_first_frame() {
         assert!(mean > 0.5, "tiles of {tile_size} m: {mean:.2} levels");
     }
 }
+
+/// The far light's canopy table (`light::canopy`) is summed once for the field, not once
+/// per frame: after six frames the light pass summed it once, and the uniforms it drew
+/// the frame with hold the table `light::uniforms` sums for the same scene.
+#[test]
+fn the_canopy_table_is_summed_once_for_the_field() {
+    let mut scene = Scene::default();
+    scene.render.msaa = 1;
+    let sun = sward::render::light::sun::scene_sun(&scene);
+    let expected = sward::render::light::uniforms(&scene, sun).canopy;
+    let (_, r, _) = render(scene, (32, 18), 6);
+    assert_eq!(r.light().canopy_sums(), 1);
+    assert_eq!(r.light().uniforms().canopy, expected);
+}

@@ -51,6 +51,7 @@ pub fn shape_width(shape: Shape, tau: f32, v: f32) -> f32 {
 
 /// The field's blades as the canopy sees them: each species' outline (the field's own
 /// when it has none), weighted by its share of the leaf area (share times mean width).
+#[derive(Clone, Debug, PartialEq)]
 struct Outlines {
     shapes: Vec<(f32, Shape)>,
     tau: f32,
@@ -170,6 +171,39 @@ pub fn canopy_table(field: &Field, r: f32) -> [f32; CANOPY_ENTRIES] {
 /// the process by 800 MB).
 pub fn packed(table: &[f32; CANOPY_ENTRIES]) -> [[f32; CANOPY_SHARES]; CANOPY_DEPTHS] {
     std::array::from_fn(|col| std::array::from_fn(|row| table[row * CANOPY_DEPTHS + col]))
+}
+
+/// The table packed as the light's uniforms hold it ([`packed`] of [`canopy_table`]) for
+/// the last field outlines and height spread it was asked for, summed again only when
+/// they change. The light's uniforms are rebuilt every frame (`LightPass::prepare`), and
+/// the table's sums (4 shares × 193 levels × 48 heights of outline widths, about 37,000)
+/// are the same frame after frame unless the field's shapes, tip threshold, species'
+/// widths and shares or heights change (the panel, a scene reloaded).
+#[derive(Clone, Debug, Default)]
+pub struct CanopyCache {
+    /// The outlines and the height spread's bits the table was summed for.
+    key: Option<(Outlines, u32)>,
+    table: [[f32; CANOPY_SHARES]; CANOPY_DEPTHS],
+    /// How many times the table was summed (the cache's misses).
+    sums: u64,
+}
+
+impl CanopyCache {
+    /// The packed table for `field` with height spread `r` (as [`canopy_table`] takes it).
+    pub fn table(&mut self, field: &Field, r: f32) -> [[f32; CANOPY_SHARES]; CANOPY_DEPTHS] {
+        let key = (Outlines::of(field), r.to_bits());
+        if self.key.as_ref() != Some(&key) {
+            self.table = packed(&canopy_table(field, r));
+            self.key = Some(key);
+            self.sums += 1;
+        }
+        self.table
+    }
+
+    /// How many times the table was summed since the cache was made.
+    pub fn sums(&self) -> u64 {
+        self.sums
+    }
 }
 
 /// Twin of `drawn_canopy_v` (far_grass.wgsl): the mean v at `depth` into the canopy's leaf
@@ -404,5 +438,42 @@ mod tests {
         assert_eq!(width_quartiles(&f), [0.01, 0.05]);
         f.species = vec![species(1.0, 0.01, 0.01), species(9.0, 0.05, 0.05)];
         assert_eq!(width_quartiles(&f), [0.05, 0.05]);
+    }
+
+    /// The cache gives the table summed for the field it is asked for, and sums again
+    /// only when the outlines or the height spread change: not for what the canopy's
+    /// outline does not read (the density, the stiffness).
+    #[test]
+    fn the_cache_sums_again_only_when_the_outlines_change() {
+        let mut cache = CanopyCache::default();
+        let mut f = field(Shape::TriangleTip);
+        let fresh = |f: &Field, r: f32| packed(&canopy_table(f, r));
+        assert_eq!(cache.table(&f, 0.44), fresh(&f, 0.44));
+        f.density *= 2.0;
+        f.stiffness.max += 1.0;
+        assert_eq!(cache.table(&f, 0.44), fresh(&f, 0.44));
+        assert_eq!(cache.sums(), 1);
+        let changes: [&dyn Fn(&mut Field); 3] = [
+            &|f| f.tip_threshold = 0.7,
+            &|f| f.shape = Shape::Quadratic,
+            &|f| {
+                f.species = vec![crate::scene::Species {
+                    share: 1.0,
+                    width: crate::scene::Range { min: 0.02, max: 0.03 },
+                    shape: Shape::Triangle,
+                    ..Default::default()
+                }]
+            },
+        ];
+        for (i, change) in changes.iter().enumerate() {
+            let before = cache.table(&f, 0.44);
+            change(&mut f);
+            let after = cache.table(&f, 0.44);
+            assert_eq!(after, fresh(&f, 0.44), "change {i}");
+            assert_ne!(after, before, "change {i}");
+            assert_eq!(cache.sums(), 2 + i as u64, "change {i}");
+        }
+        assert_eq!(cache.table(&f, 0.8), fresh(&f, 0.8));
+        assert_eq!(cache.sums(), 5);
     }
 }

@@ -172,6 +172,8 @@ pub struct LightPass {
     /// each cascade drawn this frame gets it ([`LightPass::plan_ground`]).
     ground: ground_cache::GroundCache,
     ground_steps: [GroundStep; 4],
+    /// The far light's canopy table, summed when the field's outlines change.
+    canopy: canopy::CanopyCache,
 }
 
 /// Which of the casters a shadow pass draws.
@@ -266,6 +268,7 @@ impl LightPass {
             grass_levels: [[true; LOD_LEVELS]; 4],
             ground: ground_cache::GroundCache::new(),
             ground_steps: [GroundStep::None; 4],
+            canopy: canopy::CanopyCache::default(),
         };
         pass.sync_map(device, scene);
         Ok(pass)
@@ -380,7 +383,7 @@ impl LightPass {
         let lod = grass_lod.unwrap_or((0, 0));
         let sun = Vec3::from_slice(&frame.sun_dir[..3]);
         let l = &scene.light;
-        let mut u = uniforms(scene, sun);
+        let mut u = uniforms_with(scene, sun, &mut self.canopy);
         let s = &l.shadows;
         self.cascades = 0;
         // No shadows with the sun below the horizon: nothing is lit to be shadowed.
@@ -604,6 +607,12 @@ impl LightPass {
 }
 
 impl LightPass {
+    /// How many times the far light's canopy table was summed since the pass was made:
+    /// once per change of the field's outlines, not once per frame.
+    pub fn canopy_sums(&self) -> u64 {
+        self.canopy.sums()
+    }
+
     /// The cascades the last `prepare` drew this frame, each with the sun's view-projection
     /// it was drawn with and its layer of the shadow map: where a program embedding sward
     /// draws its own shadow casters (after the frame's shadow passes, loading the depth).
@@ -658,6 +667,12 @@ pub fn sky_radiance(scene: &Scene, sun: Vec3, dir: Vec3) -> Vec3 {
 
 /// The light uniforms of `scene` for a sun in direction `sun`, without the cascades.
 pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
+    uniforms_with(scene, sun, &mut canopy::CanopyCache::default())
+}
+
+/// [`uniforms`] with the canopy's table taken from `canopy`, summed again only when the
+/// field's outlines change (the light pass keeps one across frames).
+pub fn uniforms_with(scene: &Scene, sun: Vec3, canopy: &mut canopy::CanopyCache) -> LightUniforms {
     let l = &scene.light;
     let sky = sky::PreethamSky::new(sun, l.turbidity);
     let (sun_rgb, ambient) = match l.sky {
@@ -706,7 +721,7 @@ pub fn uniforms(scene: &Scene, sun: Vec3) -> LightUniforms {
             let [lo, hi] = canopy::width_quartiles(field);
             [lo, hi, 0.0, 0.0]
         },
-        canopy: canopy::packed(&canopy::canopy_table(field, height_spread)),
+        canopy: canopy.table(field, height_spread),
         ..Default::default()
     }
 }
