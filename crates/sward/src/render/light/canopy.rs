@@ -102,7 +102,11 @@ const TABLE_LEVELS: usize = 192;
 /// is its drawn width there: the leaf area above z and the width-weighted mean v there are
 /// summed over the heights, and each depth's z found between the levels.
 pub fn canopy_table(field: &Field, r: f32) -> [f32; CANOPY_ENTRIES] {
-    let outlines = Outlines::of(field);
+    outlines_table(&Outlines::of(field), r)
+}
+
+/// [`canopy_table`] for the field's `outlines`.
+fn outlines_table(outlines: &Outlines, r: f32) -> [f32; CANOPY_ENTRIES] {
     let r = if r.is_finite() { r.clamp(0.0, 1.0) } else { 1.0 };
     let heights: Vec<f32> = (0..TABLE_HEIGHTS)
         .map(|i| r + (1.0 - r) * (i as f32 + 0.5) / TABLE_HEIGHTS as f32)
@@ -193,7 +197,7 @@ impl CanopyCache {
     pub fn table(&mut self, field: &Field, r: f32) -> [[f32; CANOPY_SHARES]; CANOPY_DEPTHS] {
         let key = (Outlines::of(field), r.to_bits());
         if self.key.as_ref() != Some(&key) {
-            self.table = packed(&canopy_table(field, r));
+            self.table = packed(&outlines_table(&key.0, r));
             self.key = Some(key);
             self.sums += 1;
         }
